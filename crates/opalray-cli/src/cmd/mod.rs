@@ -1,0 +1,10 @@
+//! One module per subcommand, plus what they share.
+
+pub mod bench;
+pub mod color;
+pub mod common;
+pub mod render;
+pub mod scene;
+pub mod spectrum;
+pub mod structure;
+pub mod sweep;

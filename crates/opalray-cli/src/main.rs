@@ -1,0 +1,51 @@
+//! `opalray`: the command line of the opalray spectral renderer.
+//!
+//! Every subcommand reads a scene (a preset, a TOML file, flags on top), runs the stages it
+//! needs and writes its files atomically. Errors are one line on stderr and exit code 2.
+
+mod cmd;
+
+use clap::{Parser, Subcommand};
+
+/// Spectral rendering of precious opal's play of colour.
+#[derive(Parser)]
+#[command(name = "opalray", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Grow the opal's cluster/void structure and draw the orientation map (paper fig. 9).
+    Structure(cmd::structure::Args),
+    /// Print a complete scene as TOML, to start a scene file from.
+    Scene(cmd::scene::Args),
+    /// Reflectance of one FCC cluster over wavelength and angle (CSV, plot).
+    Spectrum(cmd::spectrum::Args),
+    /// Colour of a spectrum given as CSV: XYZ, xy, sRGB, hex.
+    Color(cmd::color::Args),
+    /// Render the opal to an image (paper figs. 10–11).
+    Render(cmd::render::Args),
+    /// Render the light sweep −60°…60° as a contact sheet and animation (paper fig. 11).
+    Sweep(cmd::sweep::Args),
+    /// Time every stage of the default render and report the medians.
+    Bench(cmd::bench::Args),
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Structure(args) => cmd::structure::run(args),
+        Command::Scene(args) => cmd::scene::run(args),
+        Command::Spectrum(args) => cmd::spectrum::run(args),
+        Command::Color(args) => cmd::color::run(args),
+        Command::Render(args) => cmd::render::run(args),
+        Command::Sweep(args) => cmd::sweep::run(args),
+        Command::Bench(args) => cmd::bench::run(args),
+    };
+    if let Err(err) = result {
+        eprintln!("error: {err:#}");
+        std::process::exit(2);
+    }
+}

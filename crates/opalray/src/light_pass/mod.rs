@@ -1,0 +1,1 @@
+//! light_pass stage (being built).

@@ -1,0 +1,1 @@
+//! optics stage (being built).

@@ -1,0 +1,118 @@
+//! Output: files written atomically (a temporary file beside the target, then a rename), so a
+//! failed or interrupted write never leaves a partial file or clobbers an existing one.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// Write a file atomically: `write` fills a temporary file in the target's directory, which
+/// is renamed over `path` only if everything succeeded. On failure nothing is left behind.
+pub fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if !dir.is_dir() {
+        return Err(Error::io(
+            path,
+            std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                format!(
+                    "directory {} does not exist; create it first or choose another --output",
+                    dir.display()
+                ),
+            ),
+        ));
+    }
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| Error::argument("--output", "the path names no file; give a file name"))?;
+    let tmp = dir.join(format!(
+        ".{}.{}.tmp",
+        file_name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| {
+        let file = std::fs::File::create(&tmp)?;
+        let mut buffered = std::io::BufWriter::new(file);
+        write(&mut buffered)?;
+        let file = buffered.into_inner().map_err(|e| e.into_error())?;
+        file.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    result.map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        Error::io(path, e)
+    })
+}
+
+/// Write 8-bit RGBA pixels (rows top to bottom) as a PNG, atomically.
+pub fn write_png_rgba8(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<()> {
+    encode_png(path, width, height, png::ColorType::Rgba, png::BitDepth::Eight, rgba)
+}
+
+/// Write 8-bit RGB pixels (rows top to bottom) as a PNG, atomically.
+pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
+    encode_png(path, width, height, png::ColorType::Rgb, png::BitDepth::Eight, rgb)
+}
+
+/// Encode raw samples (big-endian for 16-bit) as a PNG with an sRGB chunk.
+pub(crate) fn encode_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    color: png::ColorType,
+    depth: png::BitDepth,
+    data: &[u8],
+) -> Result<()> {
+    let encode_error = |e: png::EncodingError| std::io::Error::other(e.to_string());
+    write_atomic(path, |w| {
+        let mut encoder = png::Encoder::new(w, width, height);
+        encoder.set_color(color);
+        encoder.set_depth(depth);
+        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        let mut writer = encoder.write_header().map_err(encode_error)?;
+        writer.write_image_data(data).map_err(encode_error)?;
+        writer.finish().map_err(encode_error)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn png_round_trips_and_leaves_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.png");
+        let rgba: Vec<u8> = (0..2 * 3 * 4).map(|i| i as u8 * 10).collect();
+        write_png_rgba8(&path, 2, 3, &rgba).unwrap();
+        let img = image::open(&path).unwrap().to_rgba8();
+        assert_eq!(img.dimensions(), (2, 3));
+        assert_eq!(img.as_raw(), &rgba);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn missing_directory_is_an_error_and_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("no/such/dir/a.png");
+        let err = write_png_rgb8(&path, 1, 1, &[0, 0, 0]).unwrap_err().to_string();
+        assert!(err.contains("does not exist"), "{err}");
+    }
+
+    #[test]
+    fn failed_write_keeps_the_existing_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("keep.txt");
+        std::fs::write(&path, "old").unwrap();
+        let result = write_atomic(&path, |_| Err(std::io::Error::other("boom")));
+        assert!(result.is_err());
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+}

@@ -1,0 +1,182 @@
+//! The scene: everything a render needs, as plain data with a default for every field.
+//!
+//! Input: TOML text (a file, a preset) → output: a validated [`Scene`]. Unknown fields are
+//! errors naming their path; [`Scene::validate`] checks ranges, NaN and the memory a grid
+//! would need before anything is allocated. Field tables: `docs/scene-format.md`.
+
+mod presets;
+mod sections;
+
+pub use presets::{preset, PRESET_NAMES};
+pub use sections::{
+    CameraConfig, ColorConfig, ColorSpaceChoice, CrystalConfig, GamutMapping, Illuminant,
+    LightConfig, LightKind, RenderConfig, StructureConfig, MAX_CELLS,
+};
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::spectrum::WavelengthGrid;
+
+/// A complete scene. Every section and field is optional in TOML; missing ones take the
+/// defaults of the `paper` preset (the paper's fig. 10 set-up).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Scene {
+    /// Opal shape, cell grid and cluster growth (paper §2.4).
+    pub structure: StructureConfig,
+    /// The FCC crystal inside a cluster (paper §2.3, §3.1).
+    pub crystal: CrystalConfig,
+    /// Wavelength bins of every spectral quantity.
+    pub spectrum: WavelengthGrid,
+    /// The light source (paper fig. 10).
+    pub light: LightConfig,
+    /// The camera (paper fig. 10).
+    pub camera: CameraConfig,
+    /// Image size and shading controls (paper §3.3).
+    pub render: RenderConfig,
+    /// Spectrum → RGB (paper §3.4).
+    pub color: ColorConfig,
+}
+
+impl Scene {
+    /// Parse TOML text. `origin` names the source in errors (a path, `preset paper`).
+    /// The result is validated.
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Scene> {
+        let de = toml::Deserializer::new(text);
+        let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
+            let path = e.path().to_string();
+            let inner = e.into_inner();
+            let message = inner.message().trim().to_string();
+            let location = inner
+                .span()
+                .map(|span| {
+                    let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
+                    format!(" (line {line})")
+                })
+                .unwrap_or_default();
+            let message = if path.is_empty() || path == "." {
+                format!("{message}{location}")
+            } else {
+                format!("field `{path}`{location}: {message}")
+            };
+            Error::SceneParse {
+                origin: origin.to_string(),
+                message,
+            }
+        })?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Read and parse a TOML scene file.
+    pub fn load(path: &Path) -> Result<Scene> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        Scene::from_toml_str(&text, &path.display().to_string())
+    }
+
+    /// The complete scene as TOML, every field written out.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a Scene always serialises to TOML")
+    }
+
+    /// Check every field's range; the first problem found is returned with its field path.
+    pub fn validate(&self) -> Result<()> {
+        self.structure.validate()?;
+        self.crystal.validate()?;
+        self.spectrum.validate("spectrum")?;
+        self.light.validate()?;
+        self.camera.validate()?;
+        self.render.validate()?;
+        self.color.validate()?;
+        Ok(())
+    }
+}
+
+/// Check that `value` is finite and within `[lo, hi]`; the error names `field` and a fix.
+pub(crate) fn check_range(field: &str, value: f64, lo: f64, hi: f64, example: f64) -> Result<()> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(Error::field(
+            field,
+            format!("must be a number in [{lo}, {hi}], got {value}; try {example}"),
+        ))
+    }
+}
+
+/// Check that `value` is finite and strictly positive and at most `hi`.
+pub(crate) fn check_positive(field: &str, value: f64, hi: f64, example: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 && value <= hi {
+        Ok(())
+    } else {
+        Err(Error::field(
+            field,
+            format!("must be a positive number at most {hi}, got {value}; try {example}"),
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_scene_round_trips_through_toml() {
+        let scene = Scene::default();
+        let text = scene.to_toml();
+        assert_eq!(Scene::from_toml_str(&text, "test").unwrap(), scene);
+    }
+
+    #[test]
+    fn empty_text_is_the_default_scene() {
+        assert_eq!(Scene::from_toml_str("", "test").unwrap(), Scene::default());
+    }
+
+    #[test]
+    fn unknown_field_is_named_with_its_path() {
+        let err = Scene::from_toml_str("[structure]\nvoid_ratoi = 0.3\n", "s.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("structure.void_ratoi"), "{err}");
+        assert!(err.contains("void_ratio"), "suggests the known fields: {err}");
+    }
+
+    #[test]
+    fn wrong_type_is_named_with_its_path() {
+        let err = Scene::from_toml_str("[render]\nwidth = \"wide\"\n", "s.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("render.width"), "{err}");
+    }
+
+    #[test]
+    fn malformed_toml_is_reported_with_a_line() {
+        let err = Scene::from_toml_str("[structure\n", "s.toml").unwrap_err().to_string();
+        assert!(err.starts_with("s.toml"), "{err}");
+        assert!(err.contains("line"), "{err}");
+    }
+
+    #[test]
+    fn out_of_range_values_are_refused() {
+        for (text, field) in [
+            ("[structure]\nvoid_ratio = 1.5", "structure.void_ratio"),
+            ("[structure]\nvoid_ratio = 0.0", "structure.void_ratio"),
+            ("[structure]\nvoid_ratio = nan", "structure.void_ratio"),
+            ("[structure]\nmean_radius_cells = -6.0", "structure.mean_radius_cells"),
+            ("[structure]\ngrid = [100, 0, 25]", "structure.grid"),
+            ("[structure]\nsemi_axes_mm = [10.0, -1.0, 2.0]", "structure.semi_axes_mm"),
+            ("[structure]\ngrid = [100000, 100000, 100000]", "structure.grid"),
+            ("[crystal]\nsphere_diameter_nm = -250.0", "crystal.sphere_diameter_nm"),
+            ("[crystal]\nn_sphere = 0.9", "crystal.n_sphere"),
+            ("[render]\nwidth = 0", "render.width"),
+            ("[render]\nbody_tone = 12", "render.body_tone"),
+            ("[light]\nangle_deg = 120.0", "light.angle_deg"),
+        ] {
+            let err = Scene::from_toml_str(text, "t").unwrap_err().to_string();
+            assert!(err.contains(field), "{text}: {err}");
+        }
+    }
+}

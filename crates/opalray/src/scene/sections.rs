@@ -1,0 +1,461 @@
+//! The scene's sections, each a parameter table with defaults and a `validate`.
+
+use serde::{Deserialize, Serialize};
+
+use super::{check_positive, check_range};
+use crate::error::{Error, Result};
+
+/// Largest cell grid accepted: 64 million cells (about 1.5 GiB of structure data).
+pub const MAX_CELLS: u64 = 64_000_000;
+
+/// Opal shape, cell grid and cluster growth (paper §2.4, DESIGN §3).
+///
+/// | field                    | unit  | default           | valid                      |
+/// |--------------------------|-------|-------------------|----------------------------|
+/// | `grid`                   | cells | [100, 75, 25]     | each ≥ 1, product ≤ 64 M   |
+/// | `semi_axes_mm`           | mm    | [10.0, 7.5, 2.5]  | each in (0, 1000]          |
+/// | `mean_radius_cells`      | cells | 6.0               | (0, 1000]                  |
+/// | `void_ratio`             | –     | 0.2               | (0, 1)                     |
+/// | `seed`                   | –     | 1                 | any u64                    |
+/// | `orientation_jitter_deg` | deg   | 0.0               | [0, 180]                   |
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct StructureConfig {
+    /// Cells along x, y, z over the ellipsoid's bounding box (paper: 100 × 75 × 25).
+    pub grid: [usize; 3],
+    /// The ellipsoid's semi-axes along x, y, z in millimetres.
+    pub semi_axes_mm: [f64; 3],
+    /// Mean neighbourhood radius `R` of eq. (1), in cells (paper: 6).
+    pub mean_radius_cells: f64,
+    /// Growth stops once void cells / inside cells falls below this (paper: "the average
+    /// void ratio of real opal"; no number given, 0.2 here).
+    pub void_ratio: f64,
+    /// Seed of every random stream of the scene (structure, light pass, view pass).
+    pub seed: u64,
+    /// Standard deviation of a random tilt added to each grown patch's orientation, degrees.
+    /// 0 reproduces the paper; larger values make neighbouring patches differ more sharply.
+    pub orientation_jitter_deg: f64,
+}
+
+impl Default for StructureConfig {
+    fn default() -> Self {
+        StructureConfig {
+            grid: [100, 75, 25],
+            semi_axes_mm: [10.0, 7.5, 2.5],
+            mean_radius_cells: 6.0,
+            void_ratio: 0.2,
+            seed: 1,
+            orientation_jitter_deg: 0.0,
+        }
+    }
+}
+
+impl StructureConfig {
+    /// Total number of cells of the grid.
+    pub fn cell_count(&self) -> u64 {
+        self.grid.iter().map(|&n| n as u64).product()
+    }
+
+    /// Check ranges; refuses grids over [`MAX_CELLS`] before anything is allocated.
+    pub fn validate(&self) -> Result<()> {
+        if self.grid.contains(&0) {
+            return Err(Error::field(
+                "structure.grid",
+                format!(
+                    "every size must be at least 1, got {:?}; try [100, 75, 25]",
+                    self.grid
+                ),
+            ));
+        }
+        let cells = self
+            .grid
+            .iter()
+            .try_fold(1u64, |acc, &n| acc.checked_mul(n as u64))
+            .unwrap_or(u64::MAX);
+        if cells > MAX_CELLS {
+            return Err(Error::field(
+                "structure.grid",
+                format!(
+                    "{:?} is {cells} cells, more than the limit of {MAX_CELLS} \
+                     (about {:.0} GiB of memory); use a coarser grid such as [400, 300, 100]",
+                    self.grid,
+                    cells as f64 * 24.0 / (1u64 << 30) as f64
+                ),
+            ));
+        }
+        for (axis, &a) in ["x", "y", "z"].iter().zip(&self.semi_axes_mm) {
+            if !(a.is_finite() && a > 0.0 && a <= 1000.0) {
+                return Err(Error::field(
+                    "structure.semi_axes_mm",
+                    format!(
+                        "the {axis} semi-axis must be in (0, 1000] mm, got {a}; \
+                         try [10.0, 7.5, 2.5]"
+                    ),
+                ));
+            }
+        }
+        check_positive(
+            "structure.mean_radius_cells",
+            self.mean_radius_cells,
+            1000.0,
+            6.0,
+        )?;
+        if !(self.void_ratio.is_finite() && self.void_ratio > 0.0 && self.void_ratio < 1.0) {
+            return Err(Error::field(
+                "structure.void_ratio",
+                format!(
+                    "must be strictly between 0 and 1, got {}; try 0.2",
+                    self.void_ratio
+                ),
+            ));
+        }
+        check_range(
+            "structure.orientation_jitter_deg",
+            self.orientation_jitter_deg,
+            0.0,
+            180.0,
+            0.0,
+        )
+    }
+}
+
+/// The FCC crystal of silica spheres inside every cluster (paper §2.3, DESIGN §4).
+/// Defaults model natural precious opal; see `docs/model.md` for the sources.
+///
+/// | field                | unit | default | valid        |
+/// |----------------------|------|---------|--------------|
+/// | `sphere_diameter_nm` | nm   | 250     | [50, 2000]   |
+/// | `n_sphere`           | –    | 1.45    | [1, 4]       |
+/// | `n_matrix`           | –    | 1.43    | [1, 4]       |
+/// | `filling_fraction`   | –    | 0.74    | (0, 1)       |
+/// | `layers`             | –    | 400     | 1 ..= 100000 |
+/// | `diffuse_fraction`   | –    | 0.02    | [0, 1)       |
+/// | `angles`             | –    | 181     | 90 ..= 10000 |
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CrystalConfig {
+    /// Silica sphere diameter `D`, nm.
+    pub sphere_diameter_nm: f64,
+    /// Refractive index of the silica spheres.
+    pub n_sphere: f64,
+    /// Refractive index of the matrix between spheres (silica cement in natural opal).
+    pub n_matrix: f64,
+    /// Volume fraction of spheres (0.74 for close-packed FCC).
+    pub filling_fraction: f64,
+    /// Coherent (111) layers `N` in one cluster.
+    pub layers: u32,
+    /// Fraction of the light crossing a cluster scattered diffusely (stacking disorder).
+    pub diffuse_fraction: f64,
+    /// Entries of the reflectance tables over incidence angle 0–90° inside the stone.
+    pub angles: usize,
+}
+
+impl Default for CrystalConfig {
+    fn default() -> Self {
+        CrystalConfig {
+            sphere_diameter_nm: 250.0,
+            n_sphere: 1.45,
+            n_matrix: 1.43,
+            filling_fraction: 0.74,
+            layers: 400,
+            diffuse_fraction: 0.02,
+            angles: 181,
+        }
+    }
+}
+
+impl CrystalConfig {
+    /// Check ranges.
+    pub fn validate(&self) -> Result<()> {
+        check_range(
+            "crystal.sphere_diameter_nm",
+            self.sphere_diameter_nm,
+            50.0,
+            2000.0,
+            250.0,
+        )?;
+        check_range("crystal.n_sphere", self.n_sphere, 1.0, 4.0, 1.45)?;
+        check_range("crystal.n_matrix", self.n_matrix, 1.0, 4.0, 1.43)?;
+        if !(self.filling_fraction > 0.0 && self.filling_fraction < 1.0) {
+            return Err(Error::field(
+                "crystal.filling_fraction",
+                format!(
+                    "must be strictly between 0 and 1, got {}; try 0.74",
+                    self.filling_fraction
+                ),
+            ));
+        }
+        if !(1..=100_000).contains(&self.layers) {
+            return Err(Error::field(
+                "crystal.layers",
+                format!("must be in 1..=100000, got {}; try 400", self.layers),
+            ));
+        }
+        if !(self.diffuse_fraction >= 0.0 && self.diffuse_fraction < 1.0) {
+            return Err(Error::field(
+                "crystal.diffuse_fraction",
+                format!(
+                    "must be in [0, 1), got {}; try 0.02",
+                    self.diffuse_fraction
+                ),
+            ));
+        }
+        if !(90..=10_000).contains(&self.angles) {
+            return Err(Error::field(
+                "crystal.angles",
+                format!("must be in 90..=10000, got {}; try 181", self.angles),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Kind of light source.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LightKind {
+    /// Parallel rays from a distant source (the default, as in fig. 10).
+    Directional,
+    /// A point source at `distance_mm` from the opal's centre.
+    Point,
+}
+
+/// A CIE standard illuminant used as the light's spectrum.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Illuminant {
+    /// CIE D65, average daylight (6504 K).
+    D65,
+    /// CIE A, incandescent tungsten (2856 K).
+    A,
+    /// CIE C, the white of the paper's NTSC matrix.
+    C,
+    /// The equal-energy spectrum.
+    E,
+}
+
+/// The light source (paper fig. 10).
+///
+/// | field          | unit | default       | valid                 |
+/// |----------------|------|---------------|-----------------------|
+/// | `kind`         | –    | "directional" | "directional", "point"|
+/// | `angle_deg`    | deg  | 30            | [−89, 89]             |
+/// | `illuminant`   | –    | "D65"         | "D65", "A", "C", "E"  |
+/// | `intensity`    | –    | 1.0           | (0, 1e6]              |
+/// | `distance_mm`  | mm   | 100           | (0, 1e6]              |
+/// | `rays`         | –    | 262144        | 1 ..= 1e9             |
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LightConfig {
+    /// Directional or point light.
+    pub kind: LightKind,
+    /// Angle θ between the view direction and the light-to-opal direction (fig. 10), rotated
+    /// about the camera's up axis; the paper sweeps −60° … 60°.
+    pub angle_deg: f64,
+    /// Spectrum of the light.
+    pub illuminant: Illuminant,
+    /// Scale of the light's irradiance (1 = the illuminant normalised to unit luminance).
+    pub intensity: f64,
+    /// Distance of a point light from the opal's centre, mm.
+    pub distance_mm: f64,
+    /// Rays traced in the light pass.
+    pub rays: u64,
+}
+
+impl Default for LightConfig {
+    fn default() -> Self {
+        LightConfig {
+            kind: LightKind::Directional,
+            angle_deg: 30.0,
+            illuminant: Illuminant::D65,
+            intensity: 1.0,
+            distance_mm: 100.0,
+            rays: 262_144,
+        }
+    }
+}
+
+impl LightConfig {
+    /// Check ranges.
+    pub fn validate(&self) -> Result<()> {
+        check_range("light.angle_deg", self.angle_deg, -89.0, 89.0, 30.0)?;
+        check_positive("light.intensity", self.intensity, 1e6, 1.0)?;
+        check_positive("light.distance_mm", self.distance_mm, 1e6, 100.0)?;
+        if !(1..=1_000_000_000).contains(&self.rays) {
+            return Err(Error::field(
+                "light.rays",
+                format!("must be in 1..=1000000000, got {}; try 262144", self.rays),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The camera, looking at the opal's broad face from +z (paper fig. 10).
+///
+/// | field          | unit | default | valid       |
+/// |----------------|------|---------|-------------|
+/// | `distance_mm`  | mm   | 100     | (0, 1e6]    |
+/// | `fov_deg`      | deg  | 13.5    | (0, 170]    |
+/// | `tilt_deg`     | deg  | 0       | [−89, 89]   |
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CameraConfig {
+    /// Distance from the camera to the opal's centre, mm.
+    pub distance_mm: f64,
+    /// Vertical field of view, degrees.
+    pub fov_deg: f64,
+    /// Tilt of the opal towards the camera about the x axis, degrees (0: face on).
+    pub tilt_deg: f64,
+}
+
+impl Default for CameraConfig {
+    fn default() -> Self {
+        CameraConfig {
+            distance_mm: 100.0,
+            fov_deg: 13.5,
+            tilt_deg: 0.0,
+        }
+    }
+}
+
+impl CameraConfig {
+    /// Check ranges.
+    pub fn validate(&self) -> Result<()> {
+        check_positive("camera.distance_mm", self.distance_mm, 1e6, 100.0)?;
+        check_positive("camera.fov_deg", self.fov_deg, 170.0, 13.5)?;
+        check_range("camera.tilt_deg", self.tilt_deg, -89.0, 89.0, 0.0)
+    }
+}
+
+/// Image size and shading (paper §3.3, eq. 2).
+///
+/// | field              | unit | default | valid        |
+/// |--------------------|------|---------|--------------|
+/// | `width`            | px   | 640     | 1 ..= 16384  |
+/// | `height`           | px   | 480     | 1 ..= 16384  |
+/// | `phong_exponent`   | –    | 40      | [0, 10000]   |
+/// | `body_tone`        | –    | 2       | 1 ..= 9      |
+/// | `gloss`            | –    | 1.0     | [0, 10]      |
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RenderConfig {
+    /// Image width, pixels.
+    pub width: u32,
+    /// Image height, pixels.
+    pub height: u32,
+    /// Exponent `n` of the specular term `cosⁿ θ'` in eq. (2).
+    pub phong_exponent: f64,
+    /// Body tone of the stone, the gem trade's scale N1 (black) … N9 (white).
+    pub body_tone: u8,
+    /// Scale of the surface's gloss reflection of the light (1 = Fresnel).
+    pub gloss: f64,
+}
+
+impl Default for RenderConfig {
+    fn default() -> Self {
+        RenderConfig {
+            width: 640,
+            height: 480,
+            phong_exponent: 40.0,
+            body_tone: 2,
+            gloss: 1.0,
+        }
+    }
+}
+
+impl RenderConfig {
+    /// Check ranges.
+    pub fn validate(&self) -> Result<()> {
+        for (field, v) in [("render.width", self.width), ("render.height", self.height)] {
+            if !(1..=16_384).contains(&v) {
+                return Err(Error::field(
+                    field,
+                    format!("must be in 1..=16384 pixels, got {v}; try 640 × 480"),
+                ));
+            }
+        }
+        check_range(
+            "render.phong_exponent",
+            self.phong_exponent,
+            0.0,
+            10_000.0,
+            40.0,
+        )?;
+        if !(1..=9).contains(&self.body_tone) {
+            return Err(Error::field(
+                "render.body_tone",
+                format!(
+                    "must be 1 (N1, black) to 9 (N9, white), got {}; try 2",
+                    self.body_tone
+                ),
+            ));
+        }
+        check_range("render.gloss", self.gloss, 0.0, 10.0, 1.0)
+    }
+}
+
+/// The RGB space images are written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ColorSpaceChoice {
+    /// sRGB (IEC 61966-2-1, D65): the default for files.
+    Srgb,
+    /// The paper's eq. (3): NTSC 1953 primaries, white C.
+    Paper,
+}
+
+/// How colours outside the RGB gamut are brought inside.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GamutMapping {
+    /// Desaturate towards the colour's own luminance just enough to fit, keeping hue.
+    HuePreserving,
+    /// Clip each channel to [0, 1] (bleaches saturated colours; for comparison).
+    Clip,
+}
+
+/// Spectrum → RGB (paper §3.4, DESIGN §7).
+///
+/// | field         | unit | default          | valid                     |
+/// |---------------|------|------------------|---------------------------|
+/// | `space`       | –    | "srgb"           | "srgb", "paper"           |
+/// | `gamut`       | –    | "hue-preserving" | "hue-preserving", "clip"  |
+/// | `exposure_ev` | EV   | 0                | [−20, 20]                 |
+/// | `bit_depth`   | bits | 8                | 8, 16                     |
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ColorConfig {
+    /// RGB space of the output.
+    pub space: ColorSpaceChoice,
+    /// Gamut mapping of out-of-gamut colours.
+    pub gamut: GamutMapping,
+    /// Exposure compensation in stops (each +1 doubles the brightness).
+    pub exposure_ev: f64,
+    /// Bits per channel of PNG output.
+    pub bit_depth: u8,
+}
+
+impl Default for ColorConfig {
+    fn default() -> Self {
+        ColorConfig {
+            space: ColorSpaceChoice::Srgb,
+            gamut: GamutMapping::HuePreserving,
+            exposure_ev: 0.0,
+            bit_depth: 8,
+        }
+    }
+}
+
+impl ColorConfig {
+    /// Check ranges.
+    pub fn validate(&self) -> Result<()> {
+        check_range("color.exposure_ev", self.exposure_ev, -20.0, 20.0, 0.0)?;
+        if !matches!(self.bit_depth, 8 | 16) {
+            return Err(Error::field(
+                "color.bit_depth",
+                format!("must be 8 or 16, got {}; try 8", self.bit_depth),
+            ));
+        }
+        Ok(())
+    }
+}
