@@ -1,0 +1,2 @@
+//! Criterion benchmarks of the color stage (being built).
+fn main() {}

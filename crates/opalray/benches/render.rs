@@ -1,0 +1,2 @@
+//! Criterion benchmarks of the render stage (being built).
+fn main() {}

@@ -1,0 +1,2 @@
+//! Criterion benchmarks of the structure stage (being built).
+fn main() {}
