@@ -21,6 +21,7 @@ pub mod geometry;
 pub mod light_pass;
 pub mod optics;
 pub mod output;
+pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod spectrum;

@@ -1,1 +1,241 @@
-//! light_pass stage (being built).
+//! Light pass (paper §3.2, fig. 6): rays from the light sources, stored per cell.
+//!
+//! Input: the structure, the cluster optics and a light → output: a [`LightField`], the light
+//! crossing every inside cell as a fluence spectrum (power per area per nm: the track-length
+//! estimate Σ Φ·ℓ / V, so it converges as rays are added and does not scale with their
+//! number) in two direction lobes: light travelling down into the stone (from the light
+//! through the top face) and light travelling up (internally reflected, or Bragg-reflected
+//! back), each with its power-weighted mean direction. The view pass needs the direction to
+//! place each cluster's Bragg reflection (eq. 2's θ').
+//!
+//! Rays are drawn on a jittered lattice over the beam, each with its own random stream
+//! `(seed, LIGHT, index)`; deposits are summed in fixed point, so the result is the same at
+//! any thread count.
+
+mod accumulate;
+mod interaction;
+mod source;
+mod walk;
+
+pub use interaction::{ClusterOptics, Split};
+pub use source::{LightSource, RayLattice};
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use glam::Vec3;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::geometry::{CellGrid, Ellipsoid};
+use crate::optics::OpticsTables;
+use crate::spectrum::WavelengthGrid;
+use crate::structure::{Cell, Structure};
+use accumulate::Accumulator;
+use walk::{Scratch, Walker};
+
+/// Direction lobes stored per cell: 0 = travelling down (−z), 1 = travelling up (+z).
+pub const LOBES: usize = 2;
+/// Marks a cell with no storage (outside the stone).
+pub const NO_SLOT: u32 = u32::MAX;
+/// Rays traced per work item; also the grain of parallelism.
+const RAYS_PER_TASK: u64 = 1024;
+
+/// Where the energy of the light pass went. With no absorption,
+/// `emitted + roulette_added = reflected + escaped + stored + absorbed + roulette_killed +
+/// truncated` holds to rounding.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct EnergyLedger {
+    /// Power of the rays that met the stone.
+    pub emitted: f64,
+    /// Reflected by the outer surface on entry (the gloss).
+    pub reflected: f64,
+    /// Left the stone from inside.
+    pub escaped: f64,
+    /// Scattered diffusely by clusters and by the potch, stored where it happened.
+    pub stored: f64,
+    /// Absorbed by the potch (and by clusters, if their tables absorb).
+    pub absorbed: f64,
+    /// Ended by Russian roulette.
+    pub roulette_killed: f64,
+    /// Added by reweighting the survivors of Russian roulette.
+    pub roulette_added: f64,
+    /// Ended after too many internal reflections.
+    pub truncated: f64,
+    /// Cells crossed by all rays and branches (work done, not energy).
+    pub cells_crossed: u64,
+    /// Branches followed (refracted rays, Bragg reflections, internal reflections).
+    pub branches: u64,
+}
+
+impl EnergyLedger {
+    fn add(mut self, o: EnergyLedger) -> Self {
+        self.emitted += o.emitted;
+        self.reflected += o.reflected;
+        self.escaped += o.escaped;
+        self.stored += o.stored;
+        self.absorbed += o.absorbed;
+        self.roulette_killed += o.roulette_killed;
+        self.roulette_added += o.roulette_added;
+        self.truncated += o.truncated;
+        self.cells_crossed += o.cells_crossed;
+        self.branches += o.branches;
+        self
+    }
+
+    /// `(in, out)`: emitted plus roulette gains, and everything booked as leaving.
+    pub fn balance(&self) -> (f64, f64) {
+        (
+            self.emitted + self.roulette_added,
+            self.reflected
+                + self.escaped
+                + self.stored
+                + self.absorbed
+                + self.roulette_killed
+                + self.truncated,
+        )
+    }
+}
+
+/// The light of one source, seen from the opal's frame.
+#[derive(Clone, Debug)]
+pub struct LightSetup<'a> {
+    /// Where the light comes from.
+    pub source: LightSource,
+    /// The light's spectrum per bin, scaled so that irradiance 1 has luminance 1.
+    pub spectrum: &'a [f32],
+    /// Rays to trace (rounded to a square lattice).
+    pub rays: u64,
+    /// Seed of the ray streams.
+    pub seed: u64,
+    /// Single-scattering albedo of the potch in voids (see `RenderConfig::body_albedo`).
+    pub body_albedo: f32,
+    /// Extinction of the potch, per mm.
+    pub body_extinction_per_mm: f32,
+}
+
+/// The light stored in every inside cell (clusters and voids).
+#[derive(Clone, Debug)]
+pub struct LightField {
+    /// Wavelength bins of the spectra.
+    pub grid: WavelengthGrid,
+    /// Storage slot of each cell, or [`NO_SLOT`] outside the stone.
+    pub slot_of_cell: Vec<u32>,
+    /// Fluence spectra, `slots × LOBES × bins`, power per mm² per nm.
+    pub fluence: Vec<f32>,
+    /// Mean direction of travel per slot and lobe (zero where no light arrived).
+    pub directions: Vec<Vec3>,
+    /// Rays traced.
+    pub rays: u64,
+    /// Energy bookkeeping.
+    pub ledger: EnergyLedger,
+}
+
+impl LightField {
+    /// Fluence spectrum of `slot`, `lobe`.
+    pub fn fluence(&self, slot: usize, lobe: usize) -> &[f32] {
+        let b = self.grid.bins;
+        let start = (slot * LOBES + lobe) * b;
+        &self.fluence[start..start + b]
+    }
+}
+
+/// The stone's cell grid and shape in the opal frame (origin at the centre, mm).
+pub fn stone_geometry(structure: &Structure) -> (Ellipsoid, CellGrid) {
+    let half = Vec3::from_array(structure.semi_axes_mm.map(|v| v as f32));
+    (
+        Ellipsoid::new(half),
+        CellGrid::centered(structure.grid, half),
+    )
+}
+
+/// Storage slots: one per inside cell, in cell order.
+pub fn slots_of_cells(cells: &[Cell]) -> (Vec<u32>, usize) {
+    let mut next = 0u32;
+    let slots = cells
+        .iter()
+        .map(|c| match c {
+            Cell::Outside => NO_SLOT,
+            _ => {
+                next += 1;
+                next - 1
+            }
+        })
+        .collect();
+    (slots, next as usize)
+}
+
+/// Trace the light pass (paper §3.2).
+pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSetup) -> LightField {
+    let (shape, grid) = stone_geometry(structure);
+    let (slot_of_cell, slots) = slots_of_cells(&structure.cells);
+    let normals: Vec<Vec3> = structure
+        .cells
+        .par_iter()
+        .enumerate()
+        .map(|(i, c)| match c {
+            Cell::Cluster => structure.normal(i),
+            _ => Vec3::ZERO,
+        })
+        .collect();
+    let bins = optics.grid.bins;
+    let walker = Walker {
+        cells: &structure.cells,
+        normals: &normals,
+        slot_of_cell: &slot_of_cell,
+        optics: ClusterOptics::new(optics),
+        shape,
+        grid,
+        n_eff: optics.n_eff as f32,
+        spectrum: setup.spectrum,
+        bin_width_nm: optics.grid.bin_width_nm() as f32,
+        source: setup.source,
+        lattice: RayLattice::new(setup.source, &shape, setup.rays),
+        body_albedo: setup.body_albedo,
+        body_extinction_per_mm: setup.body_extinction_per_mm,
+        inv_cell_volume: 1.0 / grid.cell_volume(),
+        seed: setup.seed,
+    };
+    let rays = walker.lattice.len();
+    let tasks = rays.div_ceil(RAYS_PER_TASK);
+    // One accumulator per worker thread, each pulling tasks from a shared counter; integer
+    // sums make the division of work irrelevant to the result.
+    let next_task = AtomicU64::new(0);
+    let (acc, ledger) = (0..rayon::current_num_threads())
+        .into_par_iter()
+        .map(|_| {
+            let mut acc = Accumulator::new(slots, LOBES, bins);
+            let mut ledger = EnergyLedger::default();
+            let mut scratch = Scratch::default();
+            loop {
+                let task = next_task.fetch_add(1, Ordering::Relaxed);
+                if task >= tasks {
+                    break;
+                }
+                let end = ((task + 1) * RAYS_PER_TASK).min(rays);
+                for index in task * RAYS_PER_TASK..end {
+                    walker.trace(index, &mut acc, &mut ledger, &mut scratch);
+                }
+            }
+            (Some(acc), ledger)
+        })
+        .reduce(
+            || (None, EnergyLedger::default()),
+            |(a, la), (b, lb)| {
+                let acc = match (a, b) {
+                    (Some(a), Some(b)) => Some(a.merge(b)),
+                    (a, b) => a.or(b),
+                };
+                (acc, la.add(lb))
+            },
+        );
+    let acc = acc.unwrap_or_else(|| Accumulator::new(slots, LOBES, bins));
+    let (fluence, directions) = acc.finish();
+    LightField {
+        grid: optics.grid,
+        slot_of_cell,
+        fluence,
+        directions,
+        rays,
+        ledger,
+    }
+}

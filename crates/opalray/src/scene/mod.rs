@@ -10,7 +10,7 @@ mod sections;
 pub use presets::{preset, PRESET_NAMES};
 pub use sections::{
     CameraConfig, ColorConfig, ColorSpaceChoice, CrystalConfig, GamutMapping, Illuminant,
-    LightConfig, LightKind, RenderConfig, StructureConfig, MAX_CELLS,
+    LightConfig, LightKind, RenderConfig, StructureConfig, BODY_EXTINCTION_PER_MM, MAX_CELLS,
 };
 
 use std::path::Path;

@@ -333,6 +333,7 @@ impl CameraConfig {
 /// | `phong_exponent`   | –    | 40      | [0, 10000]   |
 /// | `body_tone`        | –    | 2       | 1 ..= 9      |
 /// | `gloss`            | –    | 1.0     | [0, 10]      |
+/// | `background`       | –    | 0.03    | [0, 1]       |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderConfig {
@@ -346,6 +347,9 @@ pub struct RenderConfig {
     pub body_tone: u8,
     /// Scale of the surface's gloss reflection of the light (1 = Fresnel).
     pub gloss: f64,
+    /// Grey level of the backdrop behind the stone, as a reflectance under the light
+    /// (0 black velvet … 1 white card).
+    pub background: f64,
 }
 
 impl Default for RenderConfig {
@@ -356,6 +360,7 @@ impl Default for RenderConfig {
             phong_exponent: 40.0,
             body_tone: 2,
             gloss: 1.0,
+            background: 0.03,
         }
     }
 }
@@ -387,9 +392,22 @@ impl RenderConfig {
                 ),
             ));
         }
-        check_range("render.gloss", self.gloss, 0.0, 10.0, 1.0)
+        check_range("render.gloss", self.gloss, 0.0, 10.0, 1.0)?;
+        check_range("render.background", self.background, 0.0, 1.0, 0.03)
+    }
+
+    /// Single-scattering albedo of the potch (common opal) filling the voids, from the body
+    /// tone: N1 absorbs nearly everything (black opal), N9 scatters nearly everything (white
+    /// opal). A look scale, evenly spaced in lightness between the two ends.
+    pub fn body_albedo(&self) -> f32 {
+        const ALBEDO: [f32; 9] = [0.02, 0.05, 0.1, 0.2, 0.32, 0.45, 0.6, 0.76, 0.92];
+        ALBEDO[usize::from(self.body_tone.clamp(1, 9)) - 1]
     }
 }
+
+/// Extinction coefficient of the potch in void cells, per mm: a mean free path of 0.33 mm,
+/// so a void of the paper's cell size (0.2 mm) hides about 45 % of what lies behind it.
+pub const BODY_EXTINCTION_PER_MM: f32 = 3.0;
 
 /// The RGB space images are written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

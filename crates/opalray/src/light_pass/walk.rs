@@ -1,0 +1,310 @@
+//! One light ray through the stone (paper §3.2, fig. 6): refraction at the surface, then cell
+//! by cell: store the light crossing each cell, split it at clusters into the Bragg-reflected
+//! branch, the transmitted ray and the diffuse part; attenuate it in voids; reflect it
+//! internally (Fresnel, total internal reflection) at the surface until it leaves or fades.
+
+use glam::Vec3;
+
+use super::accumulate::Accumulator;
+use super::interaction::{ClusterOptics, Split};
+use super::source::{LightSource, RayLattice};
+use super::{EnergyLedger, LOBES};
+use crate::geometry::{fresnel_dielectric, reflect, refract, CellGrid, Ellipsoid, Ray};
+use crate::sampling::{stage, Rng};
+use crate::structure::Cell;
+
+/// A branch whose power falls below this fraction of its ray's entering power plays Russian
+/// roulette (survives with probability power / threshold, reweighted to stay unbiased).
+const ROULETTE_FRACTION: f32 = 0.01;
+/// Bragg-reflected branches play roulette against this larger fraction: they are narrow-band
+/// and rarely meet a second cluster at its Bragg angle, so few need to be followed.
+const BRANCH_ROULETTE_FRACTION: f32 = 0.05;
+/// Surface interactions after which a branch is ended (light trapped by total internal
+/// reflection); its power is booked as truncated.
+const MAX_SURFACE_BOUNCES: u32 = 24;
+
+/// Everything a light ray needs to know, shared by all threads.
+pub(crate) struct Walker<'a> {
+    pub cells: &'a [Cell],
+    pub normals: &'a [Vec3],
+    pub slot_of_cell: &'a [u32],
+    pub optics: ClusterOptics<'a>,
+    pub shape: Ellipsoid,
+    pub grid: CellGrid,
+    pub n_eff: f32,
+    pub spectrum: &'a [f32],
+    pub bin_width_nm: f32,
+    pub source: LightSource,
+    pub lattice: RayLattice,
+    pub body_albedo: f32,
+    pub body_extinction_per_mm: f32,
+    pub inv_cell_volume: f32,
+    pub seed: u64,
+}
+
+/// Per-thread scratch space reused from ray to ray.
+#[derive(Default)]
+pub(crate) struct Scratch {
+    r: Vec<f32>,
+    t: Vec<f32>,
+    d: Vec<f32>,
+    stack: Vec<Branch>,
+    pool: Vec<Vec<f32>>,
+}
+
+struct Branch {
+    origin: Vec3,
+    direction: Vec3,
+    spectrum: Vec<f32>,
+    power: f32,
+    bounces: u32,
+}
+
+fn lobe_of(direction: Vec3) -> usize {
+    usize::from(direction.z >= 0.0)
+}
+
+impl Walker<'_> {
+    fn power(&self, spectrum: &[f32]) -> f32 {
+        spectrum.iter().sum::<f32>() * self.bin_width_nm
+    }
+
+    /// Russian roulette: `Some(factor)` to keep the branch (reweighted by `factor`) or `None`.
+    fn roulette(
+        &self,
+        power: f32,
+        threshold: f32,
+        rng: &mut Rng,
+        ledger: &mut EnergyLedger,
+    ) -> Option<f32> {
+        if power >= threshold {
+            return Some(1.0);
+        }
+        let q = power / threshold;
+        if q > 0.0 && rng.uniform_f32() < q {
+            ledger.roulette_added += f64::from(power * (1.0 / q - 1.0));
+            Some(1.0 / q)
+        } else {
+            ledger.roulette_killed += f64::from(power);
+            None
+        }
+    }
+
+    /// Trace light ray `index`, adding what it deposits to `acc` and its energy to `ledger`.
+    pub fn trace(
+        &self,
+        index: u64,
+        acc: &mut Accumulator,
+        ledger: &mut EnergyLedger,
+        scratch: &mut Scratch,
+    ) {
+        let bins = self.spectrum.len();
+        scratch.r.resize(bins, 0.0);
+        scratch.t.resize(bins, 0.0);
+        scratch.d.resize(bins, 0.0);
+        let mut rng = Rng::new(self.seed, stage::LIGHT, index);
+        let ray = self.lattice.ray(index, &mut rng);
+        let Some((t_hit, _)) = self.shape.intersect(&ray) else {
+            return;
+        };
+        if t_hit <= 0.0 {
+            return;
+        }
+        // Refract into the stone; the Fresnel-reflected part is the surface's gloss.
+        let p = ray.at(t_hit);
+        let normal = self.shape.normal(p);
+        let weight = self.lattice.power_per_ray * self.source.irradiance_at(p);
+        let p_in = self.power(self.spectrum) * weight;
+        let fresnel = fresnel_dielectric(-ray.direction.dot(normal), 1.0, self.n_eff);
+        ledger.emitted += f64::from(p_in);
+        ledger.reflected += f64::from(p_in * fresnel);
+        let Some(direction) = refract(ray.direction, normal, 1.0, self.n_eff) else {
+            return;
+        };
+        let mut spectrum = scratch.pool.pop().unwrap_or_default();
+        spectrum.clear();
+        spectrum.extend(self.spectrum.iter().map(|s| s * weight * (1.0 - fresnel)));
+        let threshold = ROULETTE_FRACTION * p_in * (1.0 - fresnel);
+        scratch.stack.push(Branch {
+            origin: p,
+            direction,
+            power: p_in * (1.0 - fresnel),
+            spectrum,
+            bounces: 0,
+        });
+        while let Some(branch) = scratch.stack.pop() {
+            self.walk(branch, threshold, &mut rng, acc, ledger, scratch);
+        }
+    }
+
+    /// Follow one branch from its origin to where it leaves the stone or fades.
+    fn walk(
+        &self,
+        branch: Branch,
+        threshold: f32,
+        rng: &mut Rng,
+        acc: &mut Accumulator,
+        ledger: &mut EnergyLedger,
+        scratch: &mut Scratch,
+    ) {
+        let Branch {
+            origin,
+            direction,
+            mut spectrum,
+            mut power,
+            bounces,
+        } = branch;
+        let ray = Ray { origin, direction };
+        let Some((t0, t1)) = self.shape.intersect(&ray) else {
+            ledger.escaped += f64::from(power);
+            scratch.pool.push(spectrum);
+            return;
+        };
+        ledger.branches += 1;
+        let lobe = lobe_of(direction);
+        let mut alive = true;
+        let Scratch {
+            r,
+            t,
+            d,
+            stack,
+            pool,
+        } = scratch;
+        self.grid.traverse(&ray, t0.max(0.0), t1, |seg| {
+            let length = seg.t_exit - seg.t_enter;
+            ledger.cells_crossed += 1;
+            let slot = self.slot_of_cell[seg.index] as usize;
+            match self.cells[seg.index] {
+                Cell::Outside => return true,
+                Cell::Void => {
+                    // Potch: track-length fluence under exponential attenuation.
+                    let sigma = self.body_extinction_per_mm;
+                    let kept = (-sigma * length).exp();
+                    let track = (1.0 - kept) / sigma;
+                    acc.deposit(
+                        slot * LOBES + lobe,
+                        &spectrum,
+                        track * self.inv_cell_volume,
+                        direction,
+                        power,
+                    );
+                    let lost = f64::from(power * (1.0 - kept));
+                    ledger.stored += f64::from(self.body_albedo) * lost;
+                    ledger.absorbed += f64::from(1.0 - self.body_albedo) * lost;
+                    spectrum.iter_mut().for_each(|s| *s *= kept);
+                    power *= kept;
+                }
+                Cell::Cluster => {
+                    acc.deposit(
+                        slot * LOBES + lobe,
+                        &spectrum,
+                        length * self.inv_cell_volume,
+                        direction,
+                        power,
+                    );
+                    let normal = self.normals[seg.index];
+                    let cos = direction.dot(normal).abs();
+                    let mut reflected: Option<Vec<f32>> = None;
+                    let (p_r, p_d, p_t);
+                    match self.optics.split(cos, r, t, d) {
+                        Split::Flat { r, t, d } => {
+                            if r > 0.0 {
+                                let mut v = pool.pop().unwrap_or_default();
+                                v.clear();
+                                v.extend(spectrum.iter().map(|s| s * r));
+                                reflected = Some(v);
+                            }
+                            p_r = power * r;
+                            p_d = power * d;
+                            p_t = power * t;
+                            spectrum.iter_mut().for_each(|s| *s *= t);
+                        }
+                        Split::Spectral => {
+                            let mut v = pool.pop().unwrap_or_default();
+                            v.clear();
+                            v.extend(spectrum.iter().zip(r.iter()).map(|(s, r)| s * r));
+                            p_r = self.power(&v);
+                            p_d = spectrum
+                                .iter()
+                                .zip(d.iter())
+                                .map(|(s, d)| s * d)
+                                .sum::<f32>()
+                                * self.bin_width_nm;
+                            spectrum.iter_mut().zip(t.iter()).for_each(|(s, t)| *s *= t);
+                            p_t = self.power(&spectrum);
+                            reflected = Some(v);
+                        }
+                    }
+                    ledger.stored += f64::from(p_d);
+                    ledger.absorbed += f64::from(power - p_r - p_d - p_t);
+                    power = p_t;
+                    if let Some(mut v) = reflected {
+                        match self.roulette(
+                            p_r,
+                            threshold * (BRANCH_ROULETTE_FRACTION / ROULETTE_FRACTION),
+                            rng,
+                            ledger,
+                        ) {
+                            Some(k) if p_r > 0.0 => {
+                                v.iter_mut().for_each(|s| *s *= k);
+                                stack.push(Branch {
+                                    origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
+                                    direction: reflect(direction, normal),
+                                    spectrum: v,
+                                    power: p_r * k,
+                                    bounces,
+                                });
+                            }
+                            _ => pool.push(v),
+                        }
+                    }
+                }
+            }
+            match self.roulette(power, threshold, rng, ledger) {
+                Some(k) => {
+                    if k != 1.0 {
+                        spectrum.iter_mut().for_each(|s| *s *= k);
+                        power *= k;
+                    }
+                    true
+                }
+                None => {
+                    alive = false;
+                    false
+                }
+            }
+        });
+        if !alive {
+            pool.push(spectrum);
+            return;
+        }
+        // Leave through the surface, or reflect internally (totally beyond the critical angle).
+        let exit = ray.at(t1);
+        let normal = self.shape.normal(exit);
+        let fresnel = fresnel_dielectric(direction.dot(normal), self.n_eff, 1.0);
+        ledger.escaped += f64::from(power * (1.0 - fresnel));
+        let inner = power * fresnel;
+        if fresnel <= 0.0 {
+            pool.push(spectrum);
+            return;
+        }
+        if bounces >= MAX_SURFACE_BOUNCES {
+            ledger.truncated += f64::from(inner);
+            pool.push(spectrum);
+            return;
+        }
+        match self.roulette(inner, threshold, rng, ledger) {
+            Some(k) => {
+                spectrum.iter_mut().for_each(|s| *s *= fresnel * k);
+                stack.push(Branch {
+                    origin: exit,
+                    direction: reflect(direction, normal),
+                    spectrum,
+                    power: inner * k,
+                    bounces: bounces + 1,
+                });
+            }
+            None => pool.push(spectrum),
+        }
+    }
+}

@@ -1,0 +1,193 @@
+//! The orchestrator: the only module that knows the whole chain
+//! scene → structure → optics → light pass → view pass → colour, timing every stage.
+
+use std::time::Instant;
+
+use glam::{Quat, Vec3};
+use serde::Serialize;
+
+use crate::color::{illuminant_spectrum, to_rgb, RgbImage};
+use crate::error::Result;
+use crate::geometry::Camera;
+use crate::light_pass::{trace_light, LightField, LightSetup, LightSource};
+use crate::optics::{build_optics, OpticsTables};
+use crate::scene::{LightKind, Scene, BODY_EXTINCTION_PER_MM};
+use crate::spectrum::SpectralImage;
+use crate::structure::{grow_structure, Structure};
+use crate::view_pass::{trace_view, Shading, ViewSetup};
+
+/// Seconds spent in each stage (the paper reports the same breakdown).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct StageTimes {
+    /// Growing the cluster structure.
+    pub structure: f64,
+    /// Building the cluster optics tables.
+    pub optics: f64,
+    /// Tracing light from the source.
+    pub light_pass: f64,
+    /// Tracing rays from the camera (including shading the stored light).
+    pub view_pass: f64,
+    /// Spectrum → RGB.
+    pub color: f64,
+}
+
+impl StageTimes {
+    /// Sum of all stages.
+    pub fn total(&self) -> f64 {
+        self.structure + self.optics + self.light_pass + self.view_pass + self.color
+    }
+}
+
+/// The light-independent part of a render, computed once and reused for every light angle.
+#[derive(Clone, Debug)]
+pub struct Prepared {
+    /// The scene.
+    pub scene: Scene,
+    /// The grown structure.
+    pub structure: Structure,
+    /// The cluster optics tables.
+    pub optics: OpticsTables,
+    /// Time of the structure and optics stages.
+    pub times: StageTimes,
+}
+
+/// One rendered frame.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// The spectral image.
+    pub spectral: SpectralImage,
+    /// Linear RGB in the scene's colour space.
+    pub rgb: RgbImage,
+    /// The light pass's statistics (rays, energy ledger).
+    pub light: LightField,
+    /// Seconds per stage (structure and optics as prepared).
+    pub times: StageTimes,
+}
+
+fn seconds(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64()
+}
+
+/// Grow the structure and build the optics of `scene` (validated first).
+pub fn prepare(scene: &Scene) -> Result<Prepared> {
+    scene.validate()?;
+    let mut times = StageTimes::default();
+    let start = Instant::now();
+    let structure = grow_structure(&scene.structure)?;
+    times.structure = seconds(start);
+    let start = Instant::now();
+    let optics = build_optics(&scene.crystal, &scene.spectrum)?;
+    times.optics = seconds(start);
+    Ok(Prepared {
+        scene: scene.clone(),
+        structure,
+        optics,
+        times,
+    })
+}
+
+/// Render `scene` end to end.
+pub fn render(scene: &Scene) -> Result<Frame> {
+    let prepared = prepare(scene)?;
+    Ok(prepared.render(scene.light.angle_deg))
+}
+
+impl Prepared {
+    /// The light and camera in the opal's frame, for light angle `light_angle_deg` (fig. 10:
+    /// the angle between the view direction and the light-to-opal direction, about the
+    /// camera's up axis; positive puts the light on the camera's right).
+    pub fn placement(&self, light_angle_deg: f64) -> (Camera, LightSource) {
+        let s = &self.scene;
+        let to_opal = Quat::from_rotation_x(-(s.camera.tilt_deg as f32).to_radians());
+        let eye = to_opal * Vec3::new(0.0, 0.0, s.camera.distance_mm as f32);
+        let up = to_opal * Vec3::Y;
+        let camera = Camera::look_at(
+            eye,
+            Vec3::ZERO,
+            up,
+            s.camera.fov_deg as f32,
+            s.render.width as usize,
+            s.render.height as usize,
+        );
+        let theta = (light_angle_deg as f32).to_radians();
+        let travel = to_opal * Vec3::new(-theta.sin(), 0.0, -theta.cos());
+        let source = match s.light.kind {
+            LightKind::Directional => LightSource::Directional { direction: travel },
+            LightKind::Point => LightSource::Point {
+                position: -travel * s.light.distance_mm as f32,
+            },
+        };
+        (camera, source)
+    }
+
+    /// The light's spectrum per bin, scaled by its intensity.
+    pub fn light_spectrum(&self) -> Vec<f32> {
+        let k = self.scene.light.intensity as f32;
+        illuminant_spectrum(self.scene.light.illuminant, &self.scene.spectrum)
+            .into_iter()
+            .map(|v| v * k)
+            .collect()
+    }
+
+    /// Light pass, view pass and colour for one light angle.
+    pub fn render(&self, light_angle_deg: f64) -> Frame {
+        let s = &self.scene;
+        let mut times = self.times;
+        let (camera, source) = self.placement(light_angle_deg);
+        let spectrum = self.light_spectrum();
+        let body_albedo = s.render.body_albedo();
+
+        let start = Instant::now();
+        let light = trace_light(
+            &self.structure,
+            &self.optics,
+            &LightSetup {
+                source,
+                spectrum: &spectrum,
+                rays: s.light.rays,
+                seed: s.structure.seed,
+                body_albedo,
+                body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
+            },
+        );
+        times.light_pass = seconds(start);
+
+        let start = Instant::now();
+        let phong_exponent = s.render.phong_exponent as f32;
+        let shading = Shading::new(
+            &self.structure,
+            &self.optics,
+            &light,
+            phong_exponent,
+            body_albedo,
+        );
+        let spectral = trace_view(
+            &self.structure,
+            &self.optics,
+            &light,
+            &shading,
+            &ViewSetup {
+                camera,
+                width: s.render.width as usize,
+                height: s.render.height as usize,
+                source,
+                light_spectrum: &spectrum,
+                phong_exponent,
+                gloss: s.render.gloss as f32,
+                background: s.render.background as f32,
+                body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
+            },
+        );
+        times.view_pass = seconds(start);
+
+        let start = Instant::now();
+        let rgb = to_rgb(&spectral, &s.color, s.light.illuminant);
+        times.color = seconds(start);
+        Frame {
+            spectral,
+            rgb,
+            light,
+            times,
+        }
+    }
+}
