@@ -14,6 +14,7 @@
 
 mod accumulate;
 mod interaction;
+mod smooth;
 mod source;
 mod walk;
 
@@ -40,9 +41,8 @@ pub const NO_SLOT: u32 = u32::MAX;
 /// Rays traced per work item; also the grain of parallelism.
 const RAYS_PER_TASK: u64 = 1024;
 
-/// Where the energy of the light pass went. With no absorption,
-/// `emitted + roulette_added = reflected + escaped + stored + absorbed + roulette_killed +
-/// truncated` holds to rounding.
+/// Where the energy of the light pass went:
+/// `emitted = reflected + escaped + stored + absorbed + truncated` to rounding.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct EnergyLedger {
     /// Power of the rays that met the stone.
@@ -55,11 +55,7 @@ pub struct EnergyLedger {
     pub stored: f64,
     /// Absorbed by the potch (and by clusters, if their tables absorb).
     pub absorbed: f64,
-    /// Ended by Russian roulette.
-    pub roulette_killed: f64,
-    /// Added by reweighting the survivors of Russian roulette.
-    pub roulette_added: f64,
-    /// Ended after too many internal reflections.
+    /// Cut: branches too weak to follow, or trapped by total internal reflection.
     pub truncated: f64,
     /// Cells crossed by all rays and branches (work done, not energy).
     pub cells_crossed: u64,
@@ -74,25 +70,16 @@ impl EnergyLedger {
         self.escaped += o.escaped;
         self.stored += o.stored;
         self.absorbed += o.absorbed;
-        self.roulette_killed += o.roulette_killed;
-        self.roulette_added += o.roulette_added;
         self.truncated += o.truncated;
         self.cells_crossed += o.cells_crossed;
         self.branches += o.branches;
         self
     }
 
-    /// `(in, out)`: emitted plus roulette gains, and everything booked as leaving.
-    pub fn balance(&self) -> (f64, f64) {
-        (
-            self.emitted + self.roulette_added,
-            self.reflected
-                + self.escaped
-                + self.stored
-                + self.absorbed
-                + self.roulette_killed
-                + self.truncated,
-        )
+    /// Everything booked as leaving: reflected + escaped + stored + absorbed + truncated,
+    /// to compare with `emitted`.
+    pub fn accounted(&self) -> f64 {
+        self.reflected + self.escaped + self.stored + self.absorbed + self.truncated
     }
 }
 
@@ -229,7 +216,15 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
             },
         );
     let acc = acc.unwrap_or_else(|| Accumulator::new(slots, LOBES, bins));
-    let (fluence, directions) = acc.finish();
+    let (mut fluence, directions) = acc.finish();
+    smooth::smooth_fluence(
+        &mut fluence,
+        &structure.cells,
+        &normals,
+        &slot_of_cell,
+        structure.grid,
+        bins,
+    );
     LightField {
         grid: optics.grid,
         slot_of_cell,

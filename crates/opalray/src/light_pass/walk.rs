@@ -13,12 +13,11 @@ use crate::geometry::{fresnel_dielectric, reflect, refract, CellGrid, Ellipsoid,
 use crate::sampling::{stage, Rng};
 use crate::structure::Cell;
 
-/// A branch whose power falls below this fraction of its ray's entering power plays Russian
-/// roulette (survives with probability power / threshold, reweighted to stay unbiased).
-const ROULETTE_FRACTION: f32 = 0.01;
-/// Bragg-reflected branches play roulette against this larger fraction: they are narrow-band
-/// and rarely meet a second cluster at its Bragg angle, so few need to be followed.
-const BRANCH_ROULETTE_FRACTION: f32 = 0.05;
+/// A branch is followed until its power falls below this fraction of its ray's entering
+/// power; new branches (Bragg or internal reflections) start only above it. What is cut is
+/// booked as truncated. Cuts, not Russian roulette: reweighted survivors would carry the
+/// wrong direction or a narrow spectral spike into the cells' stored light.
+const CUTOFF_FRACTION: f32 = 0.005;
 /// Surface interactions after which a branch is ended (light trapped by total internal
 /// reflection); its power is booked as truncated.
 const MAX_SURFACE_BOUNCES: u32 = 24;
@@ -69,27 +68,6 @@ impl Walker<'_> {
         spectrum.iter().sum::<f32>() * self.bin_width_nm
     }
 
-    /// Russian roulette: `Some(factor)` to keep the branch (reweighted by `factor`) or `None`.
-    fn roulette(
-        &self,
-        power: f32,
-        threshold: f32,
-        rng: &mut Rng,
-        ledger: &mut EnergyLedger,
-    ) -> Option<f32> {
-        if power >= threshold {
-            return Some(1.0);
-        }
-        let q = power / threshold;
-        if q > 0.0 && rng.uniform_f32() < q {
-            ledger.roulette_added += f64::from(power * (1.0 / q - 1.0));
-            Some(1.0 / q)
-        } else {
-            ledger.roulette_killed += f64::from(power);
-            None
-        }
-    }
-
     /// Trace light ray `index`, adding what it deposits to `acc` and its energy to `ledger`.
     pub fn trace(
         &self,
@@ -124,7 +102,7 @@ impl Walker<'_> {
         let mut spectrum = scratch.pool.pop().unwrap_or_default();
         spectrum.clear();
         spectrum.extend(self.spectrum.iter().map(|s| s * weight * (1.0 - fresnel)));
-        let threshold = ROULETTE_FRACTION * p_in * (1.0 - fresnel);
+        let threshold = CUTOFF_FRACTION * p_in * (1.0 - fresnel);
         scratch.stack.push(Branch {
             origin: p,
             direction,
@@ -133,7 +111,7 @@ impl Walker<'_> {
             bounces: 0,
         });
         while let Some(branch) = scratch.stack.pop() {
-            self.walk(branch, threshold, &mut rng, acc, ledger, scratch);
+            self.walk(branch, threshold, acc, ledger, scratch);
         }
     }
 
@@ -142,7 +120,6 @@ impl Walker<'_> {
         &self,
         branch: Branch,
         threshold: f32,
-        rng: &mut Rng,
         acc: &mut Accumulator,
         ledger: &mut EnergyLedger,
         scratch: &mut Scratch,
@@ -238,41 +215,27 @@ impl Walker<'_> {
                     ledger.stored += f64::from(p_d);
                     ledger.absorbed += f64::from(power - p_r - p_d - p_t);
                     power = p_t;
-                    if let Some(mut v) = reflected {
-                        match self.roulette(
-                            p_r,
-                            threshold * (BRANCH_ROULETTE_FRACTION / ROULETTE_FRACTION),
-                            rng,
-                            ledger,
-                        ) {
-                            Some(k) if p_r > 0.0 => {
-                                v.iter_mut().for_each(|s| *s *= k);
-                                stack.push(Branch {
-                                    origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
-                                    direction: reflect(direction, normal),
-                                    spectrum: v,
-                                    power: p_r * k,
-                                    bounces,
-                                });
-                            }
-                            _ => pool.push(v),
+                    if let Some(v) = reflected {
+                        if p_r > 0.0 && p_r >= threshold {
+                            stack.push(Branch {
+                                origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
+                                direction: reflect(direction, normal),
+                                spectrum: v,
+                                power: p_r,
+                                bounces,
+                            });
+                        } else {
+                            ledger.truncated += f64::from(p_r);
+                            pool.push(v);
                         }
                     }
                 }
             }
-            match self.roulette(power, threshold, rng, ledger) {
-                Some(k) => {
-                    if k != 1.0 {
-                        spectrum.iter_mut().for_each(|s| *s *= k);
-                        power *= k;
-                    }
-                    true
-                }
-                None => {
-                    alive = false;
-                    false
-                }
+            if power < threshold {
+                ledger.truncated += f64::from(power);
+                alive = false;
             }
+            alive
         });
         if !alive {
             pool.push(spectrum);
@@ -293,18 +256,18 @@ impl Walker<'_> {
             pool.push(spectrum);
             return;
         }
-        match self.roulette(inner, threshold, rng, ledger) {
-            Some(k) => {
-                spectrum.iter_mut().for_each(|s| *s *= fresnel * k);
-                stack.push(Branch {
-                    origin: exit,
-                    direction: reflect(direction, normal),
-                    spectrum,
-                    power: inner * k,
-                    bounces: bounces + 1,
-                });
-            }
-            None => pool.push(spectrum),
+        if inner < threshold {
+            ledger.truncated += f64::from(inner);
+            pool.push(spectrum);
+            return;
         }
+        spectrum.iter_mut().for_each(|s| *s *= fresnel);
+        stack.push(Branch {
+            origin: exit,
+            direction: reflect(direction, normal),
+            spectrum,
+            power: inner,
+            bounces: bounces + 1,
+        });
     }
 }

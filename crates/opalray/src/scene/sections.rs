@@ -333,7 +333,7 @@ impl CameraConfig {
 /// | `phong_exponent`   | –    | 40      | [0, 10000]   |
 /// | `body_tone`        | –    | 2       | 1 ..= 9      |
 /// | `gloss`            | –    | 1.0     | [0, 10]      |
-/// | `background`       | –    | 0.03    | [0, 1]       |
+/// | `background`       | –    | 0.005   | [0, 1]       |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderConfig {
@@ -360,7 +360,7 @@ impl Default for RenderConfig {
             phong_exponent: 40.0,
             body_tone: 2,
             gloss: 1.0,
-            background: 0.03,
+            background: 0.005,
         }
     }
 }
@@ -393,7 +393,7 @@ impl RenderConfig {
             ));
         }
         check_range("render.gloss", self.gloss, 0.0, 10.0, 1.0)?;
-        check_range("render.background", self.background, 0.0, 1.0, 0.03)
+        check_range("render.background", self.background, 0.0, 1.0, 0.005)
     }
 
     /// Single-scattering albedo of the potch (common opal) filling the voids, from the body
