@@ -49,7 +49,14 @@ impl Scene {
         let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
             let inner = e.into_inner();
-            let message = inner.message().trim().to_string();
+            // One line: the parser's message may span several.
+            let message = inner
+                .message()
+                .lines()
+                .map(str::trim)
+                .filter(|line| !line.is_empty())
+                .collect::<Vec<_>>()
+                .join(": ");
             let location = inner
                 .span()
                 .map(|span| {
@@ -162,6 +169,7 @@ mod tests {
             .to_string();
         assert!(err.starts_with("s.toml"), "{err}");
         assert!(err.contains("line"), "{err}");
+        assert!(!err.contains('\n'), "one line: {err}");
     }
 
     #[test]
