@@ -192,6 +192,7 @@ fn flags_clap_refuses_exit_with_code_2() {
     for args in [
         &["structure", "--scale", "0"][..],
         &["structure", "--slice-z", "middle"],
+        &["structure", "--seed", "18446744073709551615"],
     ] {
         let out = opalray(dir.path(), args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");

@@ -163,6 +163,14 @@ mod tests {
     }
 
     #[test]
+    fn seed_beyond_toml_integers_is_refused() {
+        let mut scene = Scene::default();
+        scene.structure.seed = u64::MAX;
+        let err = scene.validate().unwrap_err().to_string();
+        assert!(err.contains("structure.seed"), "{err}");
+    }
+
+    #[test]
     fn malformed_toml_is_reported_with_a_line() {
         let err = Scene::from_toml_str("[structure\n", "s.toml")
             .unwrap_err()
