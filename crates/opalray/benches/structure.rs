@@ -2,7 +2,7 @@
 //! (100 × 75 × 25 cells, R = 6, void ratio 0.2; target ≤ 20 ms on two cores) and a grid
 //! 64 times larger (400 × 300 × 100; target ≤ 2 s), plus drawing the fig. 9 map.
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::Criterion;
 use opalray::grow_structure;
 use opalray::scene::StructureConfig;
 use opalray::structure::orientation_map;
@@ -28,5 +28,8 @@ fn structure(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, structure);
-criterion_main!(benches);
+fn main() {
+    let mut criterion = Criterion::default().configure_from_args();
+    structure(&mut criterion);
+    criterion.final_summary();
+}
