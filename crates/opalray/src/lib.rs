@@ -30,3 +30,4 @@ pub mod view_pass;
 pub use error::{Error, Result};
 pub use scene::Scene;
 pub use spectrum::{SpectralImage, WavelengthGrid};
+pub use structure::{grow_structure, Cell, Structure};
