@@ -45,7 +45,23 @@ fn main() {
         Command::Bench(args) => cmd::bench::run(args),
     };
     if let Err(err) = result {
-        eprintln!("error: {err:#}");
+        eprintln!("error: {}", one_line(&err));
         std::process::exit(2);
     }
+}
+
+/// The error and its causes on one line, each cause once (an I/O error's text is often
+/// repeated by the error wrapping it).
+fn one_line(err: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in err.chain() {
+        let text = cause.to_string().replace('\n', " ");
+        if !line.contains(&text) {
+            if !line.is_empty() {
+                line.push_str(": ");
+            }
+            line.push_str(&text);
+        }
+    }
+    line
 }

@@ -16,8 +16,9 @@ pub struct SceneArgs {
     /// Start from a named preset instead of a file (presets: paper).
     #[arg(long, value_name = "NAME", conflicts_with = "scene")]
     pub preset: Option<String>,
-    /// Seed of every random stream (overrides structure.seed).
-    #[arg(long, value_name = "N")]
+    /// Seed of every random stream (overrides structure.seed), 0 to 2^63 − 1.
+    #[arg(long, value_name = "N",
+          value_parser = clap::value_parser!(u64).range(..=i64::MAX as u64))]
     pub seed: Option<u64>,
 }
 

@@ -49,7 +49,14 @@ impl Scene {
         let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
             let inner = e.into_inner();
-            let message = inner.message().trim().to_string();
+            // One line: the parser's message may span several.
+            let message = inner
+                .message()
+                .lines()
+                .map(str::trim)
+                .filter(|line| !line.is_empty())
+                .collect::<Vec<_>>()
+                .join(": ");
             let location = inner
                 .span()
                 .map(|span| {
@@ -156,12 +163,21 @@ mod tests {
     }
 
     #[test]
+    fn seed_beyond_toml_integers_is_refused() {
+        let mut scene = Scene::default();
+        scene.structure.seed = u64::MAX;
+        let err = scene.validate().unwrap_err().to_string();
+        assert!(err.contains("structure.seed"), "{err}");
+    }
+
+    #[test]
     fn malformed_toml_is_reported_with_a_line() {
         let err = Scene::from_toml_str("[structure\n", "s.toml")
             .unwrap_err()
             .to_string();
         assert!(err.starts_with("s.toml"), "{err}");
         assert!(err.contains("line"), "{err}");
+        assert!(!err.contains('\n'), "one line: {err}");
     }
 
     #[test]

@@ -16,7 +16,7 @@ pub const MAX_CELLS: u64 = 64_000_000;
 /// | `semi_axes_mm`           | mm    | [10.0, 7.5, 2.5]  | each in (0, 1000]          |
 /// | `mean_radius_cells`      | cells | 6.0               | (0, 1000]                  |
 /// | `void_ratio`             | –     | 0.2               | (0, 1)                     |
-/// | `seed`                   | –     | 1                 | any u64                    |
+/// | `seed`                   | –     | 1                 | 0 ..= 2⁶³ − 1              |
 /// | `orientation_jitter_deg` | deg   | 0.0               | [0, 180]                   |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -106,6 +106,16 @@ impl StructureConfig {
                 format!(
                     "must be strictly between 0 and 1, got {}; try 0.2",
                     self.void_ratio
+                ),
+            ));
+        }
+        if i64::try_from(self.seed).is_err() {
+            return Err(Error::field(
+                "structure.seed",
+                format!(
+                    "must be at most {} (TOML integers are signed 64-bit), got {}; try 1",
+                    i64::MAX,
+                    self.seed
                 ),
             ));
         }

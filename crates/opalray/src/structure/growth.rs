@@ -304,6 +304,41 @@ mod tests {
     }
 
     #[test]
+    fn step_inside_one_patch_keeps_its_planes() {
+        // Where every cluster of the neighbourhood has one orientation, their average is
+        // that orientation: the (111) planes (normal up to sign) are unchanged.
+        let mut growth = Growth::new(&small()).unwrap();
+        let mut checked = 0;
+        for _ in 0..200 {
+            let before = growth.structure().clone();
+            let report = growth.step().unwrap();
+            // One cell per distinct orientation among the neighbourhood's clusters.
+            let mut found = Vec::new();
+            ball::for_each_row(
+                before.grid,
+                report.centre,
+                report.radius_cells,
+                |y, z, xs| {
+                    for x in xs {
+                        let i = before.index(x, y, z);
+                        let q = before.orientations[i];
+                        let new = found.iter().all(|&j| before.orientations[j] != q);
+                        if before.cells[i] == Cell::Cluster && new {
+                            found.push(i);
+                        }
+                    }
+                },
+            );
+            if let [only] = found[..] {
+                let n = report.orientation * super::super::AXIS_111;
+                assert!(n.dot(before.normal(only)).abs() > 1.0 - 1e-5);
+                checked += 1;
+            }
+        }
+        assert!(checked > 10, "only {checked} single-patch steps");
+    }
+
+    #[test]
     fn void_cells_become_cluster_only_inside_the_stone() {
         let s = grow_structure(&small()).unwrap();
         for (i, cell) in s.cells.iter().enumerate() {

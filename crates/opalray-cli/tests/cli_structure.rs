@@ -1,0 +1,220 @@
+//! `opalray structure` as a user runs it: files written, statistics, and one-line errors
+//! with exit code 2 and no output left behind for every kind of bad input.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn opalray(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_opalray"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the opalray binary runs")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Width and height from a PNG's header (signature, then the IHDR chunk: PNG spec §11.2.2).
+fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let be = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+#[test]
+fn structure_writes_the_map_and_the_stats() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = opalray(
+        dir.path(),
+        &[
+            "structure",
+            "--scale",
+            "2",
+            "--output",
+            "map.png",
+            "--stats",
+            "stats.json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("map.png") && stdout.contains("stats.json"),
+        "{stdout}"
+    );
+
+    assert_eq!(png_size(&dir.path().join("map.png")), (200, 150));
+
+    let text = std::fs::read_to_string(dir.path().join("stats.json")).unwrap();
+    let stats: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(stats["grid"], serde_json::json!([100, 75, 25]));
+    let count = |key: &str| {
+        stats[key]
+            .as_u64()
+            .unwrap_or_else(|| panic!("{key} in {text}"))
+    };
+    assert_eq!(count("inside_cells"), count("clusters") + count("voids"));
+    assert!(count("seeds_placed") > 0);
+    let ratio = stats["void_ratio"].as_f64().unwrap();
+    assert!(ratio < 0.2 && ratio > 0.05, "{ratio}");
+    assert!(stats["mean_radius_cells"].as_f64().unwrap() > 0.0);
+    assert!(stats["time_s"]["structure"].as_f64().unwrap() >= 0.0);
+    assert_eq!(files_in(dir.path()), ["map.png", "stats.json"]);
+}
+
+#[test]
+fn structure_defaults_to_structure_png_of_the_middle_slice() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = opalray(dir.path(), &["structure"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("slice z = 12"), "{stdout}");
+    assert_eq!(png_size(&dir.path().join("structure.png")), (600, 450));
+}
+
+#[test]
+fn same_seed_gives_the_same_bytes_at_any_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut images = Vec::new();
+    for threads in ["1", "3"] {
+        let name = format!("t{threads}.png");
+        let out = Command::new(env!("CARGO_BIN_EXE_opalray"))
+            .args(["structure", "--seed", "42", "--output", &name])
+            .env("RAYON_NUM_THREADS", threads)
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", stderr(&out));
+        images.push(std::fs::read(dir.path().join(&name)).unwrap());
+    }
+    assert_eq!(images[0], images[1]);
+}
+
+/// Run `structure` with a scene file holding `scene` (if any) and `args`; expect exit code
+/// 2, a single error line containing `expected`, and nothing new in the directory.
+fn expect_refused(scene: Option<&str>, args: &[&str], expected: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let mut all = vec!["structure"];
+    if let Some(text) = scene {
+        std::fs::write(dir.path().join("s.toml"), text).unwrap();
+        all.push("s.toml");
+    }
+    all.extend_from_slice(args);
+    if !args.contains(&"--stats") {
+        all.extend_from_slice(&["--stats", "stats.json"]);
+    }
+    let out = opalray(dir.path(), &all);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{all:?}: {err}");
+    assert_eq!(
+        err.trim_end().lines().count(),
+        1,
+        "{all:?}: not one line: {err}"
+    );
+    assert!(err.starts_with("error: "), "{all:?}: {err}");
+    assert!(err.contains(expected), "{all:?}: {err} lacks {expected}");
+    assert!(!err.contains("panicked"), "{err}");
+    let parts: Vec<&str> = err.trim_end().split(": ").collect();
+    for (i, part) in parts.iter().enumerate() {
+        assert!(
+            !parts[..i].contains(part),
+            "{all:?} repeats `{part}`: {err}"
+        );
+    }
+    let expected_files: Vec<String> = scene.iter().map(|_| "s.toml".to_string()).collect();
+    assert_eq!(
+        files_in(dir.path()),
+        expected_files,
+        "{all:?} left files behind"
+    );
+}
+
+#[test]
+fn bad_scene_files_are_refused_naming_the_field() {
+    for (scene, expected) in [
+        ("[structure\ngrid = [1, 2, 3]\n", "line 1"),
+        ("[structure]\nvoid_ratoi = 0.3\n", "structure.void_ratoi"),
+        ("[structure]\ngrid = [100, 0, 25]\n", "structure.grid"),
+        ("[structure]\ngrid = [100, -75, 25]\n", "structure.grid"),
+        (
+            "[structure]\nsemi_axes_mm = [10.0, 0.0, 2.5]\n",
+            "structure.semi_axes_mm",
+        ),
+        ("[structure]\nvoid_ratio = nan\n", "structure.void_ratio"),
+        (
+            "[structure]\nmean_radius_cells = nan\n",
+            "structure.mean_radius_cells",
+        ),
+        ("[structure]\nvoid_ratio = 1.5\n", "structure.void_ratio"),
+        (
+            "[structure]\norientation_jitter_deg = -3.0\n",
+            "structure.orientation_jitter_deg",
+        ),
+        (
+            "[structure]\ngrid = [100000, 100000, 100000]\n",
+            "structure.grid",
+        ),
+    ] {
+        expect_refused(Some(scene), &[], expected);
+    }
+}
+
+#[test]
+fn bad_flags_are_refused_naming_the_flag() {
+    expect_refused(None, &["--output", "/nonexistent/dir/x.png"], "--output");
+    expect_refused(None, &["--output", "map.jpg"], "--output");
+    expect_refused(None, &["--slice-z", "25"], "--slice-z");
+    expect_refused(None, &["--preset", "nonesuch"], "--preset");
+    expect_refused(None, &["missing.toml"], "missing.toml");
+    expect_refused(
+        None,
+        &["--output", "m.png", "--stats", "/nonexistent/s.json"],
+        "--stats",
+    );
+}
+
+#[test]
+fn flags_clap_refuses_exit_with_code_2() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        &["structure", "--scale", "0"][..],
+        &["structure", "--slice-z", "middle"],
+        &["structure", "--seed", "18446744073709551615"],
+    ] {
+        let out = opalray(dir.path(), args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).contains(args[1]), "{}", stderr(&out));
+    }
+    assert!(files_in(dir.path()).is_empty());
+}
+
+#[test]
+fn help_documents_every_flag_with_an_example() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = opalray(dir.path(), &["structure", "--help"]);
+    let help = String::from_utf8_lossy(&out.stdout);
+    for flag in [
+        "--preset",
+        "--seed",
+        "--slice-z",
+        "--output",
+        "--stats",
+        "--scale",
+        "Examples",
+    ] {
+        assert!(help.contains(flag), "help lacks {flag}:\n{help}");
+    }
+}
