@@ -31,15 +31,16 @@ use crate::geometry::{CellGrid, Ellipsoid};
 use crate::optics::OpticsTables;
 use crate::spectrum::WavelengthGrid;
 use crate::structure::{Cell, Structure};
-use accumulate::Accumulator;
+use accumulate::{Accumulator, TileSums};
 use walk::{Scratch, Walker};
 
 /// Direction lobes stored per cell: 0 = travelling down (−z), 1 = travelling up (+z).
 pub const LOBES: usize = 2;
 /// Marks a cell with no storage (outside the stone).
 pub const NO_SLOT: u32 = u32::MAX;
-/// Rays traced per work item; also the grain of parallelism.
-const RAYS_PER_TASK: u64 = 1024;
+/// Work items are square tiles of the ray lattice, this many rays on a side: neighbouring
+/// rays cross the same cells, so a tile's deposits stay in cache.
+const TILE: u64 = 32;
 
 /// Where the energy of the light pass went:
 /// `emitted = reflected + escaped + stored + absorbed + truncated` to rounding.
@@ -183,14 +184,23 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         seed: setup.seed,
     };
     let rays = walker.lattice.len();
-    let tasks = rays.div_ceil(RAYS_PER_TASK);
+    // Bounds of one deposit, for the fixed-point scale: no ray ever carries more than it had
+    // on entering, and no chord through a cell is longer than its diagonal.
+    let max_weight = grid.cell.length() * walker.inv_cell_volume;
+    let max_ray = walker.lattice.power_per_ray * walker.lattice.max_irradiance();
+    let max_spectral = setup.spectrum.iter().fold(0.0f32, |m, &v| m.max(v)) * max_ray * max_weight;
+    let max_power = walker.power(setup.spectrum) * max_ray * max_weight;
+    let side = walker.lattice.side();
+    let tiles_per_row = side.div_ceil(TILE);
+    let tasks = tiles_per_row * tiles_per_row;
     // One accumulator per worker thread, each pulling tasks from a shared counter; integer
     // sums make the division of work irrelevant to the result.
     let next_task = AtomicU64::new(0);
     let (acc, ledger) = (0..rayon::current_num_threads())
         .into_par_iter()
         .map(|_| {
-            let mut acc = Accumulator::new(slots, LOBES, bins);
+            let mut acc = Accumulator::new(slots * LOBES, bins, max_spectral, max_power);
+            let mut tile = TileSums::new(slots * LOBES, bins);
             let mut ledger = EnergyLedger::default();
             let mut scratch = Scratch::default();
             loop {
@@ -198,10 +208,13 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
                 if task >= tasks {
                     break;
                 }
-                let end = ((task + 1) * RAYS_PER_TASK).min(rays);
-                for index in task * RAYS_PER_TASK..end {
-                    walker.trace(index, &mut acc, &mut ledger, &mut scratch);
+                let (x0, y0) = (task % tiles_per_row * TILE, task / tiles_per_row * TILE);
+                for y in y0..(y0 + TILE).min(side) {
+                    for x in x0..(x0 + TILE).min(side) {
+                        walker.trace(y * side + x, &mut tile, &mut ledger, &mut scratch);
+                    }
                 }
+                acc.add_tile(&mut tile);
             }
             (Some(acc), ledger)
         })
@@ -215,7 +228,7 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
                 (acc, la.add(lb))
             },
         );
-    let acc = acc.unwrap_or_else(|| Accumulator::new(slots, LOBES, bins));
+    let acc = acc.unwrap_or_else(|| Accumulator::new(slots * LOBES, bins, max_spectral, max_power));
     let (mut fluence, directions) = acc.finish();
     smooth::smooth_fluence(
         &mut fluence,

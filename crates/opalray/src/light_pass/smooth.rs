@@ -38,31 +38,33 @@ pub(crate) fn smooth_fluence(
     let mut out = vec![0.0f32; fluence.len()];
     for axis in 0..3 {
         let src = &*fluence;
-        out.par_chunks_mut(width).enumerate().for_each(|(slot, dst)| {
-            let cell = cell_of_slot[slot];
-            let coord = cell / stride[axis] % grid[axis];
-            let mut total = 2.0f32;
-            dst.iter_mut()
-                .zip(&src[slot * width..(slot + 1) * width])
-                .for_each(|(d, s)| *d = 2.0 * s);
-            let neighbours = [
-                (coord > 0).then(|| cell - stride[axis]),
-                (coord + 1 < grid[axis]).then(|| cell + stride[axis]),
-            ];
-            for other in neighbours.into_iter().flatten() {
-                let other_slot = slot_of_cell[other];
-                if other_slot == NO_SLOT || !same_patch(cell, other) {
-                    continue;
-                }
-                total += 1.0;
-                let o = other_slot as usize * width;
+        out.par_chunks_mut(width)
+            .enumerate()
+            .for_each(|(slot, dst)| {
+                let cell = cell_of_slot[slot];
+                let coord = cell / stride[axis] % grid[axis];
+                let mut total = 2.0f32;
                 dst.iter_mut()
-                    .zip(&src[o..o + width])
-                    .for_each(|(d, s)| *d += s);
-            }
-            let k = 1.0 / total;
-            dst.iter_mut().for_each(|d| *d *= k);
-        });
+                    .zip(&src[slot * width..(slot + 1) * width])
+                    .for_each(|(d, s)| *d = 2.0 * s);
+                let neighbours = [
+                    (coord > 0).then(|| cell - stride[axis]),
+                    (coord + 1 < grid[axis]).then(|| cell + stride[axis]),
+                ];
+                for other in neighbours.into_iter().flatten() {
+                    let other_slot = slot_of_cell[other];
+                    if other_slot == NO_SLOT || !same_patch(cell, other) {
+                        continue;
+                    }
+                    total += 1.0;
+                    let o = other_slot as usize * width;
+                    dst.iter_mut()
+                        .zip(&src[o..o + width])
+                        .for_each(|(d, s)| *d += s);
+                }
+                let k = 1.0 / total;
+                dst.iter_mut().for_each(|d| *d *= k);
+            });
         std::mem::swap(fluence, &mut out);
     }
 }

@@ -76,6 +76,22 @@ impl RayLattice {
         }
     }
 
+    /// Largest irradiance (relative to the opal's centre) anywhere on the stone.
+    pub fn max_irradiance(&self) -> f32 {
+        match self.source {
+            LightSource::Directional { .. } => 1.0,
+            LightSource::Point { position } => {
+                let d = position.length();
+                (d / (d - self.radius).max(1e-3)).powi(2)
+            }
+        }
+    }
+
+    /// Rays per side of the square lattice.
+    pub fn side(&self) -> u64 {
+        self.side
+    }
+
     /// Number of rays.
     pub fn len(&self) -> u64 {
         self.side * self.side

@@ -5,12 +5,13 @@
 
 use glam::Vec3;
 
-use super::accumulate::Accumulator;
+use super::accumulate::TileSums;
 use super::interaction::{ClusterOptics, Split};
 use super::source::{LightSource, RayLattice};
 use super::{EnergyLedger, LOBES};
 use crate::geometry::{fresnel_dielectric, reflect, refract, CellGrid, Ellipsoid, Ray};
 use crate::sampling::{stage, Rng};
+use crate::spectrum;
 use crate::structure::Cell;
 
 /// A branch is followed until its power falls below this fraction of its ray's entering
@@ -64,15 +65,16 @@ fn lobe_of(direction: Vec3) -> usize {
 }
 
 impl Walker<'_> {
-    fn power(&self, spectrum: &[f32]) -> f32 {
-        spectrum.iter().sum::<f32>() * self.bin_width_nm
+    /// Radiant power of a spectrum (sum over bins × bin width).
+    pub fn power(&self, spectrum: &[f32]) -> f32 {
+        spectrum::sum(spectrum) * self.bin_width_nm
     }
 
     /// Trace light ray `index`, adding what it deposits to `acc` and its energy to `ledger`.
     pub fn trace(
         &self,
         index: u64,
-        acc: &mut Accumulator,
+        acc: &mut TileSums,
         ledger: &mut EnergyLedger,
         scratch: &mut Scratch,
     ) {
@@ -120,7 +122,7 @@ impl Walker<'_> {
         &self,
         branch: Branch,
         threshold: f32,
-        acc: &mut Accumulator,
+        acc: &mut TileSums,
         ledger: &mut EnergyLedger,
         scratch: &mut Scratch,
     ) {
@@ -200,15 +202,10 @@ impl Walker<'_> {
                             let mut v = pool.pop().unwrap_or_default();
                             v.clear();
                             v.extend(spectrum.iter().zip(r.iter()).map(|(s, r)| s * r));
-                            p_r = self.power(&v);
-                            p_d = spectrum
-                                .iter()
-                                .zip(d.iter())
-                                .map(|(s, d)| s * d)
-                                .sum::<f32>()
-                                * self.bin_width_nm;
+                            p_d = spectrum::dot(&spectrum, d) * self.bin_width_nm;
                             spectrum.iter_mut().zip(t.iter()).for_each(|(s, t)| *s *= t);
-                            p_t = self.power(&spectrum);
+                            p_r = spectrum::sum(&v) * self.bin_width_nm;
+                            p_t = spectrum::sum(&spectrum) * self.bin_width_nm;
                             reflected = Some(v);
                         }
                     }

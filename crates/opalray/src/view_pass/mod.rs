@@ -128,9 +128,12 @@ pub fn trace_view(
                                         * (seg.t_exit - seg.t_enter))
                                         .exp();
                                     let glow = &shading.diffuse[slot * bins..(slot + 1) * bins];
-                                    for b in 0..bins {
-                                        pixel[b] += thr[b] * glow[b] * (1.0 - kept);
-                                        thr[b] *= kept;
+                                    let seen = 1.0 - kept;
+                                    for ((p, t), g) in
+                                        pixel.iter_mut().zip(thr.iter_mut()).zip(glow)
+                                    {
+                                        *p += *t * g * seen;
+                                        *t *= kept;
                                     }
                                 }
                                 Cell::Cluster => {
@@ -141,14 +144,16 @@ pub fn trace_view(
                                             let w = c.powf(setup.phong_exponent);
                                             let start = (slot * LOBES + lobe) * bins;
                                             let spec = &shading.specular[start..start + bins];
-                                            for b in 0..bins {
-                                                pixel[b] += thr[b] * spec[b] * w;
+                                            for ((p, t), s) in
+                                                pixel.iter_mut().zip(thr.iter()).zip(spec)
+                                            {
+                                                *p += *t * s * w;
                                             }
                                         }
                                     }
                                     let glow = &shading.diffuse[slot * bins..(slot + 1) * bins];
-                                    for b in 0..bins {
-                                        pixel[b] += thr[b] * glow[b];
+                                    for ((p, t), g) in pixel.iter_mut().zip(thr.iter()).zip(glow) {
+                                        *p += *t * g;
                                     }
                                     let normal = structure_normal(structure, seg.index);
                                     match cluster_optics.transmittance(dir.dot(normal).abs(), t) {
@@ -170,9 +175,13 @@ pub fn trace_view(
                         let n_q = shape.normal(q);
                         let f_out = fresnel_dielectric(dir.dot(n_q), n_eff, 1.0);
                         let seen = (1.0 - f_out) * n_eff * n_eff * setup.background;
-                        for b in 0..bins {
-                            pixel[b] += thr[b] * seen * setup.light_spectrum[b];
-                            thr[b] *= f_out;
+                        for ((p, t), l) in pixel
+                            .iter_mut()
+                            .zip(thr.iter_mut())
+                            .zip(setup.light_spectrum)
+                        {
+                            *p += *t * seen * l;
+                            *t *= f_out;
                         }
                         dir = reflect(dir, n_q);
                         origin = q;
