@@ -62,6 +62,8 @@ pub struct Frame {
     pub light: LightField,
     /// Seconds per stage (structure and optics as prepared).
     pub times: StageTimes,
+    /// Void ratio of the structure (void cells / inside cells).
+    pub void_ratio: f64,
 }
 
 fn seconds(since: Instant) -> f64 {
@@ -188,6 +190,7 @@ impl Prepared {
             rgb,
             light,
             times,
+            void_ratio: self.structure.stats.void_ratio,
         }
     }
 }

@@ -37,6 +37,72 @@ impl SceneArgs {
     }
 }
 
+/// Flags that override the scene's look, shared by `render`, `sweep` and `bench`.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct LookArgs {
+    /// Image width, pixels (render.width).
+    #[arg(long, value_name = "PX")]
+    pub width: Option<u32>,
+    /// Image height, pixels (render.height).
+    #[arg(long, value_name = "PX")]
+    pub height: Option<u32>,
+    /// Silica sphere diameter, nm (crystal.sphere_diameter_nm): ~250 flashes orange face-on,
+    /// smaller spheres green and blue.
+    #[arg(long, value_name = "NM", allow_hyphen_values = true)]
+    pub diameter: Option<f64>,
+    /// Wavelength bins over the spectrum's range (spectrum.bins).
+    #[arg(long, value_name = "N")]
+    pub bins: Option<usize>,
+    /// Rays traced in the light pass (light.rays).
+    #[arg(long, value_name = "N")]
+    pub rays: Option<u64>,
+    /// Body tone, 1 (N1, black opal) … 9 (N9, white opal) (render.body_tone).
+    #[arg(long, value_name = "N")]
+    pub body_tone: Option<u8>,
+    /// Exposure compensation in stops (color.exposure_ev).
+    #[arg(long, value_name = "EV", allow_hyphen_values = true)]
+    pub exposure: Option<f64>,
+}
+
+impl LookArgs {
+    /// Apply the flags to `scene` and validate the result.
+    pub fn apply(&self, scene: &mut Scene) -> Result<()> {
+        if let Some(v) = self.width {
+            scene.render.width = v;
+        }
+        if let Some(v) = self.height {
+            scene.render.height = v;
+        }
+        if let Some(v) = self.diameter {
+            scene.crystal.sphere_diameter_nm = v;
+        }
+        if let Some(v) = self.bins {
+            scene.spectrum.bins = v;
+        }
+        if let Some(v) = self.rays {
+            scene.light.rays = v;
+        }
+        if let Some(v) = self.body_tone {
+            scene.render.body_tone = v;
+        }
+        if let Some(v) = self.exposure {
+            scene.color.exposure_ev = v;
+        }
+        scene
+            .validate()
+            .context("checking the scene with the command-line flags applied")?;
+        Ok(())
+    }
+}
+
+/// Peak resident memory of this process so far, MiB, where the system reports it.
+pub fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
 /// A progress bar drawn on stderr only when it is a terminal.
 pub fn progress(len: u64, what: &str) -> ProgressBar {
     let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());

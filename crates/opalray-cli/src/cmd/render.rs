@@ -2,81 +2,40 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde_json::json;
 
-use super::common::{check_extension, write_json, SceneArgs};
+use super::common::{check_extension, peak_memory_mb, write_json, LookArgs, SceneArgs};
 
-/// Render the opal (paper figs. 10–11) to a PNG, EXR or spectral EXR.
+/// Render the opal (paper figs. 10–11) to a PNG or EXR, and optionally its spectral image.
 ///
-/// Renders the scene (default: the paper's, 640 × 480, light at 30° to the view direction)
-/// and prints the time of each stage. Examples:
+/// Renders the scene (default: the paper's opal, 640 × 480, light at 30° to the view
+/// direction) and prints the time of each stage, as the paper reports them. Examples:
 ///
 ///   opalray render
 ///   opalray render --light-angle -45 --output flash.png
 ///   opalray render my-opal.toml --width 1280 --height 960 --stats stats.json
-///   opalray render --diameter 220 --output blue-green.exr --spectral cube.exr
+///   opalray render --diameter 220 --output linear.exr --spectral cube.exr
 #[derive(clap::Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Angle between the view direction and the light-to-opal direction, degrees (fig. 10).
+    #[command(flatten)]
+    pub look: LookArgs,
+    /// Angle between the view direction and the light-to-opal direction, degrees (fig. 10);
+    /// positive puts the light on the right.
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub light_angle: Option<f64>,
-    /// Image width, pixels.
-    #[arg(long, value_name = "PX")]
-    pub width: Option<u32>,
-    /// Image height, pixels.
-    #[arg(long, value_name = "PX")]
-    pub height: Option<u32>,
-    /// Silica sphere diameter, nm (sets the colour: ~250 nm flashes orange face-on).
-    #[arg(long, value_name = "NM", allow_hyphen_values = true)]
-    pub diameter: Option<f64>,
-    /// Wavelength bins over 380–780 nm.
-    #[arg(long, value_name = "N")]
-    pub bins: Option<usize>,
-    /// Rays traced in the light pass.
-    #[arg(long, value_name = "N")]
-    pub rays: Option<u64>,
-    /// Output image: .png (sRGB, 8/16-bit per color.bit_depth) or .exr (linear RGB).
+    /// Output image: .png (sRGB, 8 or 16 bits per color.bit_depth) or .exr (linear RGB).
     #[arg(long, short, value_name = "FILE", default_value = "opal.png")]
     pub output: PathBuf,
-    /// Also write the spectral image as an OpenEXR with one channel per bin.
+    /// Also write the spectral image as OpenEXR, one channel per wavelength bin.
     #[arg(long, value_name = "FILE.exr")]
     pub spectral: Option<PathBuf>,
-    /// Write timings and statistics as JSON.
+    /// Write stage timings and statistics as JSON.
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
-}
-
-impl Args {
-    /// The scene with this command's flags applied, validated.
-    pub fn scene(&self) -> Result<opalray::Scene> {
-        let mut scene = self.scene.load()?;
-        if let Some(v) = self.light_angle {
-            scene.light.angle_deg = v;
-        }
-        if let Some(v) = self.width {
-            scene.render.width = v;
-        }
-        if let Some(v) = self.height {
-            scene.render.height = v;
-        }
-        if let Some(v) = self.diameter {
-            scene.crystal.sphere_diameter_nm = v;
-        }
-        if let Some(v) = self.bins {
-            scene.spectrum.bins = v;
-        }
-        if let Some(v) = self.rays {
-            scene.light.rays = v;
-        }
-        scene
-            .validate()
-            .context("after applying the command-line flags")?;
-        Ok(scene)
-    }
 }
 
 /// Run `opalray render`.
@@ -85,9 +44,27 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(path) = &args.spectral {
         check_extension("--spectral", path, &["exr"])?;
     }
-    let scene = args.scene()?;
+    if let Some(path) = &args.stats {
+        check_extension("--stats", path, &["json"])?;
+    }
+    let mut scene = args.scene.load()?;
+    if let Some(angle) = args.light_angle {
+        scene.light.angle_deg = angle;
+    }
+    args.look.apply(&mut scene)?;
     let frame = opalray::render::render(&scene)?;
-    opalray::color::write_png(&args.output, &frame.rgb, &scene.color)?;
+    let is_exr = args
+        .output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if is_exr {
+        opalray::output::write_exr(&args.output, &frame.rgb)?;
+    } else {
+        opalray::output::write_png(&args.output, &frame.rgb, &scene.color)?;
+    }
+    if let Some(path) = &args.spectral {
+        opalray::output::write_spectral_exr(path, &frame.spectral)?;
+    }
     let t = frame.times;
     eprintln!(
         "structure {:.1} ms | optics {:.1} ms | light pass {:.1} ms | view pass {:.1} ms | colour {:.1} ms | total {:.1} ms",
@@ -99,16 +76,25 @@ pub fn run(args: Args) -> Result<()> {
         t.total() * 1e3
     );
     println!("wrote {}", args.output.display());
+    if let Some(path) = &args.spectral {
+        println!("wrote {}", path.display());
+    }
     if let Some(path) = &args.stats {
         write_json(
             path,
             &json!({
                 "time_s": {"structure": t.structure, "optics": t.optics, "light_pass": t.light_pass,
                            "view_pass": t.view_pass, "color": t.color, "total": t.total()},
+                "image": {"width": scene.render.width, "height": scene.render.height,
+                          "bins": scene.spectrum.bins},
+                "light_angle_deg": scene.light.angle_deg,
+                "void_ratio": frame.void_ratio,
                 "light_rays": frame.light.rays,
-                "ledger": frame.light.ledger,
+                "energy": frame.light.ledger,
+                "peak_memory_mb": peak_memory_mb(),
             }),
         )?;
+        println!("wrote {}", path.display());
     }
     Ok(())
 }

@@ -1,6 +1,17 @@
 //! Output: files written atomically (a temporary file beside the target, then a rename), so a
 //! failed or interrupted write never leaves a partial file or clobbers an existing one.
 
+mod animation;
+mod label;
+mod sheet;
+mod scratch_exr;
+pub use crate::color::write_png;
+pub use scratch_exr::{write_exr, write_spectral_exr};
+
+pub use animation::{write_apng, write_gif};
+pub use label::{draw_text, text_width};
+pub use sheet::{contact_sheet, ContactSheet};
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 

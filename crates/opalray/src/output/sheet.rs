@@ -1,0 +1,69 @@
+//! Contact sheets: frames side by side with a label under each (the paper's fig. 11).
+
+use super::label::{draw_text, text_width};
+
+/// Height of the label strip under each frame, pixels, and the font scale used in it.
+const LABEL_SCALE: usize = 2;
+const LABEL_HEIGHT: usize = 7 * LABEL_SCALE + 10;
+/// Gap between frames, pixels.
+const GAP: usize = 4;
+/// Sheet background (dark grey, sRGB).
+const PAPER: [u8; 3] = [24, 24, 24];
+
+/// An RGB8 contact sheet.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactSheet {
+    /// Width, pixels.
+    pub width: usize,
+    /// Height, pixels.
+    pub height: usize,
+    /// RGB8 pixels, rows top to bottom.
+    pub rgb: Vec<u8>,
+}
+
+/// Lay out RGB8 frames (each `width × height`) in rows of `columns`, each with its label
+/// (e.g. "-60°") centred under it.
+pub fn contact_sheet(frames: &[(Vec<u8>, String)], width: usize, height: usize, columns: usize) -> ContactSheet {
+    let columns = columns.clamp(1, frames.len().max(1));
+    let rows = frames.len().div_ceil(columns);
+    let cell_w = width + GAP;
+    let cell_h = height + LABEL_HEIGHT;
+    let sheet_w = columns * cell_w + GAP;
+    let sheet_h = rows * cell_h + GAP;
+    let mut rgb: Vec<u8> = PAPER.iter().copied().cycle().take(sheet_w * sheet_h * 3).collect();
+    for (k, (frame, label)) in frames.iter().enumerate() {
+        let x0 = GAP + (k % columns) * cell_w;
+        let y0 = GAP + (k / columns) * cell_h;
+        for y in 0..height {
+            let src = &frame[y * width * 3..(y + 1) * width * 3];
+            let at = ((y0 + y) * sheet_w + x0) * 3;
+            rgb[at..at + width * 3].copy_from_slice(src);
+        }
+        let tw = text_width(label, LABEL_SCALE);
+        let tx = x0 + width.saturating_sub(tw) / 2;
+        draw_text(&mut rgb, sheet_w, tx, y0 + height + 5, label, LABEL_SCALE, [230, 230, 230]);
+    }
+    ContactSheet {
+        width: sheet_w,
+        height: sheet_h,
+        rgb,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_land_in_their_cells() {
+        let frames: Vec<(Vec<u8>, String)> = (0..5u8)
+            .map(|k| (vec![50 + k * 40; 8 * 6 * 3], format!("{k}")))
+            .collect();
+        let sheet = contact_sheet(&frames, 8, 6, 3);
+        assert_eq!(sheet.width, 3 * (8 + GAP) + GAP);
+        assert_eq!(sheet.height, 2 * (6 + LABEL_HEIGHT) + GAP);
+        // The top-left pixel of frame 4 (row 1, column 1).
+        let (x, y) = (GAP + (8 + GAP), GAP + (6 + LABEL_HEIGHT));
+        assert_eq!(sheet.rgb[(y * sheet.width + x) * 3], 50 + 4 * 40);
+    }
+}
