@@ -1,4 +1,4 @@
-//! The FCC cluster seen along [111] as a one-dimensional periodic stack (paper §2.3).
+//! The FCC cluster seen along \[111\] as a one-dimensional periodic stack (paper §2.3).
 //!
 //! Input: a [`CrystalConfig`] → output: a [`ClusterStack`], the layer model the reflectance
 //! tables are computed from.
@@ -39,7 +39,7 @@ pub struct ClusterStack {
     pub d111_nm: f64,
     /// Effective index `√(f n_s² + (1 − f) n_m²)` of the cluster.
     pub n_eff: f64,
-    /// `|ε₁₁₁|`, modulus of the first Fourier coefficient of the permittivity along [111].
+    /// `|ε₁₁₁|`, modulus of the first Fourier coefficient of the permittivity along \[111\].
     pub eps_111: f64,
     /// Index of the high layer, `√(n_eff² + π ε₁₁₁ / 2)`.
     pub n_high: f64,

@@ -6,7 +6,7 @@
 //! bin-averaged specular reflectance R, coherent transmittance T and diffuse part D over
 //! angle inside the stone.
 //!
-//! - [`fcc`]: the cluster along [111] as a two-layer periodic stack whose mean permittivity
+//! - [`fcc`]: the cluster along \[111\] as a two-layer periodic stack whose mean permittivity
 //!   and first Fourier component equal the crystal's.
 //! - [`tmm`]: transfer matrices of lossless layers, s and p, the N-th power in closed form
 //!   (Chebyshev polynomials of the second kind).
