@@ -293,7 +293,7 @@ fn summary(
     let frame = if args.inside { "inside" } else { "air" };
     let _ = writeln!(
         out,
-        "{:>12} {:>8} {:>10} {:>8} {:>16}",
+        "{:>12} {:>9} {:>10} {:>8} {:>16}",
         format!("angle {frame}"),
         "θ inside",
         "peak nm",
@@ -305,7 +305,7 @@ fn summary(
         let in_range = (args.from_nm..=args.to_nm).contains(&c.bragg_nm);
         let _ = writeln!(
             out,
-            "{:>11.1}° {:>7.1}° {:>10.2} {:>8.4} {:>16.2}{}",
+            "{:>11.1}° {:>8.1}° {:>10.2} {:>8.4} {:>16.2}{}",
             c.angle_deg,
             c.cos_inside.clamp(-1.0, 1.0).acos().to_degrees(),
             peak_nm,
