@@ -29,6 +29,7 @@ pub mod structure;
 pub mod view_pass;
 
 pub use error::{Error, Result};
+pub use optics::{build_optics, OpticsTables};
 pub use scene::Scene;
 pub use spectrum::{SpectralImage, WavelengthGrid};
 pub use structure::{grow_structure, Cell, Structure};

@@ -1,78 +1,71 @@
-//! scratch optics for render development (replaced by the real stage).
-#![allow(missing_docs)]
-use crate::spectrum::WavelengthGrid;
-#[derive(Clone, Debug)]
-pub struct OpticsTables {
-    pub grid: WavelengthGrid,
-    pub n_eff: f64,
-    pub d111_nm: f64,
-    pub angles: usize,
-    pub reflectance: Vec<f32>,
-    pub transmittance: Vec<f32>,
-    pub diffuse: Vec<f32>,
+//! Cluster optics (paper §2.3, §3.1): what one FCC cluster of silica spheres does to light of
+//! each wavelength at each angle.
+//!
+//! Input: the scene's [`CrystalConfig`](crate::scene::CrystalConfig) and
+//! [`WavelengthGrid`](crate::spectrum::WavelengthGrid) → output: [`OpticsTables`], the
+//! bin-averaged specular reflectance R, coherent transmittance T and diffuse part D over
+//! angle inside the stone.
+//!
+//! - [`fcc`]: the cluster along \[111\] as a two-layer periodic stack whose mean permittivity
+//!   and first Fourier component equal the crystal's.
+//! - [`tmm`]: transfer matrices of lossless layers, s and p, the N-th power in closed form
+//!   (Chebyshev polynomials of the second kind).
+//! - [`fine`]: the fine wavelength sampling (≤ 1 nm, finer at the Bragg lines) and its
+//!   integration into the bins.
+//! - [`tables`]: the tables, built in parallel over angles.
+//!
+//! Bragg–Snell (DESIGN §4): the first-order peak for light meeting the (111) planes at θ
+//! inside the stone is `λ = 2 d n_eff cos θ`; from air at θ₀ onto a face parallel to the
+//! planes, `λ = 2 d √(n_eff² − sin² θ₀)`.
+
+pub mod fcc;
+pub mod fine;
+pub mod tables;
+pub mod tmm;
+
+pub use fcc::{ClusterStack, StackAtAngle};
+pub use tables::{build_optics, OpticsTables};
+pub use tmm::Polarization;
+
+/// First-order Bragg wavelength in vacuum, nm, for light meeting the (111) planes at
+/// `cos_theta_inside` inside the stone: `2 d n_eff cos θ`. `d111_nm` > 0, `n_eff` ≥ 1.
+pub fn bragg_wavelength_inside_nm(d111_nm: f64, n_eff: f64, cos_theta_inside: f64) -> f64 {
+    2.0 * d111_nm * n_eff * cos_theta_inside
 }
-impl OpticsTables {
-    pub fn row(&self, i: usize) -> (&[f32], &[f32], &[f32]) {
-        let b = self.grid.bins;
-        let r = i * b..(i + 1) * b;
-        (
-            &self.reflectance[r.clone()],
-            &self.transmittance[r.clone()],
-            &self.diffuse[r],
-        )
-    }
-    pub fn lookup(&self, cos_theta: f32, r: &mut [f32], t: &mut [f32], d: &mut [f32]) {
-        let f = (1.0 - cos_theta.clamp(0.0, 1.0)) * (self.angles - 1) as f32;
-        let i = (f as usize).min(self.angles - 2);
-        let w = f - i as f32;
-        let (r0, t0, d0) = self.row(i);
-        let (r1, t1, d1) = self.row(i + 1);
-        for b in 0..self.grid.bins {
-            r[b] = r0[b] + w * (r1[b] - r0[b]);
-            t[b] = t0[b] + w * (t1[b] - t0[b]);
-            d[b] = d0[b] + w * (d1[b] - d0[b]);
+
+/// First-order Bragg wavelength in vacuum, nm, for light arriving from air at
+/// `theta_air_rad` (from the normal of a face parallel to the (111) planes, `[0, π/2)`):
+/// `2 d √(n_eff² − sin² θ₀)` (Snell's law into `n_eff`, then Bragg).
+pub fn bragg_wavelength_air_nm(d111_nm: f64, n_eff: f64, theta_air_rad: f64) -> f64 {
+    2.0 * d111_nm * (n_eff * n_eff - theta_air_rad.sin().powi(2)).sqrt()
+}
+
+/// `cos θ` inside a medium of index `n_eff` (≥ 1) for light refracted from air at
+/// `theta_air_rad` (Snell's law, `sin θ = sin θ₀ / n_eff`).
+pub fn cos_inside_from_air(n_eff: f64, theta_air_rad: f64) -> f64 {
+    let sin_inside = theta_air_rad.sin() / n_eff;
+    (1.0 - sin_inside * sin_inside).max(0.0).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bragg_laws_agree_through_snell() {
+        let (d, n) = (204.1, 1.4423);
+        for deg in [0.0f64, 15.0, 45.0, 80.0] {
+            let theta0 = deg.to_radians();
+            let inside = bragg_wavelength_inside_nm(d, n, cos_inside_from_air(n, theta0));
+            assert!((inside - bragg_wavelength_air_nm(d, n, theta0)).abs() < 1e-9);
         }
     }
-}
-pub fn build_optics(
-    c: &crate::scene::CrystalConfig,
-    grid: &WavelengthGrid,
-) -> crate::Result<OpticsTables> {
-    let f = c.filling_fraction;
-    let n_eff = (f * c.n_sphere.powi(2) + (1.0 - f) * c.n_matrix.powi(2)).sqrt();
-    let d111 = c.sphere_diameter_nm * (2.0f64 / 3.0).sqrt();
-    let angles = c.angles;
-    let bins = grid.bins;
-    let (mut r, mut t, mut d) = (
-        vec![0.0; angles * bins],
-        vec![0.0; angles * bins],
-        vec![0.0; angles * bins],
-    );
-    for i in 0..angles {
-        let cos = 1.0 - i as f64 / (angles - 1) as f64;
-        let peak = 2.0 * d111 * n_eff * cos;
-        let width = 0.0035 * peak;
-        let samples: Vec<(f64, f64)> = (0..4000)
-            .map(|k| {
-                let l = 300.0 + k as f64 * 0.15;
-                (l, (-(((l - peak) / (0.5 * width)).powi(2))).exp() * 0.95)
-            })
-            .collect();
-        let avg = grid.bin_average(&samples);
-        for b in 0..bins {
-            let rr = avg[b] as f32;
-            r[i * bins + b] = rr * (1.0 - c.diffuse_fraction as f32);
-            d[i * bins + b] = rr * c.diffuse_fraction as f32;
-            t[i * bins + b] = 1.0 - rr;
-        }
+
+    #[test]
+    fn design_diameter_flashes_orange_face_on() {
+        // DESIGN §4: λ/D ≈ 2.36 for natural opal; D = 250 nm gives ≈ 590 nm face-on.
+        let s = ClusterStack::new(&crate::scene::CrystalConfig::default()).unwrap();
+        let lambda = bragg_wavelength_air_nm(s.d111_nm, s.n_eff, 0.0);
+        assert!((lambda / 250.0 - 2.36).abs() < 0.01, "λ = {lambda}");
     }
-    Ok(OpticsTables {
-        grid: *grid,
-        n_eff,
-        d111_nm: d111,
-        angles,
-        reflectance: r,
-        transmittance: t,
-        diffuse: d,
-    })
 }

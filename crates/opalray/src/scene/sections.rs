@@ -136,7 +136,7 @@ impl StructureConfig {
 /// |----------------------|------|---------|--------------|
 /// | `sphere_diameter_nm` | nm   | 250     | [50, 2000]   |
 /// | `n_sphere`           | –    | 1.45    | [1, 4]       |
-/// | `n_matrix`           | –    | 1.43    | [1, 4]       |
+/// | `n_matrix`           | –    | 1.42    | [1, 4]       |
 /// | `filling_fraction`   | –    | 0.74    | (0, 1)       |
 /// | `layers`             | –    | 400     | 1 ..= 100000 |
 /// | `diffuse_fraction`   | –    | 0.02    | [0, 1)       |
@@ -165,7 +165,7 @@ impl Default for CrystalConfig {
         CrystalConfig {
             sphere_diameter_nm: 250.0,
             n_sphere: 1.45,
-            n_matrix: 1.43,
+            n_matrix: 1.42,
             filling_fraction: 0.74,
             layers: 400,
             diffuse_fraction: 0.02,
@@ -185,7 +185,7 @@ impl CrystalConfig {
             250.0,
         )?;
         check_range("crystal.n_sphere", self.n_sphere, 1.0, 4.0, 1.45)?;
-        check_range("crystal.n_matrix", self.n_matrix, 1.0, 4.0, 1.43)?;
+        check_range("crystal.n_matrix", self.n_matrix, 1.0, 4.0, 1.42)?;
         if !(self.filling_fraction > 0.0 && self.filling_fraction < 1.0) {
             return Err(Error::field(
                 "crystal.filling_fraction",
