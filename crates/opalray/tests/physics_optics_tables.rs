@@ -69,8 +69,8 @@ fn table_bins_match_a_brute_force_integral() {
 }
 
 #[test]
-fn diffuse_part_is_the_diffuse_fraction_of_the_light_not_reflected() {
-    // docs/model.md: D = δ (1 − R), T = (1 − δ)(1 − R) without absorption.
+fn diffuse_part_is_the_diffuse_fraction_of_the_bragg_reflection() {
+    // docs/model.md: D = δ R_coh, R = (1 − δ) R_coh, T = T_coh = 1 − R_coh without absorption.
     let c = CrystalConfig {
         diffuse_fraction: 0.1,
         ..CrystalConfig::default()
@@ -82,7 +82,12 @@ fn diffuse_part_is_the_diffuse_fraction_of_the_light_not_reflected() {
         .zip(&tables.transmittance)
         .zip(&tables.diffuse)
     {
-        assert!((d - 0.1 * (1.0 - r)).abs() < 1e-6 && (t - 0.9 * (1.0 - r)).abs() < 1e-6);
+        let coherent = r + d;
+        assert!((d - 0.1 * coherent).abs() < 1e-6 && (r - 0.9 * coherent).abs() < 1e-6);
+        assert!(
+            (t - (1.0 - coherent)).abs() < 1e-5,
+            "T = 1 − R_coh: {t} vs {coherent}"
+        );
     }
 }
 

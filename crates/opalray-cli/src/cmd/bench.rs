@@ -78,7 +78,12 @@ pub fn run(args: Args) -> Result<()> {
     } else {
         println!(
             "opalray bench: {} × {}, {} bins, {} light rays, {} runs, {} threads",
-            scene.render.width, scene.render.height, scene.spectrum.bins, scene.light.rays, args.runs, threads
+            scene.render.width,
+            scene.render.height,
+            scene.spectrum.bins,
+            scene.light.rays,
+            args.runs,
+            threads
         );
         for (name, v) in &medians {
             println!("  {name:<11} {:>9.1} ms", v * 1e3);

@@ -28,7 +28,12 @@ pub struct Args {
     #[arg(long, value_name = "DEG", default_value_t = -60.0, allow_hyphen_values = true)]
     pub from: f64,
     /// Last light angle, degrees.
-    #[arg(long, value_name = "DEG", default_value_t = 60.0, allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 60.0,
+        allow_hyphen_values = true
+    )]
     pub to: f64,
     /// Number of frames (angles evenly spaced from --from to --to), 1 to 1000.
     #[arg(long, value_name = "N", default_value_t = 9)]
@@ -102,10 +107,22 @@ pub fn run(args: Args) -> Result<()> {
         .collect();
     let columns = args.columns.unwrap_or(angles.len().min(9));
     let sheet = opalray::output::contact_sheet(&labelled, w, h, columns);
-    opalray::output::write_png_rgb8(&args.sheet, sheet.width as u32, sheet.height as u32, &sheet.rgb)?;
-    println!("wrote {} ({} frames, {:.2} s)", args.sheet.display(), frames.len(), elapsed);
+    opalray::output::write_png_rgb8(
+        &args.sheet,
+        sheet.width as u32,
+        sheet.height as u32,
+        &sheet.rgb,
+    )?;
+    println!(
+        "wrote {} ({} frames, {:.2} s)",
+        args.sheet.display(),
+        frames.len(),
+        elapsed
+    );
     if let Some(path) = &args.animation {
-        let is_png = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        let is_png = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
         if is_png {
             opalray::output::write_apng(path, &frames, w as u32, h as u32, args.delay_ms)?;
         } else {

@@ -5,11 +5,11 @@
 //! each row holds the bin averages of the specular (Bragg) reflectance R, the coherent
 //! transmittance T and the diffuse part D, with R + T + D = 1 (no absorption).
 //!
-//! Diffuse part: the light that is not Bragg-reflected crosses the whole cluster, and a
-//! fraction δ (`diffuse_fraction`, stacking faults and size spread) of it is scattered out
-//! of the coherent beam: `D = δ·T_coh`, `T = (1 − δ)·T_coh`, `R = R_coh`. Inside a stop band
-//! the light is reflected within the first few hundred layers and scatters less, which this
-//! form follows.
+//! Diffuse part: stacking faults, finite domains and the spread of sphere sizes smear the
+//! Bragg reflection over a cone of directions. A fraction δ (`diffuse_fraction`) of the
+//! coherent reflection leaves diffusely, the rest specularly: `D = δ·R_coh`,
+//! `R = (1 − δ)·R_coh`, `T = T_coh`. The diffuse light keeps the colour of the Bragg line (the
+//! soft glow of a patch seen off its flash angle); the silica matrix itself is clear.
 
 use rayon::prelude::*;
 
@@ -115,9 +115,9 @@ pub fn build_optics(crystal: &CrystalConfig, grid: &WavelengthGrid) -> Result<Op
                 let plan = RowPlan::new(&stack, cos_theta, grid);
                 integrate_bins(grid, &plan, |wl| at.rt_unpolarized(wl), r_avg, t_avg);
                 for k in 0..bins {
-                    r[k] = r_avg[k] as f32;
-                    t[k] = ((1.0 - delta) * t_avg[k]) as f32;
-                    d[k] = (delta * t_avg[k]) as f32;
+                    r[k] = ((1.0 - delta) * r_avg[k]) as f32;
+                    t[k] = t_avg[k] as f32;
+                    d[k] = (delta * r_avg[k]) as f32;
                 }
             },
         );

@@ -7,14 +7,25 @@ use crate::output::write_atomic;
 
 /// Write RGB8 frames (each `width × height`) as a looping animated GIF, `delay_ms` per frame.
 /// Colours are quantised per frame (NeuQuant, as the GIF format allows 256 colours).
-pub fn write_gif(path: &Path, frames: &[Vec<u8>], width: u32, height: u32, delay_ms: u32) -> Result<()> {
+pub fn write_gif(
+    path: &Path,
+    frames: &[Vec<u8>],
+    width: u32,
+    height: u32,
+    delay_ms: u32,
+) -> Result<()> {
     use image::codecs::gif::{GifEncoder, Repeat};
     use image::{Delay, Frame, RgbaImage};
     let encode = |w: &mut dyn std::io::Write| -> std::io::Result<()> {
         let mut encoder = GifEncoder::new_with_speed(w, 10);
-        encoder.set_repeat(Repeat::Infinite).map_err(std::io::Error::other)?;
+        encoder
+            .set_repeat(Repeat::Infinite)
+            .map_err(std::io::Error::other)?;
         for rgb in frames {
-            let rgba: Vec<u8> = rgb.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
+            let rgba: Vec<u8> = rgb
+                .chunks_exact(3)
+                .flat_map(|p| [p[0], p[1], p[2], 255])
+                .collect();
             let image = RgbaImage::from_raw(width, height, rgba)
                 .ok_or_else(|| std::io::Error::other("frame size does not match"))?;
             let frame = Frame::from_parts(image, 0, 0, Delay::from_numer_denom_ms(delay_ms, 1));
@@ -32,7 +43,13 @@ pub fn write_gif(path: &Path, frames: &[Vec<u8>], width: u32, height: u32, delay
 }
 
 /// Write RGB8 frames as a looping animated PNG (APNG), `delay_ms` per frame, sRGB tagged.
-pub fn write_apng(path: &Path, frames: &[Vec<u8>], width: u32, height: u32, delay_ms: u32) -> Result<()> {
+pub fn write_apng(
+    path: &Path,
+    frames: &[Vec<u8>],
+    width: u32,
+    height: u32,
+    delay_ms: u32,
+) -> Result<()> {
     let encode_error = |e: png::EncodingError| std::io::Error::other(e.to_string());
     write_atomic(path, |w| {
         let mut encoder = png::Encoder::new(w, width, height);
@@ -77,7 +94,8 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("a.png");
         write_apng(&path, &frames(), 4, 2, 100).unwrap();
-        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()));
+        let decoder =
+            png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()));
         let reader = decoder.read_info().unwrap();
         assert_eq!(reader.info().animation_control().unwrap().num_frames, 3);
     }

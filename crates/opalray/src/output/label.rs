@@ -36,7 +36,15 @@ pub fn text_width(text: &str, scale: usize) -> usize {
 /// Draw `text` into an RGB8 image (`width` pixels wide) with its top-left corner at
 /// `(x, y)`, each font pixel a `scale × scale` block. Characters without a glyph are skipped;
 /// pixels outside the image are clipped.
-pub fn draw_text(rgb: &mut [u8], width: usize, x: usize, y: usize, text: &str, scale: usize, colour: [u8; 3]) {
+pub fn draw_text(
+    rgb: &mut [u8],
+    width: usize,
+    x: usize,
+    y: usize,
+    text: &str,
+    scale: usize,
+    colour: [u8; 3],
+) {
     let height = rgb.len() / (3 * width);
     for (i, c) in text.chars().enumerate() {
         let Some(rows) = glyph(c) else { continue };

@@ -3,8 +3,8 @@
 
 mod animation;
 mod label;
-mod sheet;
 mod scratch_exr;
+mod sheet;
 pub use crate::color::write_png;
 pub use scratch_exr::{write_exr, write_spectral_exr};
 

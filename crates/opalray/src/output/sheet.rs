@@ -23,14 +23,24 @@ pub struct ContactSheet {
 
 /// Lay out RGB8 frames (each `width × height`) in rows of `columns`, each with its label
 /// (e.g. "-60°") centred under it.
-pub fn contact_sheet(frames: &[(Vec<u8>, String)], width: usize, height: usize, columns: usize) -> ContactSheet {
+pub fn contact_sheet(
+    frames: &[(Vec<u8>, String)],
+    width: usize,
+    height: usize,
+    columns: usize,
+) -> ContactSheet {
     let columns = columns.clamp(1, frames.len().max(1));
     let rows = frames.len().div_ceil(columns);
     let cell_w = width + GAP;
     let cell_h = height + LABEL_HEIGHT;
     let sheet_w = columns * cell_w + GAP;
     let sheet_h = rows * cell_h + GAP;
-    let mut rgb: Vec<u8> = PAPER.iter().copied().cycle().take(sheet_w * sheet_h * 3).collect();
+    let mut rgb: Vec<u8> = PAPER
+        .iter()
+        .copied()
+        .cycle()
+        .take(sheet_w * sheet_h * 3)
+        .collect();
     for (k, (frame, label)) in frames.iter().enumerate() {
         let x0 = GAP + (k % columns) * cell_w;
         let y0 = GAP + (k / columns) * cell_h;
@@ -41,7 +51,15 @@ pub fn contact_sheet(frames: &[(Vec<u8>, String)], width: usize, height: usize, 
         }
         let tw = text_width(label, LABEL_SCALE);
         let tx = x0 + width.saturating_sub(tw) / 2;
-        draw_text(&mut rgb, sheet_w, tx, y0 + height + 5, label, LABEL_SCALE, [230, 230, 230]);
+        draw_text(
+            &mut rgb,
+            sheet_w,
+            tx,
+            y0 + height + 5,
+            label,
+            LABEL_SCALE,
+            [230, 230, 230],
+        );
     }
     ContactSheet {
         width: sheet_w,

@@ -139,7 +139,7 @@ impl StructureConfig {
 /// | `n_matrix`           | –    | 1.42    | [1, 4]       |
 /// | `filling_fraction`   | –    | 0.74    | (0, 1)       |
 /// | `layers`             | –    | 400     | 1 ..= 100000 |
-/// | `diffuse_fraction`   | –    | 0.02    | [0, 1)       |
+/// | `diffuse_fraction`   | –    | 0.15    | [0, 1)       |
 /// | `angles`             | –    | 181     | 90 ..= 10000 |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -154,7 +154,7 @@ pub struct CrystalConfig {
     pub filling_fraction: f64,
     /// Coherent (111) layers `N` in one cluster.
     pub layers: u32,
-    /// Fraction of the light crossing a cluster scattered diffusely (stacking disorder).
+    /// Share of the Bragg reflection scattered diffusely (stacking faults, size spread).
     pub diffuse_fraction: f64,
     /// Entries of the reflectance tables over incidence angle 0–90° inside the stone.
     pub angles: usize,
@@ -168,7 +168,7 @@ impl Default for CrystalConfig {
             n_matrix: 1.42,
             filling_fraction: 0.74,
             layers: 400,
-            diffuse_fraction: 0.02,
+            diffuse_fraction: 0.15,
             angles: 181,
         }
     }
@@ -204,7 +204,7 @@ impl CrystalConfig {
         if !(self.diffuse_fraction >= 0.0 && self.diffuse_fraction < 1.0) {
             return Err(Error::field(
                 "crystal.diffuse_fraction",
-                format!("must be in [0, 1), got {}; try 0.02", self.diffuse_fraction),
+                format!("must be in [0, 1), got {}; try 0.15", self.diffuse_fraction),
             ));
         }
         if !(90..=10_000).contains(&self.angles) {
