@@ -4,7 +4,7 @@
 //! order, in a small buffer that stays in cache. When the tile is done its sums are rounded
 //! onto a fixed-point scale and added, as 64-bit integers, to the thread's [`Accumulator`].
 //! Integer sums are associative: whichever thread traces a tile and in whatever order the
-//! threads' buffers are merged, the result, and so the image bytes, are identical at any
+//! tiles are added, the result, and so the image bytes, are identical at any
 //! thread count.
 
 use glam::Vec3;
@@ -12,8 +12,8 @@ use glam::Vec3;
 /// Fixed-point resolution: the largest possible single deposit maps to 2³¹.
 const DEPOSIT_RANGE: f64 = 2_147_483_648.0;
 
-/// Per-thread sums of the light crossing each stored cell: for every slot and lobe, the
-/// fluence spectrum (`bins` values) and the power-weighted direction (3 values).
+/// Sums of the light crossing each stored cell: for every entry (slot and lobe), the fluence
+/// spectrum (`bins` values), the power-weighted direction (3 values) and the power weight.
 #[derive(Clone, Debug)]
 pub struct Accumulator {
     stride: usize,
@@ -28,7 +28,7 @@ impl Accumulator {
     /// `max_power` bound one deposit's spectral value and direction weight; they set the
     /// fixed-point scales (a resolution of 5·10⁻¹⁰ of them).
     pub fn new(entries: usize, bins: usize, max_spectral: f32, max_power: f32) -> Self {
-        let stride = bins + 3;
+        let stride = bins + 4;
         Accumulator {
             stride,
             bins,
@@ -54,36 +54,56 @@ impl Accumulator {
         tile.clear();
     }
 
-    /// Add another thread's sums (integer addition: order does not matter).
-    pub fn merge(mut self, other: Accumulator) -> Accumulator {
-        for (a, b) in self.sums.iter_mut().zip(other.sums) {
-            *a += b;
-        }
-        self
+    /// Values per entry in [`Accumulator::into_sums`]: the spectrum, the power-weighted
+    /// direction and the power weight.
+    pub fn stride(&self) -> usize {
+        self.stride
     }
 
-    /// The fluence spectra (`entries × bins`) and unit mean directions (zero where nothing
-    /// arrived), as floats.
-    pub fn finish(self) -> (Vec<f32>, Vec<Vec3>) {
-        let entries = self.sums.len() / self.stride;
-        let unscale = 1.0 / self.spectrum_scale;
-        let mut fluence = Vec::with_capacity(entries * self.bins);
-        let mut directions = Vec::with_capacity(entries);
-        for chunk in self.sums.chunks_exact(self.stride) {
-            fluence.extend(
-                chunk[..self.bins]
-                    .iter()
-                    .map(|&v| (v as f64 * unscale) as f32),
-            );
-            let d = Vec3::new(
-                chunk[self.bins] as f32,
-                chunk[self.bins + 1] as f32,
-                chunk[self.bins + 2] as f32,
-            );
-            directions.push(d.normalize_or_zero());
-        }
-        (fluence, directions)
+    /// The sums as floats, `entries × stride`: for each entry the fluence spectrum (`bins`
+    /// values), Σ P·w (3) and Σ P (1).
+    pub fn into_sums(self) -> Vec<f32> {
+        let unscale_spectrum = 1.0 / self.spectrum_scale;
+        let unscale_direction = 1.0 / self.direction_scale;
+        let bins = self.bins;
+        self.sums
+            .chunks_exact(self.stride)
+            .flat_map(|chunk| {
+                chunk.iter().enumerate().map(move |(k, &v)| {
+                    let unscale = if k < bins {
+                        unscale_spectrum
+                    } else {
+                        unscale_direction
+                    };
+                    (v as f64 * unscale) as f32
+                })
+            })
+            .collect()
     }
+}
+
+/// Split float sums (`entries × (bins + 4)`, see [`Accumulator::into_sums`]) into fluence
+/// spectra (`entries × bins`), unit mean directions (zero where nothing arrived) and the mean
+/// resultant length of the directions (|Σ P·w| / Σ P: 1 for light from one direction,
+/// towards 0 for light from many).
+pub fn split_sums(sums: &[f32], bins: usize) -> (Vec<f32>, Vec<Vec3>, Vec<f32>) {
+    let stride = bins + 4;
+    let entries = sums.len() / stride;
+    let mut fluence = Vec::with_capacity(entries * bins);
+    let mut directions = Vec::with_capacity(entries);
+    let mut concentration = Vec::with_capacity(entries);
+    for chunk in sums.chunks_exact(stride) {
+        fluence.extend_from_slice(&chunk[..bins]);
+        let d = Vec3::new(chunk[bins], chunk[bins + 1], chunk[bins + 2]);
+        let total = chunk[bins + 3];
+        concentration.push(if total > 0.0 {
+            (d.length() / total).min(1.0)
+        } else {
+            0.0
+        });
+        directions.push(d.normalize_or_zero());
+    }
+    (fluence, directions, concentration)
 }
 
 /// The deposits of one tile of rays, in `f32`, for the entries the tile touches.
@@ -104,7 +124,7 @@ impl TileSums {
     /// Empty tile sums for `entries` global entries of `bins` values.
     pub fn new(entries: usize, bins: usize) -> Self {
         TileSums {
-            stride: bins + 3,
+            stride: bins + 4,
             bins,
             stamp: vec![0; entries],
             local: vec![0; entries],
@@ -148,6 +168,7 @@ impl TileSums {
         for a in 0..3 {
             sums[self.bins + a] += direction[a] * p;
         }
+        sums[self.bins + 3] += p;
     }
 }
 
@@ -192,11 +213,29 @@ mod tests {
                 a.add_tile(&mut tile);
             }
         }
-        let (f, d) = a.finish();
+        let (f, d, c) = split_sums(&a.into_sums(), 1);
+        assert!((c[1] - 1.0).abs() < 1e-6 && c[0] == 0.0);
         assert_eq!(f[0], 0.0);
         assert!((f[1] - 5.0).abs() < 1e-5, "{}", f[1]);
         assert_eq!(d[1], Vec3::Z);
         assert_eq!(d[0], Vec3::ZERO);
+    }
+
+    #[test]
+    fn opposite_directions_have_no_concentration() {
+        let mut a = Accumulator::new(1, 1, 1.0, 1.0);
+        let mut tile = TileSums::new(1, 1);
+        tile.deposit(0, &[1.0], 1.0, Vec3::X, 1.0);
+        tile.deposit(0, &[1.0], 1.0, Vec3::new(0.0, 1.0, 0.0), 1.0);
+        a.add_tile(&mut tile);
+        let (_, d, c) = split_sums(&a.into_sums(), 1);
+        // Two perpendicular unit vectors of equal weight: |Σ w| / Σ 1 = √2 / 2.
+        assert!(
+            (c[0] - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-5,
+            "{}",
+            c[0]
+        );
+        assert!((d[0] - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-5);
     }
 
     #[test]
@@ -206,7 +245,7 @@ mod tests {
         tile.deposit(0, &[1.0], 1.0, Vec3::X, 1.0);
         a.add_tile(&mut tile);
         a.add_tile(&mut tile);
-        let (f, _) = a.finish();
+        let (f, _, _) = split_sums(&a.into_sums(), 1);
         assert!((f[0] - 1.0).abs() < 1e-6);
     }
 }

@@ -3,10 +3,13 @@
 //! Input: the structure, the cluster optics and a light → output: a [`LightField`], the light
 //! crossing every inside cell as a fluence spectrum (power per area per nm: the track-length
 //! estimate Σ Φ·ℓ / V, so it converges as rays are added and does not scale with their
-//! number) in two direction lobes: light travelling down into the stone (from the light
-//! through the top face) and light travelling up (internally reflected, or Bragg-reflected
-//! back), each with its power-weighted mean direction. The view pass needs the direction to
-//! place each cluster's Bragg reflection (eq. 2's θ').
+//! number) in three lobes, each with its power-weighted mean direction: the *direct* light,
+//! refracted once at the surface and since only filtered, and the *scattered* light, reflected
+//! inside at least once (Bragg reflections, internal reflections at the surface), split into
+//! light travelling down (−z) and up. The view pass needs the direction to place each
+//! cluster's Bragg reflection (eq. 2's θ'); a mean over opposite directions would be
+//! meaningless, and keeping the direct beam apart keeps its direction exact however weak or
+//! strong the rest is.
 //!
 //! Rays are drawn on a jittered lattice over the beam, each with its own random stream
 //! `(seed, LIGHT, index)`; deposits are summed in fixed point, so the result is the same at
@@ -22,6 +25,7 @@ pub use interaction::{ClusterOptics, Split};
 pub use source::{LightSource, RayLattice};
 
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -31,11 +35,12 @@ use crate::geometry::{CellGrid, Ellipsoid};
 use crate::optics::OpticsTables;
 use crate::spectrum::WavelengthGrid;
 use crate::structure::{Cell, Structure};
-use accumulate::{Accumulator, TileSums};
+use accumulate::{split_sums, Accumulator, TileSums};
 use walk::{Scratch, Walker};
 
-/// Direction lobes stored per cell: 0 = travelling down (−z), 1 = travelling up (+z).
-pub const LOBES: usize = 2;
+/// Lobes stored per cell: 0 = direct light; light reflected inside at least once,
+/// 1 = travelling down (−z), 2 = travelling up (+z).
+pub const LOBES: usize = 3;
 /// Marks a cell with no storage (outside the stone).
 pub const NO_SLOT: u32 = u32::MAX;
 /// Work items are square tiles of the ray lattice, this many rays on a side: neighbouring
@@ -112,6 +117,9 @@ pub struct LightField {
     pub fluence: Vec<f32>,
     /// Mean direction of travel per slot and lobe (zero where no light arrived).
     pub directions: Vec<Vec3>,
+    /// Mean resultant length of the directions per slot and lobe, |Σ P·w| / Σ P in [0, 1]:
+    /// 1 when all the light came from one direction, smaller the more it is spread.
+    pub concentration: Vec<f32>,
     /// Rays traced.
     pub rays: u64,
     /// Energy bookkeeping.
@@ -195,11 +203,18 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
     let tasks = tiles_per_row * tiles_per_row;
     // One accumulator per worker thread, each pulling tasks from a shared counter; integer
     // sums make the division of work irrelevant to the result.
+    // Workers pull tiles from a shared counter and add each finished tile to the one shared
+    // accumulator; integer sums make the order of those additions irrelevant.
     let next_task = AtomicU64::new(0);
-    let (acc, ledger) = (0..rayon::current_num_threads())
+    let shared = Mutex::new(Accumulator::new(
+        slots * LOBES,
+        bins,
+        max_spectral,
+        max_power,
+    ));
+    let ledger = (0..rayon::current_num_threads())
         .into_par_iter()
         .map(|_| {
-            let mut acc = Accumulator::new(slots * LOBES, bins, max_spectral, max_power);
             let mut tile = TileSums::new(slots * LOBES, bins);
             let mut ledger = EnergyLedger::default();
             let mut scratch = Scratch::default();
@@ -214,35 +229,34 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
                         walker.trace(y * side + x, &mut tile, &mut ledger, &mut scratch);
                     }
                 }
-                acc.add_tile(&mut tile);
+                shared
+                    .lock()
+                    .expect("no worker panics while holding the accumulator")
+                    .add_tile(&mut tile);
             }
-            (Some(acc), ledger)
+            ledger
         })
-        .reduce(
-            || (None, EnergyLedger::default()),
-            |(a, la), (b, lb)| {
-                let acc = match (a, b) {
-                    (Some(a), Some(b)) => Some(a.merge(b)),
-                    (a, b) => a.or(b),
-                };
-                (acc, la.add(lb))
-            },
-        );
-    let acc = acc.unwrap_or_else(|| Accumulator::new(slots * LOBES, bins, max_spectral, max_power));
-    let (mut fluence, directions) = acc.finish();
-    smooth::smooth_fluence(
-        &mut fluence,
+        .reduce(EnergyLedger::default, EnergyLedger::add);
+    let acc = shared
+        .into_inner()
+        .expect("no worker panicked while holding the accumulator");
+    let stride = acc.stride();
+    let mut sums = acc.into_sums();
+    smooth::smooth_sums(
+        &mut sums,
         &structure.cells,
         &normals,
         &slot_of_cell,
         structure.grid,
-        bins,
+        stride,
     );
+    let (fluence, directions, concentration) = split_sums(&sums, bins);
     LightField {
         grid: optics.grid,
         slot_of_cell,
         fluence,
         directions,
+        concentration,
         rays,
         ledger,
     }

@@ -13,14 +13,14 @@ use crate::structure::Cell;
 /// Normals closer than this (|cos|) count as the same orientation.
 const SAME_PATCH_COS: f32 = 0.9995;
 
-/// Smooth `fluence` (`slots × LOBES × bins`) in place.
-pub(crate) fn smooth_fluence(
+/// Smooth `sums` (`slots × LOBES × width_per_lobe` values) in place.
+pub(crate) fn smooth_sums(
     fluence: &mut Vec<f32>,
     cells: &[Cell],
     normals: &[Vec3],
     slot_of_cell: &[u32],
     grid: [usize; 3],
-    bins: usize,
+    width_per_lobe: usize,
 ) {
     let cell_of_slot: Vec<usize> = slot_of_cell
         .iter()
@@ -34,7 +34,7 @@ pub(crate) fn smooth_fluence(
         _ => false,
     };
     let stride = [1, grid[0], grid[0] * grid[1]];
-    let width = LOBES * bins;
+    let width = LOBES * width_per_lobe;
     let mut out = vec![0.0f32; fluence.len()];
     for axis in 0..3 {
         let src = &*fluence;

@@ -58,10 +58,20 @@ struct Branch {
     spectrum: Vec<f32>,
     power: f32,
     bounces: u32,
+    lobe: usize,
 }
 
-fn lobe_of(direction: Vec3) -> usize {
-    usize::from(direction.z >= 0.0)
+/// Lobe of light that has come straight from the light, refracted once at the surface.
+const DIRECT: usize = 0;
+/// Marks a branch reflected inside (Bragg or at the surface) at least once; its lobe is
+/// then 1 (travelling down, −z) or 2 (travelling up).
+const SCATTERED: usize = 1;
+
+fn lobe_of(kind: usize, direction: Vec3) -> usize {
+    match kind {
+        DIRECT => DIRECT,
+        _ => 1 + usize::from(direction.z >= 0.0),
+    }
 }
 
 impl Walker<'_> {
@@ -111,6 +121,7 @@ impl Walker<'_> {
             power: p_in * (1.0 - fresnel),
             spectrum,
             bounces: 0,
+            lobe: DIRECT,
         });
         while let Some(branch) = scratch.stack.pop() {
             self.walk(branch, threshold, acc, ledger, scratch);
@@ -132,7 +143,9 @@ impl Walker<'_> {
             mut spectrum,
             mut power,
             bounces,
+            lobe: kind,
         } = branch;
+        let lobe = lobe_of(kind, direction);
         let ray = Ray { origin, direction };
         let Some((t0, t1)) = self.shape.intersect(&ray) else {
             ledger.escaped += f64::from(power);
@@ -140,7 +153,6 @@ impl Walker<'_> {
             return;
         };
         ledger.branches += 1;
-        let lobe = lobe_of(direction);
         let mut alive = true;
         let Scratch {
             r,
@@ -159,7 +171,12 @@ impl Walker<'_> {
                     // Potch: track-length fluence under exponential attenuation.
                     let sigma = self.body_extinction_per_mm;
                     let kept = (-sigma * length).exp();
-                    let track = (1.0 - kept) / sigma;
+                    // ∫₀ˡ e^(−σs) ds, and its limit ℓ for a clear body.
+                    let track = if sigma * length > 1e-4 {
+                        (1.0 - kept) / sigma
+                    } else {
+                        length
+                    };
                     acc.deposit(
                         slot * LOBES + lobe,
                         &spectrum,
@@ -220,6 +237,7 @@ impl Walker<'_> {
                                 spectrum: v,
                                 power: p_r,
                                 bounces,
+                                lobe: SCATTERED,
                             });
                         } else {
                             ledger.truncated += f64::from(p_r);
@@ -265,6 +283,7 @@ impl Walker<'_> {
             spectrum,
             power: inner,
             bounces: bounces + 1,
+            lobe: SCATTERED,
         });
     }
 }

@@ -65,7 +65,6 @@ pub fn trace_view(
     let cluster_optics = ClusterOptics::new(optics);
     let bins = light.grid.bins;
     let n_eff = optics.n_eff as f32;
-    let cos_cutoff = LOBE_CUTOFF.powf(1.0 / setup.phong_exponent.max(1.0));
     let mut image = SpectralImage::new(setup.width, setup.height, light.grid);
     image
         .data
@@ -140,8 +139,11 @@ pub fn trace_view(
                                     for lobe in 0..LOBES {
                                         let m = shading.mirror[slot * LOBES + lobe];
                                         let c = m.dot(to_eye);
-                                        if c > cos_cutoff {
-                                            let w = c.powf(setup.phong_exponent);
+                                        if c > 0.0 {
+                                            let w = c.powf(shading.exponent[slot * LOBES + lobe]);
+                                            if w < LOBE_CUTOFF {
+                                                continue;
+                                            }
                                             let start = (slot * LOBES + lobe) * bins;
                                             let spec = &shading.specular[start..start + bins];
                                             for ((p, t), s) in

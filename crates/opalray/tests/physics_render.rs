@@ -1,0 +1,220 @@
+//! Physics of the two passes against independent expectations: Bragg–Snell colour of a
+//! flashing cluster, the blue shift with angle, a furnace, energy bookkeeping, convergence.
+
+use glam::{Quat, Vec3};
+use opalray::light_pass::{trace_light, LightSetup, LightSource};
+use opalray::render::{prepare, Prepared};
+use opalray::scene::Scene;
+use opalray::structure::{Cell, Structure, AXIS_111};
+use opalray::SpectralImage;
+
+/// A small, quick version of the paper's scene.
+fn small_scene(width: u32, height: u32, bins: usize, rays: u64) -> Scene {
+    let mut s = Scene::default();
+    s.render.width = width;
+    s.render.height = height;
+    s.spectrum.bins = bins;
+    s.light.rays = rays;
+    s.render.gloss = 0.0;
+    s
+}
+
+/// Replace every inside cell of `prepared` with a cluster whose (111) normal is `normal`.
+fn single_crystal(prepared: &mut Prepared, normal: Vec3) {
+    let q = Quat::from_rotation_arc(AXIS_111, normal.normalize());
+    let s: &mut Structure = &mut prepared.structure;
+    for (cell, o) in s.cells.iter_mut().zip(s.orientations.iter_mut()) {
+        if *cell != Cell::Outside {
+            *cell = Cell::Cluster;
+            *o = q;
+        }
+    }
+}
+
+/// Sum of the spectra of the `count` brightest pixels.
+fn brightest_spectrum(image: &SpectralImage, count: usize) -> Vec<f64> {
+    let bins = image.grid.bins;
+    let mut pixels: Vec<(f64, usize)> = (0..image.width * image.height)
+        .map(|p| {
+            let s = &image.data[p * bins..(p + 1) * bins];
+            (s.iter().map(|&v| f64::from(v)).sum(), p)
+        })
+        .collect();
+    pixels.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let mut total = vec![0.0; bins];
+    for &(_, p) in pixels.iter().take(count) {
+        for (t, &v) in total.iter_mut().zip(&image.data[p * bins..(p + 1) * bins]) {
+            *t += f64::from(v);
+        }
+    }
+    total
+}
+
+fn peak_wavelength(image: &SpectralImage, spectrum: &[f64]) -> f64 {
+    let (bin, _) = spectrum
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .unwrap();
+    image.grid.center_nm(bin)
+}
+
+#[test]
+fn bisecting_cluster_flashes_its_bragg_wavelength() {
+    // Light at 30° to the view; inside the stone (n_eff) the light travels at θt from the
+    // axis, the eye looks straight down, so the bisecting normal meets both at θt / 2 and
+    // Bragg's law gives λ = 2 d111 n_eff cos(θt / 2) (DESIGN §4).
+    let scene = small_scene(64, 48, 80, 40_000);
+    let mut prepared = prepare(&scene).unwrap();
+    let n_eff = prepared.optics.n_eff;
+    let theta_t = (30f64.to_radians().sin() / n_eff).asin();
+    let normal = Vec3::new(theta_t.sin() as f32, 0.0, (1.0 + theta_t.cos()) as f32);
+    single_crystal(&mut prepared, normal);
+    let frame = prepared.render(30.0);
+    let spectrum = brightest_spectrum(&frame.spectral, 20);
+    let expected = 2.0 * prepared.optics.d111_nm * n_eff * (0.5 * theta_t).cos();
+    let peak = peak_wavelength(&frame.spectral, &spectrum);
+    assert!(
+        (peak - expected).abs() <= 10.0,
+        "peak {peak} nm, Bragg {expected} nm"
+    );
+    // And it is a flash: that bin holds most of the light.
+    let total: f64 = spectrum.iter().sum();
+    let max = spectrum.iter().cloned().fold(0.0, f64::max);
+    assert!(max > 0.3 * total, "peak share {}", max / total);
+}
+
+#[test]
+fn opening_the_light_angle_shifts_flashes_to_blue() {
+    // For each light angle the cluster bisecting light and eye flashes; its colour must move
+    // to shorter wavelengths as the angle opens (Bragg–Snell, DESIGN §4).
+    let scene = small_scene(64, 48, 80, 40_000);
+    let mut previous = f64::INFINITY;
+    for angle in [10.0f64, 35.0, 60.0] {
+        let mut prepared = prepare(&scene).unwrap();
+        let n_eff = prepared.optics.n_eff;
+        let theta_t = (angle.to_radians().sin() / n_eff).asin();
+        single_crystal(
+            &mut prepared,
+            Vec3::new(theta_t.sin() as f32, 0.0, (1.0 + theta_t.cos()) as f32),
+        );
+        let frame = prepared.render(angle);
+        let peak = peak_wavelength(&frame.spectral, &brightest_spectrum(&frame.spectral, 20));
+        assert!(
+            peak < previous - 5.0,
+            "{angle}°: {peak} nm after {previous} nm"
+        );
+        previous = peak;
+    }
+}
+
+#[test]
+fn default_opal_flashes_shift_to_blue_as_the_light_opens() {
+    // The grown stone, not a hand-made crystal: the spectral centroid of the brightest
+    // pixels (away from the surface glint) falls as the light–view angle grows.
+    let scene = small_scene(96, 72, 40, 60_000);
+    let prepared = prepare(&scene).unwrap();
+    let centroid = |angle: f64| {
+        let frame = prepared.render(angle);
+        let s = brightest_spectrum(&frame.spectral, 100);
+        let total: f64 = s.iter().sum();
+        s.iter()
+            .enumerate()
+            .map(|(b, v)| v * frame.spectral.grid.center_nm(b))
+            .sum::<f64>()
+            / total
+    };
+    let (near, far) = (centroid(15.0), centroid(60.0));
+    assert!(
+        far < near - 10.0,
+        "centroid at 15°: {near} nm, at 60°: {far} nm"
+    );
+}
+
+#[test]
+fn furnace_light_passes_unchanged() {
+    // No clusters, no absorbing body, the stone's index matched to air: every ray must leave
+    // with all its power, and every cell must hold the incident fluence (irradiance 1).
+    let scene = small_scene(32, 24, 8, 90_000);
+    let mut prepared = prepare(&scene).unwrap();
+    for cell in prepared.structure.cells.iter_mut() {
+        if *cell == Cell::Cluster {
+            *cell = Cell::Void;
+        }
+    }
+    prepared.optics.n_eff = 1.0;
+    let spectrum = prepared.light_spectrum();
+    let light = trace_light(
+        &prepared.structure,
+        &prepared.optics,
+        &LightSetup {
+            source: LightSource::Directional {
+                direction: Vec3::new(-0.3, 0.1, -1.0).normalize(),
+            },
+            spectrum: &spectrum,
+            rays: scene.light.rays,
+            seed: 3,
+            body_albedo: 0.0,
+            body_extinction_per_mm: 0.0,
+        },
+    );
+    let l = light.ledger;
+    assert!(l.emitted > 0.0);
+    assert!((l.escaped - l.emitted).abs() <= 1e-3 * l.emitted, "{l:?}");
+    assert!(l.reflected.abs() <= 1e-6 * l.emitted && l.stored == 0.0 && l.absorbed == 0.0);
+    // Mean stored fluence over the inside cells equals the light's spectrum.
+    let bins = spectrum.len();
+    let slots = light.directions.len() / 2;
+    for b in 0..bins {
+        let mean: f64 = (0..slots)
+            .map(|s| f64::from(light.fluence(s, 0)[b] + light.fluence(s, 1)[b]))
+            .sum::<f64>()
+            / slots as f64;
+        let expected = f64::from(spectrum[b]);
+        assert!(
+            (mean / expected - 1.0).abs() < 0.01,
+            "bin {b}: {mean} vs {expected}"
+        );
+    }
+}
+
+#[test]
+fn light_pass_energy_is_accounted_for() {
+    // stored + escaped + absorbed (+ surface reflection and what was cut) = emitted.
+    let scene = small_scene(32, 24, 40, 60_000);
+    let prepared = prepare(&scene).unwrap();
+    for angle in [0.0, 30.0, -55.0] {
+        let frame = prepared.render(angle);
+        let l = frame.light.ledger;
+        assert!(l.emitted > 0.0 && l.stored > 0.0 && l.absorbed > 0.0 && l.escaped > 0.0);
+        let error = (l.accounted() - l.emitted).abs() / l.emitted;
+        assert!(
+            error < 1e-4,
+            "{angle}°: relative imbalance {error:e} in {l:?}"
+        );
+        assert!(l.truncated < 0.05 * l.emitted, "too much cut: {l:?}");
+    }
+}
+
+#[test]
+fn doubling_the_light_rays_changes_the_image_by_under_two_percent() {
+    let scene = small_scene(160, 120, 40, 262_144);
+    let prepared = prepare(&scene).unwrap();
+    let display = |rays: u64| {
+        let mut p = prepared.clone();
+        p.scene.light.rays = rays;
+        let frame = p.render(30.0);
+        opalray::color::to_display_rgb8(&frame.rgb, &p.scene.color)
+    };
+    let a = display(262_144);
+    let b = display(524_288);
+    let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
+    let diff: Vec<f64> = a
+        .iter()
+        .zip(&b)
+        .map(|(&x, &y)| f64::from(x) - f64::from(y))
+        .collect();
+    let level: Vec<f64> = b.iter().map(|&y| f64::from(y)).collect();
+    let relative = rms(&diff) / rms(&level);
+    assert!(relative < 0.02, "relative RMS change {relative}");
+}
