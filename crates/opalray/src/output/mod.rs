@@ -1,10 +1,18 @@
-//! Output: files written atomically (a temporary file beside the target, then a rename), so a
+//! Output: PNG (sRGB-encoded, 8/16 bit), OpenEXR (linear RGB) and spectral OpenEXR files.
+//!
+//! Every file is written atomically (a temporary file beside the target, then a rename), so a
 //! failed or interrupted write never leaves a partial file or clobbers an existing one.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
+
+mod display;
+mod openexr;
+
+pub use display::write_png;
+pub use openexr::{spectral_channel_name, write_exr, write_spectral_exr};
 
 /// Write a file atomically: `write` fills a temporary file in the target's directory, which
 /// is renamed over `path` only if everything succeeded. On failure nothing is left behind.
@@ -52,12 +60,26 @@ pub fn write_atomic(
 
 /// Write 8-bit RGBA pixels (rows top to bottom) as a PNG, atomically.
 pub fn write_png_rgba8(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<()> {
-    encode_png(path, width, height, png::ColorType::Rgba, png::BitDepth::Eight, rgba)
+    encode_png(
+        path,
+        width,
+        height,
+        png::ColorType::Rgba,
+        png::BitDepth::Eight,
+        rgba,
+    )
 }
 
 /// Write 8-bit RGB pixels (rows top to bottom) as a PNG, atomically.
 pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
-    encode_png(path, width, height, png::ColorType::Rgb, png::BitDepth::Eight, rgb)
+    encode_png(
+        path,
+        width,
+        height,
+        png::ColorType::Rgb,
+        png::BitDepth::Eight,
+        rgb,
+    )
 }
 
 /// Encode raw samples (big-endian for 16-bit) as a PNG with an sRGB chunk.
@@ -101,7 +123,9 @@ mod tests {
     fn missing_directory_is_an_error_and_writes_nothing() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("no/such/dir/a.png");
-        let err = write_png_rgb8(&path, 1, 1, &[0, 0, 0]).unwrap_err().to_string();
+        let err = write_png_rgb8(&path, 1, 1, &[0, 0, 0])
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("does not exist"), "{err}");
     }
 

@@ -141,7 +141,10 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("structure.void_ratoi"), "{err}");
-        assert!(err.contains("void_ratio"), "suggests the known fields: {err}");
+        assert!(
+            err.contains("void_ratio"),
+            "suggests the known fields: {err}"
+        );
     }
 
     #[test]
@@ -154,7 +157,9 @@ mod tests {
 
     #[test]
     fn malformed_toml_is_reported_with_a_line() {
-        let err = Scene::from_toml_str("[structure\n", "s.toml").unwrap_err().to_string();
+        let err = Scene::from_toml_str("[structure\n", "s.toml")
+            .unwrap_err()
+            .to_string();
         assert!(err.starts_with("s.toml"), "{err}");
         assert!(err.contains("line"), "{err}");
     }
@@ -165,11 +170,23 @@ mod tests {
             ("[structure]\nvoid_ratio = 1.5", "structure.void_ratio"),
             ("[structure]\nvoid_ratio = 0.0", "structure.void_ratio"),
             ("[structure]\nvoid_ratio = nan", "structure.void_ratio"),
-            ("[structure]\nmean_radius_cells = -6.0", "structure.mean_radius_cells"),
+            (
+                "[structure]\nmean_radius_cells = -6.0",
+                "structure.mean_radius_cells",
+            ),
             ("[structure]\ngrid = [100, 0, 25]", "structure.grid"),
-            ("[structure]\nsemi_axes_mm = [10.0, -1.0, 2.0]", "structure.semi_axes_mm"),
-            ("[structure]\ngrid = [100000, 100000, 100000]", "structure.grid"),
-            ("[crystal]\nsphere_diameter_nm = -250.0", "crystal.sphere_diameter_nm"),
+            (
+                "[structure]\nsemi_axes_mm = [10.0, -1.0, 2.0]",
+                "structure.semi_axes_mm",
+            ),
+            (
+                "[structure]\ngrid = [100000, 100000, 100000]",
+                "structure.grid",
+            ),
+            (
+                "[crystal]\nsphere_diameter_nm = -250.0",
+                "crystal.sphere_diameter_nm",
+            ),
             ("[crystal]\nn_sphere = 0.9", "crystal.n_sphere"),
             ("[render]\nwidth = 0", "render.width"),
             ("[render]\nbody_tone = 12", "render.body_tone"),

@@ -194,10 +194,7 @@ impl CrystalConfig {
         if !(self.diffuse_fraction >= 0.0 && self.diffuse_fraction < 1.0) {
             return Err(Error::field(
                 "crystal.diffuse_fraction",
-                format!(
-                    "must be in [0, 1), got {}; try 0.02",
-                    self.diffuse_fraction
-                ),
+                format!("must be in [0, 1), got {}; try 0.02", self.diffuse_fraction),
             ));
         }
         if !(90..=10_000).contains(&self.angles) {

@@ -178,11 +178,17 @@ mod tests {
 
     #[test]
     fn invalid_grids_are_refused_with_the_field() {
-        let err = WavelengthGrid::new(500.0, 400.0, 10).unwrap_err().to_string();
+        let err = WavelengthGrid::new(500.0, 400.0, 10)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("spectrum.max_nm"), "{err}");
-        let err = WavelengthGrid::new(f64::NAN, 400.0, 10).unwrap_err().to_string();
+        let err = WavelengthGrid::new(f64::NAN, 400.0, 10)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("spectrum.min_nm"), "{err}");
-        let err = WavelengthGrid::new(380.0, 780.0, 0).unwrap_err().to_string();
+        let err = WavelengthGrid::new(380.0, 780.0, 0)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("spectrum.bins"), "{err}");
     }
 }
