@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 
 /// Parse a spectrum CSV: one `wavelength_nm,value` pair per line, any sampling, wavelengths
 /// strictly increasing; blank lines and lines starting with `#` are skipped, and the first
-/// remaining line may be a header (it is skipped when its first field is not a number).
+/// remaining line may be a header (it is skipped when it starts with a letter).
 /// `path` names the file in errors. Fails on fewer than two rows, a non-numeric, infinite or
 /// NaN field, a line without exactly two fields, a non-positive or non-increasing wavelength.
 pub fn parse_spectrum_csv(text: &str, path: &Path) -> Result<Vec<(f64, f64)>> {
@@ -23,7 +23,7 @@ pub fn parse_spectrum_csv(text: &str, path: &Path) -> Result<Vec<(f64, f64)>> {
             continue;
         }
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        let is_header = first && fields[0].parse::<f64>().is_err();
+        let is_header = first && line.starts_with(|c: char| c.is_alphabetic());
         first = false;
         if is_header {
             continue;

@@ -9,6 +9,12 @@
 //!    dominant wavelength (the line through the white point in the chromaticity diagram) stay;
 //! 2. scales all three components by the same factor when the largest exceeds 1 — the
 //!    chromaticity stays, so a too-bright flash stays saturated rather than going white.
+//!
+//! The kept "hue" is the colorimetric one, the dominant wavelength. The perceived (OKLab) hue
+//! of a mapped spectral line stays within 5° of the line's own from 500 to 700 nm, and moves
+//! up to 25° towards blue near 470 nm. A 700 nm line becomes a deep red with a touch of blue
+//! and 530 nm a full green with some blue: the lines from the white to those points leave
+//! sRGB on its red–blue and green–blue edges.
 
 use std::sync::OnceLock;
 
