@@ -16,6 +16,8 @@ pub fn parse_spectrum_csv(text: &str, path: &Path) -> Result<Vec<(f64, f64)>> {
     };
     let mut samples: Vec<(f64, f64)> = Vec::new();
     let mut first = true;
+    // Spreadsheet exports may start with a byte-order mark.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     for (i, raw) in text.lines().enumerate() {
         let line_no = i + 1;
         let line = raw.trim();
@@ -98,6 +100,8 @@ mod tests {
         let s = parse("# measured\nwavelength_nm,value\n\n400,0.1\n 500 , 0.5 \n").unwrap();
         assert_eq!(s, vec![(400.0, 0.1), (500.0, 0.5)]);
         assert_eq!(parse("400,1\n410,2\n").unwrap().len(), 2);
+        let windows = "\u{feff}wavelength_nm,value\r\n400,1\r\n410,2\r\n";
+        assert_eq!(parse(windows).unwrap(), vec![(400.0, 1.0), (410.0, 2.0)]);
     }
 
     #[test]
