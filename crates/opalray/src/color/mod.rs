@@ -31,5 +31,5 @@ pub use image::{
     to_display_rgb16, to_display_rgb8, to_rgb, wavelength_linear_srgb, wavelength_srgb, RgbImage,
     SpectrumToRgb,
 };
-pub use report::SpectrumColor;
+pub use report::{SpectrumColor, IN_GAMUT_TOLERANCE};
 pub use space::{bradford, xyz_to_rgb_adapted, RgbSpace, PAPER_NTSC_1953, SRGB};
