@@ -1,10 +1,18 @@
-//! Output: files written atomically (a temporary file beside the target, then a rename), so a
+//! Output: PNG (sRGB-encoded, 8/16 bit), OpenEXR (linear RGB) and spectral OpenEXR files.
+//!
+//! Every file is written atomically (a temporary file beside the target, then a rename), so a
 //! failed or interrupted write never leaves a partial file or clobbers an existing one.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
+
+mod display;
+mod openexr;
+
+pub use display::write_png;
+pub use openexr::{spectral_channel_name, write_exr, write_spectral_exr};
 
 /// Write a file atomically: `write` fills a temporary file in the target's directory, which
 /// is renamed over `path` only if everything succeeded. On failure nothing is left behind.
