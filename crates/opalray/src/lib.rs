@@ -28,6 +28,10 @@ pub mod spectrum;
 pub mod structure;
 pub mod view_pass;
 
+pub use color::{
+    illuminant_spectrum, to_display_rgb8, to_rgb, wavelength_srgb, white_point_xyz, ColorMatcher,
+    RgbImage,
+};
 pub use error::{Error, Result};
 pub use optics::{build_optics, OpticsTables};
 pub use scene::Scene;

@@ -1,15 +1,19 @@
-//! Output: files written atomically (a temporary file beside the target, then a rename), so a
+//! Output: PNG (sRGB-encoded, 8/16 bit), OpenEXR (linear RGB), spectral OpenEXR, contact
+//! sheets and animations (GIF, APNG).
+//!
+//! Every file is written atomically (a temporary file beside the target, then a rename), so a
 //! failed or interrupted write never leaves a partial file or clobbers an existing one.
 
 mod animation;
+mod display;
 mod label;
-mod scratch_exr;
+mod openexr;
 mod sheet;
-pub use crate::color::write_png;
-pub use scratch_exr::{write_exr, write_spectral_exr};
 
 pub use animation::{write_apng, write_gif};
+pub use display::write_png;
 pub use label::{draw_text, text_width};
+pub use openexr::{spectral_channel_name, write_exr, write_spectral_exr};
 pub use sheet::{contact_sheet, ContactSheet};
 
 use std::io::Write;
