@@ -160,6 +160,48 @@ pub fn slots_of_cells(cells: &[Cell]) -> (Vec<u32>, usize) {
     (slots, next as usize)
 }
 
+/// Sub-samples per axis used to measure how much of a surface cell lies inside the stone.
+const VOLUME_SAMPLES: usize = 4;
+
+/// For every slot, `1 / (volume of its cell inside the ellipsoid)`, mm⁻³: track lengths in a
+/// cell cut by the surface only run through its inside part, so dividing by the whole cell's
+/// volume would darken the stone's rim. Cells with all eight corners inside are whole; the
+/// others are measured on a 4 × 4 × 4 sub-grid.
+fn inverse_inside_volumes(
+    grid: &CellGrid,
+    shape: &Ellipsoid,
+    slot_of_cell: &[u32],
+    slots: usize,
+) -> Vec<f32> {
+    let [nx, ny, _] = grid.n;
+    let mut inv = vec![0.0f32; slots];
+    for (cell, &slot) in slot_of_cell.iter().enumerate() {
+        if slot == NO_SLOT {
+            continue;
+        }
+        let (x, y, z) = (cell % nx, cell / nx % ny, cell / (nx * ny));
+        let corner = grid.min + Vec3::new(x as f32, y as f32, z as f32) * grid.cell;
+        let whole = (0..8).all(|k| {
+            let offset = Vec3::new((k & 1) as f32, ((k >> 1) & 1) as f32, ((k >> 2) & 1) as f32);
+            shape.contains(corner + offset * grid.cell)
+        });
+        let fraction = if whole {
+            1.0
+        } else {
+            let n = VOLUME_SAMPLES;
+            let inside = (0..n * n * n)
+                .filter(|&k| {
+                    let u = Vec3::new((k % n) as f32, (k / n % n) as f32, (k / (n * n)) as f32);
+                    shape.contains(corner + (u + 0.5) / n as f32 * grid.cell)
+                })
+                .count();
+            (inside.max(1) as f32) / (n * n * n) as f32
+        };
+        inv[slot as usize] = 1.0 / (fraction * grid.cell_volume());
+    }
+    inv
+}
+
 /// Trace the light pass (paper §3.2).
 pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSetup) -> LightField {
     let (shape, grid) = stone_geometry(structure);
@@ -188,13 +230,13 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         lattice: RayLattice::new(setup.source, &shape, setup.rays),
         body_albedo: setup.body_albedo,
         body_extinction_per_mm: setup.body_extinction_per_mm,
-        inv_cell_volume: 1.0 / grid.cell_volume(),
+        inv_volume: inverse_inside_volumes(&grid, &shape, &slot_of_cell, slots),
         seed: setup.seed,
     };
     let rays = walker.lattice.len();
     // Bounds of one deposit, for the fixed-point scale: no ray ever carries more than it had
     // on entering, and no chord through a cell is longer than its diagonal.
-    let max_weight = grid.cell.length() * walker.inv_cell_volume;
+    let max_weight = grid.cell.length() * walker.inv_volume.iter().fold(0.0f32, |m, &v| m.max(v));
     let max_ray = walker.lattice.power_per_ray * walker.lattice.max_irradiance();
     let max_spectral = setup.spectrum.iter().fold(0.0f32, |m, &v| m.max(v)) * max_ray * max_weight;
     let max_power = walker.power(setup.spectrum) * max_ray * max_weight;

@@ -38,7 +38,8 @@ pub(crate) struct Walker<'a> {
     pub lattice: RayLattice,
     pub body_albedo: f32,
     pub body_extinction_per_mm: f32,
-    pub inv_cell_volume: f32,
+    /// Per slot, 1 / (the cell's volume inside the stone), mm⁻³.
+    pub inv_volume: Vec<f32>,
     pub seed: u64,
 }
 
@@ -180,7 +181,7 @@ impl Walker<'_> {
                     acc.deposit(
                         slot * LOBES + lobe,
                         &spectrum,
-                        track * self.inv_cell_volume,
+                        track * self.inv_volume[slot],
                         direction,
                         power,
                     );
@@ -194,7 +195,7 @@ impl Walker<'_> {
                     acc.deposit(
                         slot * LOBES + lobe,
                         &spectrum,
-                        length * self.inv_cell_volume,
+                        length * self.inv_volume[slot],
                         direction,
                         power,
                     );
