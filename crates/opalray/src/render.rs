@@ -36,6 +36,18 @@ impl StageTimes {
     pub fn total(&self) -> f64 {
         self.structure + self.optics + self.light_pass + self.view_pass + self.color
     }
+
+    /// `(name, seconds)` for every stage, then `("total", …)`.
+    pub fn named(&self) -> [(&'static str, f64); 6] {
+        [
+            ("structure", self.structure),
+            ("optics", self.optics),
+            ("light_pass", self.light_pass),
+            ("view_pass", self.view_pass),
+            ("color", self.color),
+            ("total", self.total()),
+        ]
+    }
 }
 
 /// The light-independent part of a render, computed once and reused for every light angle.

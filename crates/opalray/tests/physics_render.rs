@@ -156,9 +156,8 @@ fn furnace_light_passes_unchanged() {
     assert!(l.reflected.abs() <= 1e-6 * l.emitted && l.stored == 0.0 && l.absorbed == 0.0);
     // Mean stored fluence over the inside cells equals the light's spectrum, all of it in the
     // direct lobe.
-    let bins = spectrum.len();
     let slots = light.directions.len() / LOBES;
-    for b in 0..bins {
+    for (b, &light_b) in spectrum.iter().enumerate() {
         let mean: f64 = (0..slots)
             .map(|s| f64::from(light.fluence(s, 0)[b]))
             .sum::<f64>()
@@ -167,7 +166,7 @@ fn furnace_light_passes_unchanged() {
             .map(|s| f64::from(light.fluence(s, 1)[b] + light.fluence(s, 2)[b]))
             .sum();
         assert_eq!(scattered, 0.0);
-        let expected = f64::from(spectrum[b]);
+        let expected = f64::from(light_b);
         assert!(
             (mean / expected - 1.0).abs() < 0.01,
             "bin {b}: {mean} vs {expected}"

@@ -48,17 +48,11 @@ pub fn run(args: Args) -> Result<()> {
     for _ in 0..args.runs {
         times.push(opalray::render::render(&scene)?.times);
     }
-    let stages: [(&str, fn(&opalray::render::StageTimes) -> f64); 6] = [
-        ("structure", |t| t.structure),
-        ("optics", |t| t.optics),
-        ("light_pass", |t| t.light_pass),
-        ("view_pass", |t| t.view_pass),
-        ("color", |t| t.color),
-        ("total", |t| t.total()),
-    ];
-    let medians: Vec<(&str, f64)> = stages
-        .iter()
-        .map(|(name, get)| (*name, median(times.iter().map(get).collect())))
+    let medians: Vec<(&str, f64)> = (0..6)
+        .map(|k| {
+            let name = times[0].named()[k].0;
+            (name, median(times.iter().map(|t| t.named()[k].1).collect()))
+        })
         .collect();
     let threads = rayon::current_num_threads();
     let memory = peak_memory_mb();

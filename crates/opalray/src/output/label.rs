@@ -80,7 +80,7 @@ mod tests {
         draw_text(&mut a, w, 0, 0, "-60°", 1, [255; 3]);
         draw_text(&mut b, w, 0, 0, "+60°", 1, [255; 3]);
         assert_ne!(a, b);
-        assert!(a.iter().any(|&v| v == 255));
+        assert!(a.contains(&255));
         // Drawing far outside the image changes nothing and does not panic.
         let mut c = vec![0u8; w * h * 3];
         draw_text(&mut c, w, 100, 100, "12", 2, [255; 3]);
