@@ -34,6 +34,7 @@ pub use color::{
 };
 pub use error::{Error, Result};
 pub use optics::{build_optics, OpticsTables};
+pub use render::{prepare, render, Frame, Prepared, StageTimes};
 pub use scene::Scene;
 pub use spectrum::{SpectralImage, WavelengthGrid};
 pub use structure::{grow_structure, Cell, Structure};

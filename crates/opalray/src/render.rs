@@ -9,7 +9,7 @@ use serde::Serialize;
 use crate::color::{illuminant_spectrum, to_rgb, RgbImage};
 use crate::error::Result;
 use crate::geometry::Camera;
-use crate::light_pass::{trace_light, LightField, LightSetup, LightSource};
+use crate::light_pass::{trace_light, ClusterOptics, LightField, LightSetup, LightSource};
 use crate::optics::{build_optics, OpticsTables};
 use crate::scene::{LightKind, Scene, BODY_EXTINCTION_PER_MM};
 use crate::spectrum::SpectralImage;
@@ -170,7 +170,7 @@ impl Prepared {
         let phong_exponent = s.render.phong_exponent as f32;
         let shading = Shading::new(
             &self.structure,
-            &self.optics,
+            &ClusterOptics::new(&self.optics),
             &light,
             phong_exponent,
             body_albedo,

@@ -3,8 +3,16 @@
 
 use crate::optics::OpticsTables;
 
-/// Largest spread over wavelength for a table row to count as flat.
-const FLAT_TOLERANCE: f32 = 1e-6;
+/// Largest spread over wavelength (max − min of R, T and D) for a table row to count as flat.
+/// Away from its stop band a natural-opal cluster reflects about 2·10⁻⁴ at every wavelength
+/// (the weak contrast of its layers); treating such rows as flat, at their mean values,
+/// conserves the energy and changes the spectrum of a ray by less than 0.2 % per cluster,
+/// while sparing two thirds of all crossings the per-wavelength work.
+const FLAT_TOLERANCE: f32 = 2e-3;
+
+fn mean(v: &[f32]) -> f32 {
+    v.iter().sum::<f32>() / v.len() as f32
+}
 
 /// The split of light meeting a cluster's (111) planes at one angle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,7 +54,7 @@ impl<'a> ClusterOptics<'a> {
                 (spread(r) <= FLAT_TOLERANCE
                     && spread(t) <= FLAT_TOLERANCE
                     && spread(d) <= FLAT_TOLERANCE)
-                    .then(|| (r[0], t[0], d[0]))
+                    .then(|| (mean(r), mean(t), mean(d)))
             })
             .collect();
         ClusterOptics { tables, flat }
@@ -76,21 +84,44 @@ impl<'a> ClusterOptics<'a> {
         Split::Spectral
     }
 
+    /// Specular reflectance only, at `cos_theta`: `Some(r)` where flat, else `None` with the
+    /// spectral reflectance written into `r`.
+    #[inline]
+    pub fn reflectance(&self, cos_theta: f32, r: &mut [f32]) -> Option<f32> {
+        self.one_table(cos_theta, r, 0)
+    }
+
+    /// Diffuse part only, at `cos_theta`: `Some(d)` where flat, else `None` with the spectral
+    /// diffuse part written into `d`.
+    #[inline]
+    pub fn diffuse(&self, cos_theta: f32, d: &mut [f32]) -> Option<f32> {
+        self.one_table(cos_theta, d, 2)
+    }
+
     /// Transmittance only, at `cos_theta`: `Some(t)` where flat, else `None` with the
     /// spectral transmittance written into `t`.
     #[inline]
     pub fn transmittance(&self, cos_theta: f32, t: &mut [f32]) -> Option<f32> {
+        self.one_table(cos_theta, t, 1)
+    }
+
+    /// Table `which` (0 = R, 1 = T, 2 = D) at `cos_theta`.
+    #[inline(always)]
+    fn one_table(&self, cos_theta: f32, out: &mut [f32], which: usize) -> Option<f32> {
+        let pick = |row: (&'a [f32], &'a [f32], &'a [f32])| [row.0, row.1, row.2][which];
+        let pick_flat = |flat: (f32, f32, f32)| [flat.0, flat.1, flat.2][which];
         let last = self.tables.angles - 1;
         let f = (1.0 - cos_theta.clamp(0.0, 1.0)) * last as f32;
         let i = (f as usize).min(last - 1);
         let w = f - i as f32;
         if let (Some(a), Some(b)) = (self.flat[i], self.flat[i + 1]) {
-            return Some(a.1 + w * (b.1 - a.1));
+            let (a, b) = (pick_flat(a), pick_flat(b));
+            return Some(a + w * (b - a));
         }
-        let (_, t0, _) = self.tables.row(i);
-        let (_, t1, _) = self.tables.row(i + 1);
-        for ((out, a), b) in t.iter_mut().zip(t0).zip(t1) {
-            *out = a + w * (b - a);
+        let a = pick(self.tables.row(i));
+        let b = pick(self.tables.row(i + 1));
+        for ((o, a), b) in out.iter_mut().zip(a).zip(b) {
+            *o = a + w * (b - a);
         }
         None
     }

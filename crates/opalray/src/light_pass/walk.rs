@@ -201,49 +201,49 @@ impl Walker<'_> {
                     );
                     let normal = self.normals[seg.index];
                     let cos = direction.dot(normal).abs();
-                    let mut reflected: Option<Vec<f32>> = None;
+                    // Split into the Bragg-reflected branch (followed only if strong
+                    // enough), the diffuse part (stored here) and the transmitted ray.
                     let (p_r, p_d, p_t);
+                    let mut reflected: Option<Vec<f32>> = None;
                     match self.optics.split(cos, r, t, d) {
                         Split::Flat { r, t, d } => {
-                            if r > 0.0 {
+                            p_r = power * r;
+                            p_d = power * d;
+                            p_t = power * t;
+                            if p_r > 0.0 && p_r >= threshold {
                                 let mut v = pool.pop().unwrap_or_default();
                                 v.clear();
                                 v.extend(spectrum.iter().map(|s| s * r));
                                 reflected = Some(v);
                             }
-                            p_r = power * r;
-                            p_d = power * d;
-                            p_t = power * t;
                             spectrum.iter_mut().for_each(|s| *s *= t);
                         }
                         Split::Spectral => {
-                            let mut v = pool.pop().unwrap_or_default();
-                            v.clear();
-                            v.extend(spectrum.iter().zip(r.iter()).map(|(s, r)| s * r));
+                            p_r = spectrum::dot(&spectrum, r) * self.bin_width_nm;
                             p_d = spectrum::dot(&spectrum, d) * self.bin_width_nm;
+                            if p_r > 0.0 && p_r >= threshold {
+                                let mut v = pool.pop().unwrap_or_default();
+                                v.clear();
+                                v.extend(spectrum.iter().zip(r.iter()).map(|(s, r)| s * r));
+                                reflected = Some(v);
+                            }
                             spectrum.iter_mut().zip(t.iter()).for_each(|(s, t)| *s *= t);
-                            p_r = spectrum::sum(&v) * self.bin_width_nm;
                             p_t = spectrum::sum(&spectrum) * self.bin_width_nm;
-                            reflected = Some(v);
                         }
                     }
                     ledger.stored += f64::from(p_d);
                     ledger.absorbed += f64::from(power - p_r - p_d - p_t);
                     power = p_t;
-                    if let Some(v) = reflected {
-                        if p_r > 0.0 && p_r >= threshold {
-                            stack.push(Branch {
-                                origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
-                                direction: reflect(direction, normal),
-                                spectrum: v,
-                                power: p_r,
-                                bounces,
-                                lobe: SCATTERED,
-                            });
-                        } else {
-                            ledger.truncated += f64::from(p_r);
-                            pool.push(v);
-                        }
+                    match reflected {
+                        Some(v) => stack.push(Branch {
+                            origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
+                            direction: reflect(direction, normal),
+                            spectrum: v,
+                            power: p_r,
+                            bounces,
+                            lobe: SCATTERED,
+                        }),
+                        None => ledger.truncated += f64::from(p_r),
                     }
                 }
             }

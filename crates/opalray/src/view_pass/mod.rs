@@ -10,9 +10,8 @@
 
 mod shading;
 
-pub use shading::Shading;
+pub use shading::{Lobe, Shading, LOBE_CUTOFF};
 
-use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, Ray};
@@ -27,8 +26,6 @@ const GLOSS_EXPONENT: f32 = 3000.0;
 const MAX_VIEW_BOUNCES: u32 = 4;
 /// The camera ray stops once its throughput falls below this.
 const MIN_THROUGHPUT: f32 = 1e-3;
-/// Phong lobes below this fraction of their peak are skipped.
-const LOBE_CUTOFF: f32 = 1e-3;
 
 /// Camera, light and look of the view pass, all in the opal's frame.
 #[derive(Clone, Debug)]
@@ -71,8 +68,8 @@ pub fn trace_view(
         .par_chunks_mut(setup.width * bins)
         .enumerate()
         .for_each_init(
-            || (vec![0.0f32; bins], vec![0.0f32; bins]),
-            |(thr, t), (y, row)| {
+            || (vec![0.0f32; bins], vec![0.0f32; bins], vec![0.0f32; bins]),
+            |(thr, t, r), (y, row)| {
                 for (x, pixel) in row.chunks_exact_mut(bins).enumerate() {
                     let ray = setup.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
                     let Some((t_hit, _)) = shape.intersect(&ray).filter(|h| h.0 > 0.0) else {
@@ -137,27 +134,44 @@ pub fn trace_view(
                                 }
                                 Cell::Cluster => {
                                     for lobe in 0..LOBES {
-                                        let m = shading.mirror[slot * LOBES + lobe];
-                                        let c = m.dot(to_eye);
-                                        if c > 0.0 {
-                                            let w = c.powf(shading.exponent[slot * LOBES + lobe]);
-                                            if w < LOBE_CUTOFF {
-                                                continue;
+                                        let l = shading.lobes[slot * LOBES + lobe];
+                                        let c = l.mirror.dot(to_eye);
+                                        if c <= l.cos_min {
+                                            continue;
+                                        }
+                                        // Eq. (2)'s specular term: E · R(θ) · cosⁿ' θ'.
+                                        let k = l.peak * c.powf(l.exponent);
+                                        let e = light.fluence(slot, lobe);
+                                        match cluster_optics.reflectance(l.cos_incidence, r) {
+                                            Some(r) => {
+                                                let k = k * r;
+                                                for ((p, t), e) in
+                                                    pixel.iter_mut().zip(thr.iter()).zip(e)
+                                                {
+                                                    *p += *t * e * k;
+                                                }
                                             }
-                                            let start = (slot * LOBES + lobe) * bins;
-                                            let spec = &shading.specular[start..start + bins];
-                                            for ((p, t), s) in
-                                                pixel.iter_mut().zip(thr.iter()).zip(spec)
-                                            {
-                                                *p += *t * s * w;
+                                            None => {
+                                                for (((p, t), e), r) in pixel
+                                                    .iter_mut()
+                                                    .zip(thr.iter())
+                                                    .zip(e)
+                                                    .zip(r.iter())
+                                                {
+                                                    *p += *t * e * r * k;
+                                                }
                                             }
                                         }
                                     }
-                                    let glow = &shading.diffuse[slot * bins..(slot + 1) * bins];
-                                    for ((p, t), g) in pixel.iter_mut().zip(thr.iter()).zip(glow) {
-                                        *p += *t * g;
+                                    if shading.glows[slot] {
+                                        let glow = &shading.diffuse[slot * bins..(slot + 1) * bins];
+                                        for ((p, t), g) in
+                                            pixel.iter_mut().zip(thr.iter()).zip(glow)
+                                        {
+                                            *p += *t * g;
+                                        }
                                     }
-                                    let normal = structure_normal(structure, seg.index);
+                                    let normal = shading.normals[slot];
                                     match cluster_optics.transmittance(dir.dot(normal).abs(), t) {
                                         Some(t) => thr.iter_mut().for_each(|v| *v *= t),
                                         None => {
@@ -195,9 +209,4 @@ pub fn trace_view(
             },
         );
     image
-}
-
-#[inline]
-fn structure_normal(structure: &Structure, cell: usize) -> Vec3 {
-    structure.normal(cell)
 }

@@ -1,46 +1,76 @@
 //! The eye-independent half of eq. (2), computed once per light: for each cluster and stored
-//! lobe, the Bragg-reflected spectrum and its direction; for each cell, its diffuse glow.
+//! lobe, where its Bragg reflection goes and how wide its Phong lobe is; for each cell, its
+//! diffuse glow.
 
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::light_pass::{LightField, LOBES};
-use crate::optics::OpticsTables;
+use crate::light_pass::{ClusterOptics, LightField, LOBES, NO_SLOT};
 use crate::structure::{Cell, Structure};
 
+/// Phong lobes below this fraction of their peak are skipped.
+pub const LOBE_CUTOFF: f32 = 1e-3;
+/// Diffuse spectra whose largest value is below this (relative to the light's spectrum at
+/// unit irradiance, whose values are about 10⁻²) are skipped.
+const GLOW_FLOOR: f32 = 1e-9;
 /// Stored light meeting the planes more obliquely than this (|cos θ| below it, θ > 80°) adds
 /// no specular term: near grazing incidence the stack's reflection turns the light by under
 /// 20°, a near-forward deflection that a Phong lobe about the mirror direction cannot
 /// represent (and the evanescent regime past 85.6° would show as white specks).
 const MIN_SPECULAR_COS: f32 = 0.173_648_18; // cos 80°
 
+/// The specular lobe of one stored light at one cluster.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lobe {
+    /// Direction of the Bragg-reflected light (zero: no specular term).
+    pub mirror: Vec3,
+    /// Phong exponent, widened from `n` by the spread of the stored light's directions
+    /// (Toksvig 2005): `n' = ρ n / (ρ + n (1 − ρ))`, ρ the mean resultant length. Light
+    /// stored from one direction keeps `n`; light mixed from many directions reflects into a
+    /// broad, dim lobe instead of a spurious sharp one.
+    pub exponent: f32,
+    /// Cosine below which the lobe is under [`LOBE_CUTOFF`] of its peak (above 1: never
+    /// seen), a cheap test before `powf`.
+    pub cos_min: f32,
+    /// |cos θ| between the stored light and the (111) normal: where to read R.
+    pub cos_incidence: f32,
+    /// Peak of the normalised Phong lobe times π, `(n' + 2) / 2`.
+    pub peak: f32,
+}
+
+const NO_LOBE: Lobe = Lobe {
+    mirror: Vec3::ZERO,
+    exponent: 1.0,
+    cos_min: 2.0,
+    cos_incidence: 1.0,
+    peak: 0.0,
+};
+
 /// Per-slot shading terms, in units where a white Lambertian diffuser under unit irradiance
-/// has the light's spectrum (π × radiance).
+/// has the light's spectrum (π × radiance). The specular spectrum of a lobe,
+/// `E · R(θ) · peak · cosⁿ' θ'`, is formed in the view pass only where a camera ray meets the
+/// lobe.
 #[derive(Clone, Debug)]
 pub struct Shading {
     /// Bins per spectrum.
     pub bins: usize,
-    /// Specular spectra `slots × LOBES × bins`: E · R(θ) · (n + 2) / 2, the peak of the
-    /// normalised Phong lobe `(n + 2)/(2π) cosⁿ θ'` times π.
-    pub specular: Vec<f32>,
-    /// Direction of the Bragg-reflected light per slot and lobe (zero: nothing stored).
-    pub mirror: Vec<Vec3>,
-    /// Phong exponent per slot and lobe, widened from `n` by the spread of the stored
-    /// light's directions (Toksvig 2005): `n' = ρ n / (ρ + n (1 − ρ))`, ρ the mean resultant
-    /// length. Light stored from one direction keeps `n`; light mixed from many directions
-    /// reflects into a broad, dim lobe instead of a spurious sharp one.
-    pub exponent: Vec<f32>,
+    /// Specular lobes, `slots × LOBES`.
+    pub lobes: Vec<Lobe>,
+    /// (111) normal of each slot's cell (clusters only).
+    pub normals: Vec<Vec3>,
     /// Diffuse spectra `slots × bins`: clusters Σ E · D(θ) · cos θ (eq. 2's first sum);
     /// voids the potch's single scattering a · Σ E / 4, to be weighted by the fraction of
     /// the view ray the void intercepts.
     pub diffuse: Vec<f32>,
+    /// Whether each slot's diffuse spectrum holds anything visible.
+    pub glows: Vec<bool>,
 }
 
 impl Shading {
     /// Shade every stored slot of `light`.
     pub fn new(
         structure: &Structure,
-        optics: &OpticsTables,
+        optics: &ClusterOptics,
         light: &LightField,
         phong_exponent: f32,
         body_albedo: f32,
@@ -49,61 +79,69 @@ impl Shading {
         let slots = light.directions.len() / LOBES;
         let mut cell_of_slot = vec![0usize; slots];
         for (cell, &slot) in light.slot_of_cell.iter().enumerate() {
-            if slot != crate::light_pass::NO_SLOT {
+            if slot != NO_SLOT {
                 cell_of_slot[slot as usize] = cell;
             }
         }
-        let mut specular = vec![0.0f32; slots * LOBES * bins];
-        let mut mirror = vec![Vec3::ZERO; slots * LOBES];
-        let mut exponent = vec![phong_exponent; slots * LOBES];
+        let mut lobes = vec![NO_LOBE; slots * LOBES];
+        let mut normals = vec![Vec3::ZERO; slots];
         let mut diffuse = vec![0.0f32; slots * bins];
-        specular
-            .par_chunks_mut(LOBES * bins)
-            .zip(
-                mirror
-                    .par_chunks_mut(LOBES)
-                    .zip(exponent.par_chunks_mut(LOBES)),
-            )
+        lobes
+            .par_chunks_mut(LOBES)
+            .zip(normals.par_iter_mut())
             .zip(diffuse.par_chunks_mut(bins))
             .enumerate()
             .for_each_init(
-                || (vec![0.0f32; bins], vec![0.0f32; bins], vec![0.0f32; bins]),
-                |(r, t, d), (slot, ((spec, (mir, exp)), diff))| {
+                || vec![0.0f32; bins],
+                |d, (slot, ((out, slot_normal), glow))| {
                     let cell = cell_of_slot[slot];
                     match structure.cells[cell] {
                         Cell::Cluster => {
                             let normal = structure.normal(cell);
-                            for lobe in 0..LOBES {
+                            *slot_normal = normal;
+                            for (lobe, out) in out.iter_mut().enumerate() {
                                 let w = light.directions[slot * LOBES + lobe];
                                 if w == Vec3::ZERO {
                                     continue;
                                 }
                                 let e = light.fluence(slot, lobe);
                                 let cos = w.dot(normal).abs();
-                                optics.lookup(cos, r, t, d);
-                                for ((g, &e), &d) in diff.iter_mut().zip(e).zip(d.iter()) {
-                                    *g += e * d * cos;
+                                match optics.diffuse(cos, d) {
+                                    // Flat rows: away from the stop band D is about 10⁻⁵.
+                                    Some(d) if d * cos < GLOW_FLOOR => {}
+                                    Some(d) => {
+                                        for (g, &e) in glow.iter_mut().zip(e) {
+                                            *g += e * d * cos;
+                                        }
+                                    }
+                                    None => {
+                                        for ((g, &e), &d) in glow.iter_mut().zip(e).zip(d.iter()) {
+                                            *g += e * d * cos;
+                                        }
+                                    }
                                 }
                                 if cos < MIN_SPECULAR_COS {
                                     continue;
                                 }
-                                mir[lobe] = crate::geometry::reflect(w, normal);
                                 let rho = light.concentration[slot * LOBES + lobe];
                                 let n = phong_exponent;
-                                exp[lobe] =
-                                    rho * n / (rho + n * (1.0 - rho)).max(f32::MIN_POSITIVE);
-                                let peak = 0.5 * (exp[lobe] + 2.0);
-                                let out = &mut spec[lobe * bins..(lobe + 1) * bins];
-                                for ((o, &e), &r) in out.iter_mut().zip(e).zip(r.iter()) {
-                                    *o = e * r * peak;
-                                }
+                                let exponent = (rho * n
+                                    / (rho + n * (1.0 - rho)).max(f32::MIN_POSITIVE))
+                                .max(1e-3);
+                                *out = Lobe {
+                                    mirror: crate::geometry::reflect(w, normal),
+                                    exponent,
+                                    cos_min: LOBE_CUTOFF.powf(1.0 / exponent),
+                                    cos_incidence: cos,
+                                    peak: 0.5 * (exponent + 2.0),
+                                };
                             }
                         }
                         Cell::Void => {
                             for lobe in 0..LOBES {
                                 let e = light.fluence(slot, lobe);
-                                for b in 0..bins {
-                                    diff[b] += 0.25 * body_albedo * e[b];
+                                for (g, &e) in glow.iter_mut().zip(e) {
+                                    *g += 0.25 * body_albedo * e;
                                 }
                             }
                         }
@@ -111,12 +149,16 @@ impl Shading {
                     }
                 },
             );
+        let glows = diffuse
+            .par_chunks(bins)
+            .map(|g| g.iter().any(|&v| v > GLOW_FLOOR))
+            .collect();
         Shading {
             bins,
-            specular,
-            mirror,
-            exponent,
+            lobes,
+            normals,
             diffuse,
+            glows,
         }
     }
 }
