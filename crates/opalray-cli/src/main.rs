@@ -21,7 +21,7 @@ enum Command {
     Structure(cmd::structure::Args),
     /// Print a complete scene as TOML, to start a scene file from.
     Scene(cmd::scene::Args),
-    /// Reflectance of one FCC cluster over wavelength and angle (CSV, plot).
+    /// Reflectance of one FCC cluster over wavelength and angle: peaks, colours, CSV, plot.
     Spectrum(cmd::spectrum::Args),
     /// Colour of a spectrum given as CSV: XYZ, xy, sRGB, hex.
     Color(cmd::color::Args),

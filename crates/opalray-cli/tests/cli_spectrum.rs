@@ -1,7 +1,20 @@
-//! `opalray spectrum` end to end: the printed peaks, the CSV, and refusals of bad input.
+//! `opalray spectrum` end to end: the printed peaks and colours, the CSV, the plot, and
+//! refusals of bad input.
 
 use std::path::Path;
 use std::process::{Command, Output};
+
+use opalray::color::SpectrumColor;
+use opalray::scene::Illuminant;
+
+/// The plot's layout, as documented in `opalray spectrum --help` and `spectrum/plot.rs`:
+/// an 880 × 408 image whose 800 × 360 data area starts at (56, 12), wavelength across and
+/// angle up from 0° (bottom row) to the largest angle (top row).
+const PLOT_SIZE: (u32, u32) = (880, 408);
+const DATA_LEFT: u32 = 56;
+const DATA_TOP: u32 = 12;
+const DATA_COLUMNS: u32 = 800;
+const DATA_ROWS: u32 = 360;
 
 fn opalray(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_opalray"))
@@ -9,6 +22,23 @@ fn opalray(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("the opalray binary runs")
+}
+
+/// The `#rrggbb` colour of each row of the printed table, as 8-bit codes.
+fn hex_colours(stdout: &str) -> Vec<(String, [u8; 3])> {
+    stdout
+        .lines()
+        .filter(|l| l.contains('°'))
+        .map(|l| {
+            let hex = l
+                .split_whitespace()
+                .find(|w| w.starts_with('#'))
+                .unwrap_or_else(|| panic!("no #rrggbb in {l:?}"));
+            assert_eq!(hex.len(), 7, "{hex}");
+            let code = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).unwrap();
+            (hex.to_string(), [code(1), code(3), code(5)])
+        })
+        .collect()
 }
 
 /// `(angle, peak nm, peak R, Bragg–Snell nm)` of each row of the printed table.
@@ -183,8 +213,135 @@ fn help_names_every_flag() {
         "--to-nm",
         "--step-nm",
         "--output",
+        "--plot",
         "Bragg",
     ] {
         assert!(help.contains(flag), "{flag} missing from:\n{help}");
     }
+}
+
+#[test]
+fn hex_is_the_d65_colour_of_each_angles_curve() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.csv");
+    let out = opalray(&["--step-nm", "0.5", "--output", path.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    let printed = hex_colours(&stdout);
+    assert_eq!(printed.len(), 3, "{stdout}");
+    // Each angle's curve from the CSV, as a reflectance lit by D65.
+    let text = std::fs::read_to_string(&path).unwrap();
+    for ((hex, _), angle) in printed.iter().zip(["0", "30", "60"]) {
+        let curve: Vec<(f64, f64)> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').collect::<Vec<_>>())
+            .filter(|v| v[1] == angle)
+            .map(|v| (v[0].parse().unwrap(), v[2].parse().unwrap()))
+            .collect();
+        assert_eq!(curve.len(), 801);
+        let expect = SpectrumColor::of_reflectance(&curve, Illuminant::D65).hex();
+        assert_eq!(hex, &expect, "{angle}°: {stdout}");
+    }
+    // Hue: the 589 nm line face-on is orange (red > green > blue), the 552 nm line at 30° is
+    // green, the 471 nm line at 60° blue (CIE 1931 dominant wavelengths of sRGB hues).
+    let [r, g, b] = printed[0].1;
+    assert!(r > g && g > b, "0°: {stdout}");
+    let [r, g, b] = printed[1].1;
+    assert!(g > r && g > b, "30°: {stdout}");
+    let [r, g, b] = printed[2].1;
+    assert!(b > r && b > g, "60°: {stdout}");
+}
+
+/// Wavelength (nm) at the centre of the brightest data column of image row `y`, and that
+/// pixel; brightness is the sum of the 8-bit codes.
+fn brightest_in_row(img: &image::RgbImage, y: u32, from_nm: f64, to_nm: f64) -> (f64, [u8; 3]) {
+    let (x, px) = (DATA_LEFT..DATA_LEFT + DATA_COLUMNS)
+        .map(|x| (x, img.get_pixel(x, y).0))
+        .max_by_key(|(_, p)| p.iter().map(|&c| u32::from(c)).sum::<u32>())
+        .unwrap();
+    let column_nm = (to_nm - from_nm) / f64::from(DATA_COLUMNS);
+    (from_nm + (f64::from(x - DATA_LEFT) + 0.5) * column_nm, px)
+}
+
+#[test]
+fn plot_shows_the_band_bending_to_blue_with_angle() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("plot.png");
+    let out = opalray(&["--angles", "0,60", "--plot", path.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert!(stdout.contains("880 × 408 px"), "{stdout}");
+    let img = image::open(&path).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), PLOT_SIZE);
+    // Bragg–Snell in air, λ = 2 d111 √(n_eff² − sin²θ₀) with d111 = 204.12 nm and
+    // n_eff = 1.4423 (printed above): 588.8 nm at 0°, 470.8 nm at 60°. A column is 0.5 nm.
+    let bottom = DATA_TOP + DATA_ROWS - 1;
+    let (face_on_nm, face_on) = brightest_in_row(&img, bottom, 380.0, 780.0);
+    let (tilted_nm, tilted) = brightest_in_row(&img, DATA_TOP, 380.0, 780.0);
+    assert!((face_on_nm - 588.8).abs() < 1.5, "0°: {face_on_nm} nm");
+    assert!((tilted_nm - 470.8).abs() < 1.5, "60°: {tilted_nm} nm");
+    // Drawn in the colour of the wavelength: orange face-on, blue at 60°.
+    assert!(
+        face_on[0] > face_on[1] && face_on[1] > face_on[2],
+        "{face_on:?}"
+    );
+    assert!(tilted[2] > tilted[0] && tilted[2] > tilted[1], "{tilted:?}");
+    // The band moves monotonically to the blue row by row (every 10 rows, 1.67°).
+    let mut last = f64::INFINITY;
+    for y in (DATA_TOP..=bottom).rev().step_by(10) {
+        let (nm, _) = brightest_in_row(&img, y, 380.0, 780.0);
+        assert!(nm <= last + 0.5, "row {y}: {nm} nm after {last} nm");
+        last = nm;
+    }
+    // Far from the band the plot is dark.
+    assert_eq!(img.get_pixel(DATA_LEFT + 700, bottom).0, [0, 0, 0]);
+}
+
+#[test]
+fn plot_columns_follow_the_wavelength_range() {
+    // 560–620 nm over 800 columns: 0.075 nm each; the face-on line still lands at 588.8 nm.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("zoom.png");
+    let out = opalray(&[
+        "--angles",
+        "0",
+        "--from-nm",
+        "560",
+        "--to-nm",
+        "620",
+        "--plot",
+        path.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let img = image::open(&path).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), PLOT_SIZE);
+    let (nm, _) = brightest_in_row(&img, DATA_TOP + DATA_ROWS - 1, 560.0, 620.0);
+    // Inside the stop band 587.72–589.88 nm printed for this crystal.
+    assert!((587.7..=589.9).contains(&nm), "{nm} nm");
+}
+
+#[test]
+fn bad_plot_paths_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["p.csv", "p.txt", "p", "no/such/dir/p.png"] {
+        let path = dir.path().join(name);
+        assert_refused(&["--plot", path.to_str().unwrap()], "--plot", &path);
+    }
+    // Bad crystal flags are refused before the plot is drawn.
+    let png = dir.path().join("p.png");
+    assert_refused(
+        &["--diameter", "-250", "--plot", png.to_str().unwrap()],
+        "--diameter",
+        &png,
+    );
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }

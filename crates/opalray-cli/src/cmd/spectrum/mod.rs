@@ -2,22 +2,27 @@
 //! angle (paper §2.3, §3.1), as a laboratory reflectance measurement would give them.
 //!
 //! Input: crystal flags (defaults: the scene's `[crystal]` section) and angles → output: per
-//! angle the peak wavelength, peak reflectance and the Bragg–Snell prediction on stdout, and
-//! with `--output` a CSV `wavelength_nm,angle_deg,reflectance,transmittance` on the
-//! requested wavelength step (point values, not bin averages). Each angle's whole curve is
-//! kept, so summaries derived from it (colour, plots) read from the same data.
+//! angle the peak wavelength, peak reflectance, the Bragg–Snell prediction and the sRGB colour
+//! of the reflected light under D65 (paper §3.4) on stdout; with `--output` a CSV
+//! `wavelength_nm,angle_deg,reflectance,transmittance` on the requested wavelength step
+//! (point values, not bin averages); with `--plot` an image of R over wavelength × angle
+//! ([`plot`]). Each angle's whole curve is kept, so the peak and the colour read the same data.
+
+mod plot;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Result};
+use opalray::color::SpectrumColor;
 use opalray::optics::{
     bragg_wavelength_air_nm, bragg_wavelength_inside_nm, cos_inside_from_air, ClusterStack,
     Polarization,
 };
-use opalray::scene::CrystalConfig;
+use opalray::scene::{CrystalConfig, Illuminant};
 
 use super::common::check_extension;
+use plot::{write_plot, PlotAxes};
 
 /// Most wavelength × angle samples one run computes (about 200 MB of CSV).
 const MAX_SAMPLES: usize = 5_000_000;
@@ -30,10 +35,17 @@ const MAX_SAMPLES: usize = 5_000_000;
         planes, as in laboratory reflectance measurements, and refracted into the cluster's \
         effective index n_eff; with --inside they are angles inside the stone. The peak \
         follows Bragg–Snell, λ = 2·d111·√(n_eff² − sin²θ), and moves to shorter wavelengths \
-        as the angle grows. R and T are unpolarised (mean of s and p).\n\n\
+        as the angle grows. R and T are unpolarised (mean of s and p). The sRGB column is the \
+        colour of the reflected light: the curve as a reflectance lit by D65 (a white \
+        reflector is #ffffff; a single narrow line reflects little light, so it is dark), \
+        integrated over --from-nm..--to-nm only.\n\n\
+        The --plot image (880 × 408 px) shows R over wavelength (across, --from-nm to \
+        --to-nm) and angle (up, 0° to the largest of --angles, marked on the right), each \
+        wavelength in its own colour, brighter where R is larger.\n\n\
         Examples:\n  \
         opalray spectrum\n  \
         opalray spectrum --diameter 220 --angles 0,15,30,45 --output opal.csv\n  \
+        opalray spectrum --angles 0,30,60 --plot opal-spectrum.png\n  \
         opalray spectrum --n-matrix 1.0 --layers 20 --from-nm 400 --to-nm 700 --step-nm 0.5"
 )]
 pub struct Args {
@@ -72,6 +84,9 @@ pub struct Args {
     /// Write wavelength_nm,angle_deg,reflectance,transmittance to this CSV file.
     #[arg(long, value_name = "FILE.csv")]
     output: Option<PathBuf>,
+    /// Draw R over wavelength × angle (0° to the largest of --angles) to this PNG.
+    #[arg(long, value_name = "FILE.png")]
+    plot: Option<PathBuf>,
 }
 
 /// R and T over wavelength at one angle.
@@ -100,6 +115,12 @@ impl AngleCurve {
             },
         )
     }
+
+    /// The colour of the light reflected under D65: the curve as a reflectance lit by D65.
+    fn colour(&self) -> SpectrumColor {
+        let reflectance: Vec<(f64, f64)> = self.samples.iter().map(|&(wl, r, _)| (wl, r)).collect();
+        SpectrumColor::of_reflectance(&reflectance, Illuminant::D65)
+    }
 }
 
 /// Run `opalray spectrum`.
@@ -108,7 +129,10 @@ pub fn run(args: Args) -> Result<()> {
     let wavelengths = wavelengths(&args)?;
     check_angles(&args.angles)?;
     if let Some(path) = &args.output {
-        check_output(path)?;
+        check_output("--output", path, "csv")?;
+    }
+    if let Some(path) = &args.plot {
+        check_output("--plot", path, "png")?;
     }
     let stack = ClusterStack::new(&crystal)?;
     let curves: Vec<AngleCurve> = args
@@ -119,7 +143,29 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(path) = &args.output {
         write_csv(path, &curves, decimals_of(args.step_nm))?;
     }
+    if let Some(path) = &args.plot {
+        let axes = PlotAxes {
+            from_nm: args.from_nm,
+            to_nm: args.to_nm,
+            top_deg: args.angles.iter().copied().fold(0.0, f64::max),
+            cos_inside: if args.inside {
+                cos_of_inside
+            } else {
+                cos_of_air
+            },
+            marked_deg: args.angles.clone(),
+        };
+        write_plot(path, &stack, &axes)?;
+    }
     print!("{}", summary(&crystal, &stack, &curves, &args));
+    if let Some(path) = &args.plot {
+        println!(
+            "wrote {} ({} × {} px)",
+            path.display(),
+            plot::WIDTH_PX,
+            plot::HEIGHT_PX
+        );
+    }
     Ok(())
 }
 
@@ -193,14 +239,24 @@ fn check_angles(angles: &[f64]) -> Result<()> {
     Ok(())
 }
 
+/// cos θ inside the stone of an angle taken inside, degrees.
+fn cos_of_inside(_: &ClusterStack, angle_deg: f64) -> f64 {
+    angle_deg.to_radians().cos()
+}
+
+/// cos θ inside the stone of an angle of incidence in air, degrees (Snell into n_eff).
+fn cos_of_air(stack: &ClusterStack, angle_deg: f64) -> f64 {
+    cos_inside_from_air(stack.n_eff, angle_deg.to_radians())
+}
+
 fn curve(stack: &ClusterStack, angle_deg: f64, inside: bool, wavelengths: &[f64]) -> AngleCurve {
     let theta = angle_deg.to_radians();
     let (cos_inside, bragg_nm) = if inside {
-        let c = theta.cos();
+        let c = cos_of_inside(stack, angle_deg);
         (c, bragg_wavelength_inside_nm(stack.d111_nm, stack.n_eff, c))
     } else {
         (
-            cos_inside_from_air(stack.n_eff, theta),
+            cos_of_air(stack, angle_deg),
             bragg_wavelength_air_nm(stack.d111_nm, stack.n_eff, theta),
         )
     };
@@ -220,13 +276,14 @@ fn curve(stack: &ClusterStack, angle_deg: f64, inside: bool, wavelengths: &[f64]
     }
 }
 
-/// Refuse an output path that is not `.csv` or whose directory is missing, before any work.
-fn check_output(path: &Path) -> Result<()> {
-    check_extension("--output", path, &["csv"])?;
+/// Refuse a path for `flag` that does not end in `.ext` or whose directory is missing,
+/// before any work.
+fn check_output(flag: &str, path: &Path, ext: &str) -> Result<()> {
+    check_extension(flag, path, &[ext])?;
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
     if let Some(dir) = dir.filter(|d| !d.is_dir()) {
         bail!(
-            "--output {}: directory {} does not exist; create it first or choose another path",
+            "{flag} {}: directory {} does not exist; create it first or choose another path",
             path.display(),
             dir.display()
         );
@@ -293,24 +350,26 @@ fn summary(
     let frame = if args.inside { "inside" } else { "air" };
     let _ = writeln!(
         out,
-        "{:>12} {:>9} {:>10} {:>8} {:>16}",
+        "{:>12} {:>9} {:>10} {:>8} {:>16} {:>10}",
         format!("angle {frame}"),
         "θ inside",
         "peak nm",
         "peak R",
-        "Bragg–Snell nm"
+        "Bragg–Snell nm",
+        "sRGB D65"
     );
     for c in curves {
         let (peak_nm, peak_r) = c.peak();
         let in_range = (args.from_nm..=args.to_nm).contains(&c.bragg_nm);
         let _ = writeln!(
             out,
-            "{:>11.1}° {:>8.1}° {:>10.2} {:>8.4} {:>16.2}{}",
+            "{:>11.1}° {:>8.1}° {:>10.2} {:>8.4} {:>16.2} {:>10}{}",
             c.angle_deg,
             c.cos_inside.clamp(-1.0, 1.0).acos().to_degrees(),
             peak_nm,
             peak_r,
             c.bragg_nm,
+            c.colour().hex(),
             if in_range {
                 ""
             } else {
