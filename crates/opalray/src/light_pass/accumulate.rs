@@ -12,6 +12,14 @@ use glam::Vec3;
 /// Fixed-point resolution: the largest possible single deposit maps to 2³¹.
 const DEPOSIT_RANGE: f64 = 2_147_483_648.0;
 
+/// Round `x` (|x| < 2⁵¹) to the nearest integer by the floating-point magic-number trick:
+/// inline and vectorisable, where `f64::round` is a library call.
+#[inline(always)]
+fn round_to_i64(x: f64) -> i64 {
+    const MAGIC: f64 = 6_755_399_441_055_744.0; // 2⁵² + 2⁵¹
+    (x + MAGIC).to_bits() as i64 - MAGIC.to_bits() as i64
+}
+
 /// Sums of the light crossing each stored cell: for every entry (slot and lobe), the fluence
 /// spectrum (`bins` values), the power-weighted direction (3 values) and the power weight.
 #[derive(Clone, Debug)]
@@ -45,10 +53,10 @@ impl Accumulator {
             let global =
                 &mut self.sums[entry as usize * self.stride..(entry as usize + 1) * self.stride];
             for (g, &v) in global[..self.bins].iter_mut().zip(&local[..self.bins]) {
-                *g += (f64::from(v) * self.spectrum_scale).round() as i64;
+                *g += round_to_i64(f64::from(v) * self.spectrum_scale);
             }
             for (g, &v) in global[self.bins..].iter_mut().zip(&local[self.bins..]) {
-                *g += (f64::from(v) * self.direction_scale).round() as i64;
+                *g += round_to_i64(f64::from(v) * self.direction_scale);
             }
         }
         tile.clear();
@@ -228,6 +236,14 @@ mod tests {
             c[0]
         );
         assert!((d[0] - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-5);
+    }
+
+    #[test]
+    fn rounding_is_to_nearest() {
+        assert_eq!(round_to_i64(2.4), 2);
+        assert_eq!(round_to_i64(2.6), 3);
+        assert_eq!(round_to_i64(-2.6), -3);
+        assert_eq!(round_to_i64(1e15 + 0.7), 1_000_000_000_000_001);
     }
 
     #[test]
