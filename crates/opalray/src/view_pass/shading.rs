@@ -10,9 +10,10 @@ use crate::structure::{Cell, Structure};
 
 /// Phong lobes below this fraction of their peak are skipped.
 pub const LOBE_CUTOFF: f32 = 1e-3;
-/// Diffuse spectra whose largest value is below this (relative to the light's spectrum at
-/// unit irradiance, whose values are about 10⁻²) are skipped.
-const GLOW_FLOOR: f32 = 1e-9;
+/// Diffuse spectra whose largest value is below this are skipped: 10⁻⁶ per bin is a
+/// luminance under 10⁻⁴ of a white diffuser's, below one step of an 8-bit sRGB image even in
+/// the darkest tones (the light's spectrum at unit irradiance is about 10⁻² per bin).
+const GLOW_FLOOR: f32 = 1e-6;
 /// Stored light meeting the planes more obliquely than this (|cos θ| below it, θ > 80°) adds
 /// no specular term: near grazing incidence the stack's reflection turns the light by under
 /// 20°, a near-forward deflection that a Phong lobe about the mirror direction cannot
