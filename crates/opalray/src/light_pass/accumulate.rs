@@ -8,6 +8,7 @@
 //! thread count.
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 /// Fixed-point resolution: the largest possible single deposit maps to 2³¹.
 const DEPOSIT_RANGE: f64 = 2_147_483_648.0;
@@ -71,22 +72,24 @@ impl Accumulator {
     /// The sums as floats, `entries × stride`: for each entry the fluence spectrum (`bins`
     /// values), Σ P·w (3) and Σ P (1).
     pub fn into_sums(self) -> Vec<f32> {
-        let unscale_spectrum = 1.0 / self.spectrum_scale;
-        let unscale_direction = 1.0 / self.direction_scale;
-        let bins = self.bins;
-        self.sums
-            .chunks_exact(self.stride)
-            .flat_map(|chunk| {
-                chunk.iter().enumerate().map(move |(k, &v)| {
-                    let unscale = if k < bins {
-                        unscale_spectrum
-                    } else {
-                        unscale_direction
-                    };
-                    (v as f64 * unscale) as f32
-                })
+        let scale: Vec<f64> = (0..self.stride)
+            .map(|k| {
+                if k < self.bins {
+                    1.0 / self.spectrum_scale
+                } else {
+                    1.0 / self.direction_scale
+                }
             })
-            .collect()
+            .collect();
+        let mut out = vec![0.0f32; self.sums.len()];
+        out.par_chunks_mut(self.stride)
+            .zip(self.sums.par_chunks(self.stride))
+            .for_each(|(o, s)| {
+                for ((o, &s), &k) in o.iter_mut().zip(s).zip(&scale) {
+                    *o = (s as f64 * k) as f32;
+                }
+            });
+        out
     }
 }
 
@@ -97,20 +100,24 @@ impl Accumulator {
 pub fn split_sums(sums: &[f32], bins: usize) -> (Vec<f32>, Vec<Vec3>, Vec<f32>) {
     let stride = bins + 4;
     let entries = sums.len() / stride;
-    let mut fluence = Vec::with_capacity(entries * bins);
-    let mut directions = Vec::with_capacity(entries);
-    let mut concentration = Vec::with_capacity(entries);
-    for chunk in sums.chunks_exact(stride) {
-        fluence.extend_from_slice(&chunk[..bins]);
-        let d = Vec3::new(chunk[bins], chunk[bins + 1], chunk[bins + 2]);
-        let total = chunk[bins + 3];
-        concentration.push(if total > 0.0 {
-            (d.length() / total).min(1.0)
-        } else {
-            0.0
+    let mut fluence = vec![0.0f32; entries * bins];
+    let mut directions = vec![Vec3::ZERO; entries];
+    let mut concentration = vec![0.0f32; entries];
+    fluence
+        .par_chunks_mut(bins)
+        .zip(directions.par_iter_mut().zip(concentration.par_iter_mut()))
+        .zip(sums.par_chunks(stride))
+        .for_each(|((f, (dir, conc)), chunk)| {
+            f.copy_from_slice(&chunk[..bins]);
+            let d = Vec3::new(chunk[bins], chunk[bins + 1], chunk[bins + 2]);
+            let total = chunk[bins + 3];
+            *conc = if total > 0.0 {
+                (d.length() / total).min(1.0)
+            } else {
+                0.0
+            };
+            *dir = d.normalize_or_zero();
         });
-        directions.push(d.normalize_or_zero());
-    }
     (fluence, directions, concentration)
 }
 
