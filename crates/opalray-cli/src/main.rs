@@ -34,7 +34,23 @@ enum Command {
 }
 
 fn main() {
-    let cli = Cli::parse();
+    let cli = Cli::try_parse().unwrap_or_else(|err| {
+        use clap::error::ErrorKind;
+        if matches!(
+            err.kind(),
+            ErrorKind::DisplayHelp
+                | ErrorKind::DisplayVersion
+                | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+        ) {
+            err.exit();
+        }
+        // clap explains a bad flag over several lines; keep its first, which names the flag.
+        let text = err.to_string();
+        let first = text.lines().next().unwrap_or("invalid arguments").trim();
+        let first = first.strip_prefix("error: ").unwrap_or(first);
+        eprintln!("error: {first} (see --help)");
+        std::process::exit(2);
+    });
     let result = match cli.command {
         Command::Structure(args) => cmd::structure::run(args),
         Command::Scene(args) => cmd::scene::run(args),

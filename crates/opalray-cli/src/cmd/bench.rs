@@ -6,13 +6,11 @@ use serde_json::json;
 use super::common::{peak_memory_mb, LookArgs, SceneArgs};
 
 /// Render the scene several times and print the median time of each stage and the peak
-/// memory. The first run warms caches and is not counted. Examples:
-///
-///   opalray bench
-///   opalray bench --runs 11 --json
-///   RAYON_NUM_THREADS=1 opalray bench        (one core)
+/// memory. The first run warms caches and is not counted.
 #[derive(clap::Args, Debug)]
-#[command(verbatim_doc_comment)]
+#[command(
+    after_long_help = "Examples:\n  opalray bench\n  opalray bench --runs 11 --json\n  RAYON_NUM_THREADS=1 opalray bench        (one core)"
+)]
 pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,

@@ -41,20 +41,20 @@ impl SceneArgs {
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct LookArgs {
     /// Image width, pixels (render.width).
-    #[arg(long, value_name = "PX")]
+    #[arg(long, value_name = "PX", allow_hyphen_values = true)]
     pub width: Option<u32>,
     /// Image height, pixels (render.height).
-    #[arg(long, value_name = "PX")]
+    #[arg(long, value_name = "PX", allow_hyphen_values = true)]
     pub height: Option<u32>,
     /// Silica sphere diameter, nm (crystal.sphere_diameter_nm): ~250 flashes orange face-on,
     /// smaller spheres green and blue.
     #[arg(long, value_name = "NM", allow_hyphen_values = true)]
     pub diameter: Option<f64>,
     /// Wavelength bins over the spectrum's range (spectrum.bins).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub bins: Option<usize>,
     /// Rays traced in the light pass (light.rays).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub rays: Option<u64>,
     /// Body tone, 1 (N1, black opal) … 9 (N9, white opal) (render.body_tone).
     #[arg(long, value_name = "N")]

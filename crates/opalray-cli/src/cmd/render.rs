@@ -10,14 +10,11 @@ use super::common::{check_extension, peak_memory_mb, write_json, LookArgs, Scene
 /// Render the opal (paper figs. 10–11) to a PNG or EXR, and optionally its spectral image.
 ///
 /// Renders the scene (default: the paper's opal, 640 × 480, light at 30° to the view
-/// direction) and prints the time of each stage, as the paper reports them. Examples:
-///
-///   opalray render
-///   opalray render --light-angle -45 --output flash.png
-///   opalray render my-opal.toml --width 1280 --height 960 --stats stats.json
-///   opalray render --diameter 220 --output linear.exr --spectral cube.exr
+/// direction) and prints the time of each stage, as the paper reports them.
 #[derive(clap::Args, Debug)]
-#[command(verbatim_doc_comment)]
+#[command(
+    after_long_help = "Examples:\n  opalray render\n  opalray render --light-angle -45 --output flash.png\n  opalray render my-opal.toml --width 1280 --height 960 --stats stats.json\n  opalray render --diameter 220 --output linear.exr --spectral cube.exr"
+)]
 pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,

@@ -11,14 +11,11 @@ use super::common::{check_extension, peak_memory_mb, progress, write_json, LookA
 /// Render the light sweep of the paper's fig. 11 as a contact sheet and an animation.
 ///
 /// The structure and optics are computed once; each frame redoes only the light pass, the
-/// view pass and the colour. Frames default to 320 × 240. Examples:
-///
-///   opalray sweep
-///   opalray sweep --from -60 --to 60 --frames 25 --animation play.gif
-///   opalray sweep --frames 7 --sheet fig11.png --width 480 --height 360
-///   opalray sweep --animation play.png          (APNG: full colour)
+/// view pass and the colour. Frames default to 320 × 240.
 #[derive(clap::Args, Debug)]
-#[command(verbatim_doc_comment)]
+#[command(
+    after_long_help = "Examples:\n  opalray sweep\n  opalray sweep --from -60 --to 60 --frames 25 --animation play.gif\n  opalray sweep --frames 7 --sheet fig11.png --width 480 --height 360\n  opalray sweep --animation play.png          (APNG: full colour)"
+)]
 pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,

@@ -1,0 +1,234 @@
+//! `opalray render`, `sweep` and `bench` as a user runs them: files that open, statistics,
+//! identical bytes at any thread count, and one-line errors with exit code 2 and no output
+//! left behind for bad input.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// Small and quick: the renders here take a fraction of a second.
+const SMALL: &[&str] = &[
+    "--width", "64", "--height", "48", "--bins", "16", "--rays", "20000",
+];
+
+fn opalray(dir: &Path, args: &[&str], threads: Option<&str>) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_opalray"));
+    cmd.args(args).current_dir(dir);
+    if let Some(n) = threads {
+        cmd.env("RAYON_NUM_THREADS", n);
+    }
+    cmd.output().expect("the opalray binary runs")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+fn args<'a>(first: &[&'a str], rest: &[&'a str]) -> Vec<&'a str> {
+    first.iter().chain(rest).copied().collect()
+}
+
+#[test]
+fn render_writes_an_image_and_its_statistics() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = opalray(
+        dir.path(),
+        &args(&["render", "-o", "a.png", "--stats", "s.json"], SMALL),
+        None,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let img = image::open(dir.path().join("a.png")).unwrap();
+    assert_eq!((img.width(), img.height()), (64, 48));
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("s.json")).unwrap()).unwrap();
+    for stage in [
+        "structure",
+        "optics",
+        "light_pass",
+        "view_pass",
+        "color",
+        "total",
+    ] {
+        assert!(
+            stats["time_s"][stage].as_f64().unwrap() >= 0.0,
+            "time_s.{stage}"
+        );
+    }
+    assert_eq!(stats["image"]["width"], 64);
+    assert_eq!(stats["image"]["height"], 48);
+    let void_ratio = stats["void_ratio"].as_f64().unwrap();
+    assert!(void_ratio > 0.1 && void_ratio < 0.2, "{void_ratio}");
+    assert!(stats["light_rays"].as_u64().unwrap() > 19_000);
+    assert!(stats["peak_memory_mb"].as_f64().unwrap() > 1.0);
+    // The stage times are printed, as the paper reported them.
+    for stage in ["structure", "optics", "light pass", "view pass", "colour"] {
+        assert!(stderr(&out).contains(stage), "{}", stderr(&out));
+    }
+}
+
+#[test]
+fn render_writes_exr_and_spectral_exr() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = opalray(
+        dir.path(),
+        &args(&["render", "-o", "a.exr", "--spectral", "cube.exr"], SMALL),
+        None,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    for name in ["a.exr", "cube.exr"] {
+        let bytes = std::fs::read(dir.path().join(name)).unwrap();
+        // OpenEXR magic number 20000630 (little endian), version 2.
+        assert_eq!(&bytes[..5], &[0x76, 0x2f, 0x31, 0x01, 0x02], "{name}");
+    }
+    let cube = std::fs::read(dir.path().join("cube.exr")).unwrap();
+    let header = String::from_utf8_lossy(&cube[..cube.len().min(4096)]);
+    assert!(
+        header.contains("S0.385,000000nm") || header.contains("S0.392,500000nm"),
+        "spectral channels"
+    );
+}
+
+#[test]
+fn render_bytes_do_not_depend_on_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    for (threads, name) in [("1", "one.png"), ("3", "three.png"), ("2", "two.png")] {
+        let out = opalray(
+            dir.path(),
+            &args(&["render", "-o", name], SMALL),
+            Some(threads),
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    let read = |n: &str| std::fs::read(dir.path().join(n)).unwrap();
+    assert_eq!(read("one.png"), read("three.png"));
+    assert_eq!(read("one.png"), read("two.png"));
+}
+
+#[test]
+fn sweep_writes_a_sheet_and_animations() {
+    let dir = tempfile::tempdir().unwrap();
+    let small = [
+        "--frames", "3", "--width", "48", "--height", "36", "--bins", "16", "--rays", "10000",
+    ];
+    let out = opalray(
+        dir.path(),
+        &args(
+            &["sweep", "--sheet", "s.png", "--animation", "a.gif"],
+            &small,
+        ),
+        None,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let sheet = image::open(dir.path().join("s.png")).unwrap();
+    assert!(sheet.width() > 3 * 48 && sheet.height() > 36);
+    use image::AnimationDecoder;
+    let gif = std::io::BufReader::new(std::fs::File::open(dir.path().join("a.gif")).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(gif)
+        .unwrap()
+        .into_frames();
+    assert_eq!(frames.count(), 3);
+    let out = opalray(
+        dir.path(),
+        &args(
+            &["sweep", "--sheet", "t.png", "--animation", "a.png"],
+            &small,
+        ),
+        None,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let apng = std::fs::read(dir.path().join("a.png")).unwrap();
+    let actl = apng
+        .windows(4)
+        .position(|w| w == b"acTL")
+        .expect("an APNG acTL chunk");
+    let frames = u32::from_be_bytes(apng[actl + 4..actl + 8].try_into().unwrap());
+    assert_eq!(frames, 3);
+}
+
+#[test]
+fn bench_prints_json_medians() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = opalray(
+        dir.path(),
+        &[
+            "bench", "--runs", "1", "--json", "--width", "32", "--height", "24", "--rays", "5000",
+        ],
+        None,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for stage in [
+        "structure",
+        "optics",
+        "light_pass",
+        "view_pass",
+        "color",
+        "total",
+    ] {
+        assert!(v["median_s"][stage].as_f64().is_some(), "median_s.{stage}");
+    }
+}
+
+#[test]
+fn bad_input_is_refused_in_one_line_with_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("bad.toml"), "[structure\n").unwrap();
+    std::fs::write(dir.path().join("unknown.toml"), "[render]\nwidht = 3\n").unwrap();
+    std::fs::write(dir.path().join("keep.png"), "old").unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["render", "bad.toml", "-o", "x.png"], "bad.toml"),
+        (&["render", "unknown.toml", "-o", "x.png"], "render.widht"),
+        (&["render", "--width", "0", "-o", "x.png"], "render.width"),
+        (&["render", "--width", "-5", "-o", "x.png"], "--width"),
+        (
+            &["render", "--light-angle", "nan", "-o", "x.png"],
+            "light.angle_deg",
+        ),
+        (&["render", "--rays", "0", "-o", "x.png"], "light.rays"),
+        (&["render", "-o", "x.jpg"], "--output"),
+        (&["render", "-o", "/nonexistent/dir/x.png"], "x.png"),
+        (
+            &["render", "--spectral", "x.png", "-o", "y.png"],
+            "--spectral",
+        ),
+        (
+            &["render", "--diameter", "-250", "-o", "keep.png"],
+            "crystal.sphere_diameter_nm",
+        ),
+        (&["sweep", "--frames", "0", "--sheet", "x.png"], "--frames"),
+        (&["sweep", "--from", "100", "--sheet", "x.png"], "--from"),
+        (&["sweep", "--sheet", "x.jpg"], "--sheet"),
+        (
+            &["sweep", "--animation", "x.mp4", "--sheet", "x.png"],
+            "--animation",
+        ),
+        (&["bench", "--runs", "0"], "--runs"),
+        (&["bench", "--bins", "0"], "spectrum.bins"),
+    ];
+    for (argv, needle) in cases {
+        let out = opalray(dir.path(), argv, None);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{argv:?}: {err}");
+        assert_eq!(
+            err.trim_end().lines().count(),
+            1,
+            "{argv:?}: one line: {err}"
+        );
+        assert!(err.contains(needle), "{argv:?}: names {needle}: {err}");
+        assert!(!err.contains("panicked"), "{argv:?}: {err}");
+        assert_eq!(
+            files_in(dir.path()),
+            ["bad.toml", "keep.png", "unknown.toml"],
+            "{argv:?} left a file"
+        );
+        assert_eq!(std::fs::read(dir.path().join("keep.png")).unwrap(), b"old");
+    }
+}
