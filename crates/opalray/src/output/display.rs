@@ -15,17 +15,7 @@ use super::encode_png;
 pub fn write_png(path: &Path, rgb: &RgbImage, color: &ColorConfig) -> Result<()> {
     let (width, height) = dimensions(path, rgb)?;
     match color.bit_depth {
-        8 => {
-            let codes = to_display_rgb8(rgb, color);
-            encode_png(
-                path,
-                width,
-                height,
-                png::ColorType::Rgb,
-                png::BitDepth::Eight,
-                &codes,
-            )
-        }
+        8 => super::write_png_rgb8(path, width, height, &to_display_rgb8(rgb, color)),
         16 => {
             let codes = to_display_rgb16(rgb, color);
             let bytes: Vec<u8> = codes.iter().flat_map(|c| c.to_be_bytes()).collect();
