@@ -26,8 +26,34 @@ pub enum Split {
         /// Diffuse fraction.
         d: f32,
     },
-    /// Fractions vary with wavelength; they were written into the caller's buffers.
-    Spectral,
+    /// Fractions vary with wavelength only in the bins `lo..hi` (the Bragg line), where they
+    /// were written into the caller's buffers; elsewhere they are the flat `r`, `t`, `d`.
+    Window {
+        /// First bin of the window.
+        lo: usize,
+        /// One past the last bin of the window.
+        hi: usize,
+        /// Specular reflectance outside the window.
+        r: f32,
+        /// Transmittance outside the window.
+        t: f32,
+        /// Diffuse fraction outside the window.
+        d: f32,
+    },
+}
+
+/// A table row that is flat except in a window of bins.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct RowWindow {
+    lo: usize,
+    hi: usize,
+    background: (f32, f32, f32),
+}
+
+fn median(v: &[f32]) -> f32 {
+    let mut s = v.to_vec();
+    s.sort_by(f32::total_cmp);
+    s[s.len() / 2]
 }
 
 /// The optics tables plus, per row, whether the row is flat.
@@ -35,6 +61,7 @@ pub enum Split {
 pub struct ClusterOptics<'a> {
     tables: &'a OpticsTables,
     flat: Vec<Option<(f32, f32, f32)>>,
+    windows: Vec<RowWindow>,
 }
 
 impl<'a> ClusterOptics<'a> {
@@ -57,7 +84,27 @@ impl<'a> ClusterOptics<'a> {
                     .then(|| (mean(r), mean(t), mean(d)))
             })
             .collect();
-        ClusterOptics { tables, flat }
+        // Rows that are not flat: the median of each table is the level away from the Bragg
+        // line, and the window spans every bin that differs from it by more than the tolerance.
+        let windows = (0..tables.angles)
+            .map(|i| {
+                let (r, t, d) = tables.row(i);
+                let background = (median(r), median(t), median(d));
+                let off = |b: usize| {
+                    (r[b] - background.0).abs() > FLAT_TOLERANCE
+                        || (t[b] - background.1).abs() > FLAT_TOLERANCE
+                        || (d[b] - background.2).abs() > FLAT_TOLERANCE
+                };
+                let lo = (0..r.len()).find(|&b| off(b)).unwrap_or(0);
+                let hi = (0..r.len()).rev().find(|&b| off(b)).map_or(0, |b| b + 1);
+                RowWindow { lo, hi, background }
+            })
+            .collect();
+        ClusterOptics {
+            tables,
+            flat,
+            windows,
+        }
     }
 
     /// The tables.
@@ -66,7 +113,8 @@ impl<'a> ClusterOptics<'a> {
     }
 
     /// The split at `cos_theta` (|cos| of the angle between ray and plane normal, inside the
-    /// stone). Fills `r`, `t`, `d` only when the answer is [`Split::Spectral`].
+    /// stone). Fills `r`, `t`, `d` in the window's bins only when the answer is
+    /// [`Split::Window`].
     #[inline]
     pub fn split(&self, cos_theta: f32, r: &mut [f32], t: &mut [f32], d: &mut [f32]) -> Split {
         let last = self.tables.angles - 1;
@@ -80,8 +128,33 @@ impl<'a> ClusterOptics<'a> {
                 d: a.2 + w * (b.2 - a.2),
             };
         }
-        self.tables.lookup(cos_theta, r, t, d);
-        Split::Spectral
+        // The union of both rows' windows, interpolated densely inside; a flat row's window is
+        // empty and its background its mean.
+        let window_of = |k: usize| match self.flat[k] {
+            Some(mean) => RowWindow {
+                lo: usize::MAX,
+                hi: 0,
+                background: mean,
+            },
+            None => self.windows[k],
+        };
+        let (a, b) = (window_of(i), window_of(i + 1));
+        let (lo, hi) = (a.lo.min(b.lo), a.hi.max(b.hi));
+        let (ra, ta, da) = self.tables.row(i);
+        let (rb, tb, db) = self.tables.row(i + 1);
+        for k in lo..hi {
+            r[k] = ra[k] + w * (rb[k] - ra[k]);
+            t[k] = ta[k] + w * (tb[k] - ta[k]);
+            d[k] = da[k] + w * (db[k] - da[k]);
+        }
+        let (x, y) = (a.background, b.background);
+        Split::Window {
+            lo,
+            hi,
+            r: x.0 + w * (y.0 - x.0),
+            t: x.1 + w * (y.1 - x.1),
+            d: x.2 + w * (y.2 - x.2),
+        }
     }
 
     /// Specular reflectance only, at `cos_theta`: `Some(r)` where flat, else `None` with the

@@ -218,17 +218,35 @@ impl Walker<'_> {
                             }
                             spectrum.iter_mut().for_each(|s| *s *= t);
                         }
-                        Split::Spectral => {
-                            p_r = spectrum::dot(&spectrum, r) * self.bin_width_nm;
-                            p_d = spectrum::dot(&spectrum, d) * self.bin_width_nm;
+                        Split::Window {
+                            lo,
+                            hi,
+                            r: rb,
+                            t: tb,
+                            d: db,
+                        } => {
+                            let bw = self.bin_width_nm;
+                            let (r, t, d) = (&r[lo..hi], &t[lo..hi], &d[lo..hi]);
+                            let inside = &spectrum[lo..hi];
+                            let p_out = power - spectrum::sum(inside) * bw;
+                            p_r = rb * p_out + spectrum::dot(inside, r) * bw;
+                            p_d = db * p_out + spectrum::dot(inside, d) * bw;
+                            p_t = tb * p_out + spectrum::dot(inside, t) * bw;
                             if p_r > 0.0 && p_r >= threshold {
                                 let mut v = pool.pop().unwrap_or_default();
                                 v.clear();
-                                v.extend(spectrum.iter().zip(r.iter()).map(|(s, r)| s * r));
+                                v.extend(spectrum.iter().map(|s| s * rb));
+                                for (v, (s, r)) in v[lo..hi].iter_mut().zip(inside.iter().zip(r)) {
+                                    *v = s * r;
+                                }
                                 reflected = Some(v);
                             }
-                            spectrum.iter_mut().zip(t.iter()).for_each(|(s, t)| *s *= t);
-                            p_t = spectrum::sum(&spectrum) * self.bin_width_nm;
+                            spectrum[..lo].iter_mut().for_each(|s| *s *= tb);
+                            spectrum[hi..].iter_mut().for_each(|s| *s *= tb);
+                            spectrum[lo..hi]
+                                .iter_mut()
+                                .zip(t)
+                                .for_each(|(s, t)| *s *= t);
                         }
                     }
                     ledger.stored += f64::from(p_d);
