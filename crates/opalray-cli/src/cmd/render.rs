@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use serde_json::json;
 
-use super::common::{check_extension, peak_memory_mb, write_json, LookArgs, SceneArgs};
+use super::common::{check_extension, peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
 
 /// Render the opal (paper figs. 10–11) to a PNG or EXR, and optionally its spectral image.
 ///
@@ -49,7 +49,12 @@ pub fn run(args: Args) -> Result<()> {
         scene.light.angle_deg = angle;
     }
     args.look.apply(&mut scene)?;
-    let frame = opalray::render::render(&scene)?;
+    let bar = progress(2, "structure");
+    let prepared = opalray::render::prepare(&scene)?;
+    bar.set_message("light, view");
+    bar.inc(1);
+    let frame = prepared.render(scene.light.angle_deg);
+    bar.finish_and_clear();
     let is_exr = args
         .output
         .extension()

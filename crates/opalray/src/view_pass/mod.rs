@@ -24,8 +24,9 @@ use crate::structure::{Cell, Structure};
 const GLOSS_EXPONENT: f32 = 3000.0;
 /// Internal reflections followed per camera ray.
 const MAX_VIEW_BOUNCES: u32 = 4;
-/// The camera ray stops once its throughput falls below this.
-const MIN_THROUGHPUT: f32 = 1e-3;
+/// The camera ray stops once its throughput falls below this at every wavelength: what lies
+/// behind would change the default image by 0.45 % RMS (measured against 10⁻³).
+const MIN_THROUGHPUT: f32 = 4e-3;
 
 /// Camera, light and look of the view pass, all in the opal's frame.
 #[derive(Clone, Debug)]
