@@ -1,16 +1,9 @@
 //! `opalray color` as a user runs it: JSON for emission and reflectance spectra, and one-line
 //! errors with exit code 2 for every kind of bad input.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
 
-fn opalray(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_opalray"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the opalray binary runs")
-}
+use common::opalray;
 
 /// Run `opalray color` on a CSV with `text` and return the parsed JSON.
 fn color_json(text: &str, extra: &[&str]) -> serde_json::Value {

@@ -2,35 +2,21 @@
 //! identical bytes at any thread count, and one-line errors with exit code 2 and no output
 //! left behind for bad input.
 
+mod common;
+
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
+
+use common::{files_in, opalray_with_threads, stderr};
+
+fn opalray(dir: &Path, args: &[&str], threads: Option<&str>) -> Output {
+    opalray_with_threads(dir, args, threads)
+}
 
 /// Small and quick: the renders here take a fraction of a second.
 const SMALL: &[&str] = &[
     "--width", "64", "--height", "48", "--bins", "16", "--rays", "20000",
 ];
-
-fn opalray(dir: &Path, args: &[&str], threads: Option<&str>) -> Output {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_opalray"));
-    cmd.args(args).current_dir(dir);
-    if let Some(n) = threads {
-        cmd.env("RAYON_NUM_THREADS", n);
-    }
-    cmd.output().expect("the opalray binary runs")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-fn files_in(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
 
 fn args<'a>(first: &[&'a str], rest: &[&'a str]) -> Vec<&'a str> {
     first.iter().chain(rest).copied().collect()

@@ -1,29 +1,11 @@
 //! `opalray structure` as a user runs it: files written, statistics, and one-line errors
 //! with exit code 2 and no output left behind for every kind of bad input.
 
+mod common;
+
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn opalray(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_opalray"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the opalray binary runs")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-fn files_in(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
+use common::{files_in, opalray, opalray_with_threads, stderr};
 
 /// Width and height from a PNG's header (signature, then the IHDR chunk: PNG spec §11.2.2).
 fn png_size(path: &Path) -> (u32, u32) {
@@ -91,12 +73,11 @@ fn same_seed_gives_the_same_bytes_at_any_thread_count() {
     let mut images = Vec::new();
     for threads in ["1", "3"] {
         let name = format!("t{threads}.png");
-        let out = Command::new(env!("CARGO_BIN_EXE_opalray"))
-            .args(["structure", "--seed", "42", "--output", &name])
-            .env("RAYON_NUM_THREADS", threads)
-            .current_dir(dir.path())
-            .output()
-            .unwrap();
+        let out = opalray_with_threads(
+            dir.path(),
+            &["structure", "--seed", "42", "--output", &name],
+            Some(threads),
+        );
         assert!(out.status.success(), "{}", stderr(&out));
         images.push(std::fs::read(dir.path().join(&name)).unwrap());
     }
