@@ -196,6 +196,26 @@ fn bad_input_is_refused_in_one_line_with_no_file() {
             &["sweep", "--animation", "x.mp4", "--sheet", "x.png"],
             "--animation",
         ),
+        (
+            &[
+                "render",
+                "--stats",
+                "/nonexistent/dir/s.json",
+                "-o",
+                "keep.png",
+            ],
+            "--stats",
+        ),
+        (
+            &[
+                "sweep",
+                "--animation",
+                "/nonexistent/dir/a.gif",
+                "--sheet",
+                "keep.png",
+            ],
+            "--animation",
+        ),
         (&["bench", "--runs", "0"], "--runs"),
         (&["bench", "--bins", "0"], "spectrum.bins"),
     ];

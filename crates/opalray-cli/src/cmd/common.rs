@@ -129,6 +129,24 @@ pub fn write_json(path: &Path, value: &serde_json::Value) -> Result<()> {
     .with_context(|| format!("writing --stats {}", path.display()))
 }
 
+/// Refuse an output path whose extension is not one of `allowed` or whose directory does not
+/// exist, before any work is done (so a bad later output cannot leave an earlier one behind).
+pub fn check_output(flag: &str, path: &Path, allowed: &[&str]) -> Result<()> {
+    check_extension(flag, path, allowed)?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        anyhow::bail!(
+            "{flag} {}: directory {} does not exist; create it first or choose another path",
+            path.display(),
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
 /// Refuse an output path whose extension is not one of `allowed`, before any work is done.
 pub fn check_extension(flag: &str, path: &Path, allowed: &[&str]) -> Result<()> {
     let ext = path

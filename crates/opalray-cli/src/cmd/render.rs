@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use serde_json::json;
 
-use super::common::{check_extension, peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
+use super::common::{check_output, peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
 
 /// Render the opal (paper figs. 10–11) to a PNG or EXR, and optionally its spectral image.
 ///
@@ -37,12 +37,12 @@ pub struct Args {
 
 /// Run `opalray render`.
 pub fn run(args: Args) -> Result<()> {
-    check_extension("--output", &args.output, &["png", "exr"])?;
+    check_output("--output", &args.output, &["png", "exr"])?;
     if let Some(path) = &args.spectral {
-        check_extension("--spectral", path, &["exr"])?;
+        check_output("--spectral", path, &["exr"])?;
     }
     if let Some(path) = &args.stats {
-        check_extension("--stats", path, &["json"])?;
+        check_output("--stats", path, &["json"])?;
     }
     let mut scene = args.scene.load()?;
     if let Some(angle) = args.light_angle {

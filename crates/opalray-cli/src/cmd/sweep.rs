@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::Result;
 use serde_json::json;
 
-use super::common::{check_extension, peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
+use super::common::{check_output, peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
 
 /// Render the light sweep of the paper's fig. 11 as a contact sheet and an animation.
 ///
@@ -54,12 +54,12 @@ pub struct Args {
 
 /// Run `opalray sweep`.
 pub fn run(args: Args) -> Result<()> {
-    check_extension("--sheet", &args.sheet, &["png"])?;
+    check_output("--sheet", &args.sheet, &["png"])?;
     if let Some(path) = &args.animation {
-        check_extension("--animation", path, &["gif", "png"])?;
+        check_output("--animation", path, &["gif", "png"])?;
     }
     if let Some(path) = &args.stats {
-        check_extension("--stats", path, &["json"])?;
+        check_output("--stats", path, &["json"])?;
     }
     if !(1..=1000).contains(&args.frames) {
         anyhow::bail!("--frames {}: must be 1 to 1000; try 9", args.frames);

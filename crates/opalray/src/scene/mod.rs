@@ -20,6 +20,9 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::spectrum::WavelengthGrid;
 
+/// Largest spectral image accepted, bytes (4 GiB).
+pub const MAX_SPECTRAL_IMAGE_BYTES: u64 = 4 << 30;
+
 /// A complete scene. Every section and field is optional in TOML; missing ones take the
 /// defaults of the `paper` preset (the paper's fig. 10 set-up).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -98,6 +101,24 @@ impl Scene {
         self.camera.validate()?;
         self.render.validate()?;
         self.color.validate()?;
+        // The spectral image is width × height × bins floats: refuse what cannot fit.
+        let bytes = u64::from(self.render.width)
+            * u64::from(self.render.height)
+            * self.spectrum.bins as u64
+            * 4;
+        if bytes > MAX_SPECTRAL_IMAGE_BYTES {
+            return Err(Error::field(
+                "render.width",
+                format!(
+                    "{} × {} pixels × {} bins would need {:.1} GiB for the spectral image, more \
+                     than the limit of 4 GiB; lower render.width/height or spectrum.bins",
+                    self.render.width,
+                    self.render.height,
+                    self.spectrum.bins,
+                    bytes as f64 / (1u64 << 30) as f64
+                ),
+            ));
+        }
         Ok(())
     }
 }
@@ -207,6 +228,7 @@ mod tests {
             ("[render]\nwidth = 0", "render.width"),
             ("[render]\nbody_tone = 12", "render.body_tone"),
             ("[light]\nangle_deg = 120.0", "light.angle_deg"),
+            ("[render]\nwidth = 16384\nheight = 16384", "render.width"),
         ] {
             let err = Scene::from_toml_str(text, "t").unwrap_err().to_string();
             assert!(err.contains(field), "{text}: {err}");
