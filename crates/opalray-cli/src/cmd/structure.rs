@@ -1,13 +1,13 @@
 //! `opalray structure`: grow the cluster/void structure (paper §2.4) and write the
 //! orientation map of one z slice (paper fig. 9), with optional statistics as JSON.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use opalray::structure::{self, map::MAX_SCALE};
 
-use super::common::{check_extension, write_json, SceneArgs};
+use super::common::{check_output, write_json, SceneArgs};
 
 const EXAMPLES: &str = "\
 Examples:
@@ -45,22 +45,6 @@ pub struct Args {
     scale: u32,
 }
 
-/// Refuse an output whose directory does not exist, before any work is done.
-fn check_directory(flag: &str, path: &Path) -> Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    if !dir.is_dir() {
-        bail!(
-            "{flag} {}: directory {} does not exist; create it first or choose another path",
-            path.display(),
-            dir.display()
-        );
-    }
-    Ok(())
-}
-
 /// Run `opalray structure`.
 pub fn run(args: Args) -> Result<()> {
     // Check every input and output before growing.
@@ -74,11 +58,9 @@ pub fn run(args: Args) -> Result<()> {
             nz - 1
         );
     }
-    check_extension("--output", &args.output, &["png"])?;
-    check_directory("--output", &args.output)?;
+    check_output("--output", &args.output, &["png"])?;
     if let Some(stats) = &args.stats {
-        check_extension("--stats", stats, &["json"])?;
-        check_directory("--stats", stats)?;
+        check_output("--stats", stats, &["json"])?;
     }
 
     // Grow and draw.
