@@ -7,6 +7,18 @@ use opalray::optics::{ClusterStack, Polarization};
 use opalray::scene::CrystalConfig;
 use opalray::{build_optics, WavelengthGrid};
 use proptest::prelude::*;
+use proptest::test_runner::RngSeed;
+
+/// A fixed seed: every run explores the same cases, so a failure reproduces and CI never
+/// turns red on a case that the previous run did not draw.
+fn config(cases: u32) -> ProptestConfig {
+    ProptestConfig {
+        cases,
+        rng_seed: RngSeed::Fixed(0x09a1_0e5c),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    }
+}
 
 fn crystals() -> impl Strategy<Value = CrystalConfig> {
     (
@@ -28,8 +40,35 @@ fn crystals() -> impl Strategy<Value = CrystalConfig> {
         })
 }
 
+/// A thick high-contrast stack at oblique incidence reflects all but ~1e-300 of the light;
+/// R must still not round above one (found by the property below with a random seed).
+#[test]
+fn nearly_total_reflection_stays_a_fraction() {
+    let crystal = CrystalConfig {
+        sphere_diameter_nm: 1247.1026280395265,
+        n_sphere: 1.9686933310815602,
+        n_matrix: 1.0172690011195336,
+        filling_fraction: 0.3749931425699908,
+        layers: 150,
+        diffuse_fraction: 0.0,
+        angles: 90,
+    };
+    let at = ClusterStack::new(&crystal).unwrap().at(0.31075411554505994);
+    for (r, t) in [
+        at.rt(662.8178940272965, Polarization::S),
+        at.rt(662.8178940272965, Polarization::P),
+        at.rt_unpolarized(662.8178940272965),
+    ] {
+        assert!(
+            (0.0..=1.0).contains(&r) && (0.0..=1.0).contains(&t),
+            "R {r} T {t}"
+        );
+        assert!(r > 0.999_999, "R {r}");
+    }
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    #![proptest_config(config(1024))]
 
     #[test]
     fn cluster_r_and_t_are_fractions_that_add_to_one(
@@ -68,7 +107,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(config(64))]
 
     #[test]
     fn tables_hold_energy_fractions(crystal in crystals(), bins in 1usize..50) {

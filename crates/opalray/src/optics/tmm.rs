@@ -272,8 +272,10 @@ pub fn periodic_rt(period: &CharMatrix, periods: u32, eta: f64) -> (f64, f64) {
     let p = (period.a - period.d).powi(2) + (eta * period.b - period.c / eta).powi(2);
     let q = u_sq * p;
     if q.is_finite() {
-        let inv = 1.0 / (q + 4.0);
-        (q * inv, 4.0 * inv)
+        // Two correctly rounded divisions: q / (q + 4) never rounds above 1, where
+        // q · (1 / (q + 4)) can by an ulp.
+        let sum = q + 4.0;
+        (q / sum, 4.0 / sum)
     } else if p == 0.0 {
         (0.0, 1.0)
     } else {
