@@ -16,6 +16,7 @@
 //! any thread count.
 
 mod accumulate;
+mod direct;
 mod interaction;
 mod smooth;
 mod source;
@@ -284,6 +285,7 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         .expect("no worker panicked while holding the accumulator");
     let stride = acc.stride();
     let mut sums = acc.into_sums();
+    walker.fill_direct(&mut sums, stride, LOBES);
     smooth::smooth_sums(
         &mut sums,
         &structure.cells,

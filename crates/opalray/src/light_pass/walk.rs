@@ -178,13 +178,16 @@ impl Walker<'_> {
                     } else {
                         length
                     };
-                    acc.deposit(
-                        slot * LOBES + lobe,
-                        &spectrum,
-                        track * self.inv_volume[slot],
-                        direction,
-                        power,
-                    );
+                    // The direct light is computed per cell (`direct.rs`), not stored.
+                    if kind != DIRECT {
+                        acc.deposit(
+                            slot * LOBES + lobe,
+                            &spectrum,
+                            track * self.inv_volume[slot],
+                            direction,
+                            power,
+                        );
+                    }
                     let lost = f64::from(power * (1.0 - kept));
                     ledger.stored += f64::from(self.body_albedo) * lost;
                     ledger.absorbed += f64::from(1.0 - self.body_albedo) * lost;
@@ -192,13 +195,16 @@ impl Walker<'_> {
                     power *= kept;
                 }
                 Cell::Cluster => {
-                    acc.deposit(
-                        slot * LOBES + lobe,
-                        &spectrum,
-                        length * self.inv_volume[slot],
-                        direction,
-                        power,
-                    );
+                    // The direct light is computed per cell (`direct.rs`), not stored.
+                    if kind != DIRECT {
+                        acc.deposit(
+                            slot * LOBES + lobe,
+                            &spectrum,
+                            length * self.inv_volume[slot],
+                            direction,
+                            power,
+                        );
+                    }
                     let normal = self.normals[seg.index];
                     let cos = direction.dot(normal).abs();
                     // Split into the Bragg-reflected branch (followed only if strong
