@@ -13,7 +13,6 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::interaction::Split;
 use super::walk::Walker;
 use super::NO_SLOT;
 use crate::geometry::{fresnel_dielectric, refract, Ray};
@@ -63,13 +62,7 @@ impl Walker<'_> {
     /// The direct light of the cell `cell` (centre `centre`): its fluence spectrum is written
     /// into `out` (power per mm² per nm) and its direction of travel returned; both zero where
     /// no direct light arrives.
-    fn direct_at(
-        &self,
-        cell: usize,
-        centre: Vec3,
-        out: &mut [f32],
-        scratch: &mut [Vec<f32>; 3],
-    ) -> Vec3 {
+    fn direct_at(&self, cell: usize, centre: Vec3, out: &mut [f32]) -> Vec3 {
         out.fill(0.0);
         let Some((p, d, irradiance)) = self.entry(centre) else {
             return Vec3::ZERO;
@@ -77,7 +70,6 @@ impl Walker<'_> {
         for (o, s) in out.iter_mut().zip(self.spectrum) {
             *o = s * irradiance;
         }
-        let [r, t, dd] = scratch;
         let ray = Ray::new(p, d);
         let reach = (centre - p).length() + self.grid.cell.length();
         self.grid.traverse(&ray, 0.0, reach, |seg| {
@@ -102,17 +94,8 @@ impl Walker<'_> {
                 // The light crossing a cluster is what reaches it; it is split only on leaving.
                 Cell::Cluster if own => {}
                 Cell::Cluster => {
-                    let cos = d.dot(self.normals[seg.index]).abs();
-                    match self.optics.split(cos, r, t, dd) {
-                        Split::Flat { t, .. } => out.iter_mut().for_each(|s| *s *= t),
-                        Split::Window { lo, hi, t: tb, .. } => {
-                            out[..lo].iter_mut().for_each(|s| *s *= tb);
-                            out[hi..].iter_mut().for_each(|s| *s *= tb);
-                            for (s, t) in out[lo..hi].iter_mut().zip(&t[lo..hi]) {
-                                *s *= t;
-                            }
-                        }
-                    }
+                    self.optics
+                        .transmit(d.dot(self.normals[seg.index]).abs(), out);
                 }
             }
             !own
@@ -126,27 +109,21 @@ impl Walker<'_> {
     pub(crate) fn fill_direct(&self, sums: &mut [f32], stride: usize, lobes: usize) {
         let bins = self.spectrum.len();
         let [nx, ny, _] = self.grid.n;
-        let cells: Vec<(usize, u32)> = self
-            .slot_of_cell
-            .iter()
-            .enumerate()
-            .filter(|(_, &s)| s != NO_SLOT)
-            .map(|(c, &s)| (c, s))
+        // Slots are numbered in cell order.
+        let cells: Vec<usize> = (0..self.slot_of_cell.len())
+            .filter(|&c| self.slot_of_cell[c] != NO_SLOT)
             .collect();
         sums.par_chunks_mut(stride * lobes)
             .zip(cells.par_iter())
-            .for_each_init(
-                || [vec![0.0f32; bins], vec![0.0f32; bins], vec![0.0f32; bins]],
-                |scratch, (entry, &(cell, _))| {
-                    let centre = self
-                        .grid
-                        .cell_center(cell % nx, cell / nx % ny, cell / (nx * ny));
-                    let (spectrum, rest) = entry[..stride].split_at_mut(bins);
-                    let direction = self.direct_at(cell, centre, spectrum, scratch);
-                    // Direction sums with a unit weight: one exact direction (ρ = 1).
-                    rest[..3].copy_from_slice(&direction.to_array());
-                    rest[3] = direction.length();
-                },
-            );
+            .for_each(|(entry, &cell)| {
+                let centre = self
+                    .grid
+                    .cell_center(cell % nx, cell / nx % ny, cell / (nx * ny));
+                let (spectrum, rest) = entry[..stride].split_at_mut(bins);
+                let direction = self.direct_at(cell, centre, spectrum);
+                // Direction sums with a unit weight: one exact direction (ρ = 1).
+                rest[..3].copy_from_slice(&direction.to_array());
+                rest[3] = direction.length();
+            });
     }
 }

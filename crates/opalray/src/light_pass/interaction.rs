@@ -128,17 +128,8 @@ impl<'a> ClusterOptics<'a> {
                 d: a.2 + w * (b.2 - a.2),
             };
         }
-        // The union of both rows' windows, interpolated densely inside; a flat row's window is
-        // empty and its background its mean.
-        let window_of = |k: usize| match self.flat[k] {
-            Some(mean) => RowWindow {
-                lo: usize::MAX,
-                hi: 0,
-                background: mean,
-            },
-            None => self.windows[k],
-        };
-        let (a, b) = (window_of(i), window_of(i + 1));
+        // The union of both rows' windows, interpolated densely inside.
+        let (a, b) = (self.window_of(i), self.window_of(i + 1));
         let (lo, hi) = (a.lo.min(b.lo), a.hi.max(b.hi));
         let (ra, ta, da) = self.tables.row(i);
         let (rb, tb, db) = self.tables.row(i + 1);
@@ -154,6 +145,89 @@ impl<'a> ClusterOptics<'a> {
             r: x.0 + w * (y.0 - x.0),
             t: x.1 + w * (y.1 - x.1),
             d: x.2 + w * (y.2 - x.2),
+        }
+    }
+
+    /// Multiply `spectrum` by the transmittance at `cos_theta`, in place: one scalar where
+    /// both neighbouring rows are flat, else the flat level outside the Bragg line's window
+    /// and the interpolated rows inside it (as [`ClusterOptics::split`]).
+    #[inline]
+    pub fn transmit(&self, cos_theta: f32, spectrum: &mut [f32]) {
+        let last = self.tables.angles - 1;
+        let f = (1.0 - cos_theta.clamp(0.0, 1.0)) * last as f32;
+        let i = (f as usize).min(last - 1);
+        let w = f - i as f32;
+        if let (Some(a), Some(b)) = (self.flat[i], self.flat[i + 1]) {
+            let t = a.1 + w * (b.1 - a.1);
+            spectrum.iter_mut().for_each(|s| *s *= t);
+            return;
+        }
+        let (a, b) = (self.window_of(i), self.window_of(i + 1));
+        let (lo, hi) = (a.lo.min(b.lo), a.hi.max(b.hi));
+        let background = a.background.1 + w * (b.background.1 - a.background.1);
+        let (ta, tb) = (self.tables.row(i).1, self.tables.row(i + 1).1);
+        if lo >= hi {
+            spectrum.iter_mut().for_each(|s| *s *= background);
+            return;
+        }
+        spectrum[..lo].iter_mut().for_each(|s| *s *= background);
+        spectrum[hi..].iter_mut().for_each(|s| *s *= background);
+        for ((s, ta), tb) in spectrum[lo..hi]
+            .iter_mut()
+            .zip(&ta[lo..hi])
+            .zip(&tb[lo..hi])
+        {
+            *s *= ta + w * (tb - ta);
+        }
+    }
+
+    /// Apply the transmittance at `cos_theta` to a throughput kept as `scale × shape` (shape
+    /// at most 1): returns the factor for the scale, and changes the shape only in a Bragg
+    /// line's window, renormalised so that its maximum stays 1.
+    #[inline]
+    pub fn transmit_shape(&self, cos_theta: f32, shape: &mut [f32]) -> f32 {
+        let last = self.tables.angles - 1;
+        let f = (1.0 - cos_theta.clamp(0.0, 1.0)) * last as f32;
+        let i = (f as usize).min(last - 1);
+        let w = f - i as f32;
+        if let (Some(a), Some(b)) = (self.flat[i], self.flat[i + 1]) {
+            return a.1 + w * (b.1 - a.1);
+        }
+        let (a, b) = (self.window_of(i), self.window_of(i + 1));
+        let (lo, hi) = (a.lo.min(b.lo), a.hi.max(b.hi));
+        let background = a.background.1 + w * (b.background.1 - a.background.1);
+        if lo >= hi {
+            return background;
+        }
+        if background <= f32::MIN_POSITIVE {
+            return 0.0;
+        }
+        let (ta, tb) = (self.tables.row(i).1, self.tables.row(i + 1).1);
+        let inv = 1.0 / background;
+        for ((s, ta), tb) in shape[lo..hi].iter_mut().zip(&ta[lo..hi]).zip(&tb[lo..hi]) {
+            *s *= (ta + w * (tb - ta)) * inv;
+        }
+        let max = shape.iter().fold(0.0f32, |m, &v| m.max(v));
+        if max <= 0.0 {
+            return 0.0;
+        }
+        if max != 1.0 {
+            let k = 1.0 / max;
+            shape.iter_mut().for_each(|s| *s *= k);
+        }
+        background * max
+    }
+
+    /// Row `k`'s window; a flat row's window is empty and its background its mean.
+    #[inline]
+    fn window_of(&self, k: usize) -> RowWindow {
+        match self.flat[k] {
+            Some(mean) => RowWindow {
+                lo: usize::MAX,
+                hi: 0,
+                background: mean,
+            },
+            None => self.windows[k],
         }
     }
 
@@ -197,5 +271,68 @@ impl<'a> ClusterOptics<'a> {
             *o = a + w * (b - a);
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optics::build_optics;
+    use crate::scene::CrystalConfig;
+    use crate::spectrum::WavelengthGrid;
+
+    fn tables() -> OpticsTables {
+        let grid = WavelengthGrid::new(380.0, 780.0, 40).unwrap();
+        build_optics(&CrystalConfig::default(), &grid).unwrap()
+    }
+
+    /// The transmittance `split` gives at `cos`, bin by bin.
+    fn split_t(optics: &ClusterOptics, cos: f32) -> Vec<f32> {
+        let bins = optics.tables().grid.bins;
+        let (mut r, mut t, mut d) = (vec![0.0; bins], vec![0.0; bins], vec![0.0; bins]);
+        match optics.split(cos, &mut r, &mut t, &mut d) {
+            Split::Flat { t, .. } => vec![t; bins],
+            Split::Window { lo, hi, t: tb, .. } => (0..bins)
+                .map(|k| if (lo..hi).contains(&k) { t[k] } else { tb })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn transmit_and_transmit_shape_apply_the_split_transmittance() {
+        let tables = tables();
+        let optics = ClusterOptics::new(&tables);
+        let bins = tables.grid.bins;
+        let mut windows = 0;
+        for k in 0..=400 {
+            let cos = k as f32 / 400.0;
+            let expected = split_t(&optics, cos);
+            windows += usize::from(expected.iter().any(|&t| t != expected[0]));
+            // A non-uniform starting spectrum, so that a wrong bin would show.
+            let start: Vec<f32> = (0..bins).map(|b| 0.5 + b as f32 / bins as f32).collect();
+            let mut direct = start.clone();
+            optics.transmit(cos, &mut direct);
+            let peak = start.iter().fold(0.0f32, |m, &v| m.max(v));
+            let mut shape: Vec<f32> = start.iter().map(|v| v / peak).collect();
+            let scale = peak * optics.transmit_shape(cos, &mut shape);
+            let max = shape.iter().fold(0.0f32, |m, &v| m.max(v));
+            assert!(max == 0.0 || (max - 1.0).abs() < 1e-6, "shape max {max}");
+            for b in 0..bins {
+                let want = start[b] * expected[b];
+                assert!(
+                    (direct[b] - want).abs() <= 1e-6 * want.max(1e-3),
+                    "cos {cos}, bin {b}"
+                );
+                let got = scale * shape[b];
+                assert!(
+                    (got - want).abs() <= 1e-5 * want.max(1e-3),
+                    "cos {cos}, bin {b}"
+                );
+            }
+        }
+        assert!(
+            windows > 10,
+            "the sweep must cross the Bragg line ({windows} rows)"
+        );
     }
 }

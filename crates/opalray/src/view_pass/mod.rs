@@ -14,7 +14,7 @@ pub use shading::{Lobe, Shading, LOBE_CUTOFF};
 
 use rayon::prelude::*;
 
-use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, Ray};
+use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, CellGrid, Ellipsoid, Ray};
 use crate::light_pass::{stone_geometry, ClusterOptics, LightField, LightSource, LOBES};
 use crate::optics::OpticsTables;
 use crate::spectrum::SpectralImage;
@@ -63,151 +63,166 @@ pub fn trace_view(
     let cluster_optics = ClusterOptics::new(optics);
     let bins = light.grid.bins;
     let n_eff = optics.n_eff as f32;
+    let ctx = View {
+        structure,
+        light,
+        shading,
+        setup,
+        shape,
+        grid,
+        optics: cluster_optics,
+        bins,
+        n_eff,
+    };
     let mut image = SpectralImage::new(setup.width, setup.height, light.grid);
     image
         .data
         .par_chunks_mut(setup.width * bins)
         .enumerate()
         .for_each_init(
-            || (vec![0.0f32; bins], vec![0.0f32; bins], vec![0.0f32; bins]),
-            |(thr, t, r), (y, row)| {
+            || vec![0.0f32; bins],
+            |shape_thr, (y, row)| {
                 for (x, pixel) in row.chunks_exact_mut(bins).enumerate() {
-                    let ray = setup.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
-                    let Some((t_hit, _)) = shape.intersect(&ray).filter(|h| h.0 > 0.0) else {
-                        for (p, s) in pixel.iter_mut().zip(setup.light_spectrum) {
-                            *p = setup.background * s;
-                        }
-                        continue;
-                    };
-                    // Surface: the gloss of the light, and the refracted ray.
-                    let p = ray.at(t_hit);
-                    let normal = shape.normal(p);
-                    let to_eye = -ray.direction;
-                    let fresnel = fresnel_dielectric(to_eye.dot(normal), 1.0, n_eff);
-                    let to_light = setup.source.direction_to_light(p);
-                    let cos_l = to_light.dot(normal);
-                    let mut glint = 0.0;
-                    if cos_l > 0.0 && setup.gloss > 0.0 {
-                        let h = (to_light + to_eye).normalize();
-                        glint = setup.gloss
-                            * fresnel_dielectric(h.dot(to_light), 1.0, n_eff)
-                            * setup.source.irradiance_at(p)
-                            * cos_l
-                            * (GLOSS_EXPONENT + 8.0)
-                            / 8.0
-                            * normal.dot(h).max(0.0).powf(GLOSS_EXPONENT);
-                    }
-                    for (px, s) in pixel.iter_mut().zip(setup.light_spectrum) {
-                        *px = glint * s;
-                    }
-                    let Some(mut dir) = refract(ray.direction, normal, 1.0, n_eff) else {
-                        continue;
-                    };
-                    // Radiance leaving the stone is scaled by (1 − F) / n² (étendue).
-                    thr.fill((1.0 - fresnel) / (n_eff * n_eff));
-                    let mut origin = p;
-                    for _ in 0..MAX_VIEW_BOUNCES {
-                        let inner = Ray {
-                            origin,
-                            direction: dir,
-                        };
-                        let Some((t0, t1)) = shape.intersect(&inner) else {
-                            break;
-                        };
-                        let to_eye = -dir;
-                        let mut live = true;
-                        grid.traverse(&inner, t0.max(0.0), t1, |seg| {
-                            let slot = light.slot_of_cell[seg.index] as usize;
-                            match structure.cells[seg.index] {
-                                Cell::Outside => return true,
-                                Cell::Void => {
-                                    let kept = (-setup.body_extinction_per_mm
-                                        * (seg.t_exit - seg.t_enter))
-                                        .exp();
-                                    let glow = &shading.diffuse[slot * bins..(slot + 1) * bins];
-                                    let seen = 1.0 - kept;
-                                    for ((p, t), g) in
-                                        pixel.iter_mut().zip(thr.iter_mut()).zip(glow)
-                                    {
-                                        *p += *t * g * seen;
-                                        *t *= kept;
-                                    }
-                                }
-                                Cell::Cluster => {
-                                    for lobe in 0..LOBES {
-                                        let l = shading.lobes[slot * LOBES + lobe];
-                                        let c = l.mirror.dot(to_eye);
-                                        if c <= l.cos_min {
-                                            continue;
-                                        }
-                                        // Eq. (2)'s specular term: E · R(θ) · cosⁿ' θ'.
-                                        let k = l.peak * c.powf(l.exponent);
-                                        let e = light.fluence(slot, lobe);
-                                        match cluster_optics.reflectance(l.cos_incidence, r) {
-                                            Some(r) => {
-                                                let k = k * r;
-                                                for ((p, t), e) in
-                                                    pixel.iter_mut().zip(thr.iter()).zip(e)
-                                                {
-                                                    *p += *t * e * k;
-                                                }
-                                            }
-                                            None => {
-                                                for (((p, t), e), r) in pixel
-                                                    .iter_mut()
-                                                    .zip(thr.iter())
-                                                    .zip(e)
-                                                    .zip(r.iter())
-                                                {
-                                                    *p += *t * e * r * k;
-                                                }
-                                            }
-                                        }
-                                    }
-                                    if shading.glows[slot] {
-                                        let glow = &shading.diffuse[slot * bins..(slot + 1) * bins];
-                                        for ((p, t), g) in
-                                            pixel.iter_mut().zip(thr.iter()).zip(glow)
-                                        {
-                                            *p += *t * g;
-                                        }
-                                    }
-                                    let normal = shading.normals[slot];
-                                    match cluster_optics.transmittance(dir.dot(normal).abs(), t) {
-                                        Some(t) => thr.iter_mut().for_each(|v| *v *= t),
-                                        None => {
-                                            thr.iter_mut().zip(t.iter()).for_each(|(v, t)| *v *= t)
-                                        }
-                                    }
-                                }
-                            }
-                            live = thr.iter().any(|&v| v > MIN_THROUGHPUT);
-                            live
-                        });
-                        if !live {
-                            break;
-                        }
-                        // Far surface: the backdrop through the stone, and internal reflection.
-                        let q = inner.at(t1);
-                        let n_q = shape.normal(q);
-                        let f_out = fresnel_dielectric(dir.dot(n_q), n_eff, 1.0);
-                        let seen = (1.0 - f_out) * n_eff * n_eff * setup.background;
-                        for ((p, t), l) in pixel
-                            .iter_mut()
-                            .zip(thr.iter_mut())
-                            .zip(setup.light_spectrum)
-                        {
-                            *p += *t * seen * l;
-                            *t *= f_out;
-                        }
-                        dir = reflect(dir, n_q);
-                        origin = q;
-                        if !thr.iter().any(|&v| v > MIN_THROUGHPUT) {
-                            break;
-                        }
-                    }
+                    ctx.shade_pixel(x, y, pixel, shape_thr);
                 }
             },
         );
     image
+}
+
+/// Everything a camera ray needs, shared by all threads.
+struct View<'a> {
+    structure: &'a Structure,
+    light: &'a LightField,
+    shading: &'a Shading,
+    setup: &'a ViewSetup<'a>,
+    shape: Ellipsoid,
+    grid: CellGrid,
+    optics: ClusterOptics<'a>,
+    bins: usize,
+    n_eff: f32,
+}
+
+impl View<'_> {
+    /// The spectrum seen through pixel `(x, y)`, written into `pixel`; `shape_thr` is scratch
+    /// space for the shape of the ray's throughput. (Not inlined: one call per pixel costs
+    /// nothing, and profiles can tell the view pass apart.)
+    #[inline(never)]
+    fn shade_pixel(&self, x: usize, y: usize, pixel: &mut [f32], shape_thr: &mut [f32]) {
+        let View {
+            structure,
+            light,
+            shading,
+            setup,
+            shape,
+            grid,
+            optics: ref cluster_optics,
+            bins,
+            n_eff,
+        } = *self;
+        let ray = setup.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
+        let Some((t_hit, _)) = shape.intersect(&ray).filter(|h| h.0 > 0.0) else {
+            for (p, s) in pixel.iter_mut().zip(setup.light_spectrum) {
+                *p = setup.background * s;
+            }
+            return;
+        };
+        // Surface: the gloss of the light, and the refracted ray.
+        let p = ray.at(t_hit);
+        let normal = shape.normal(p);
+        let to_eye = -ray.direction;
+        let fresnel = fresnel_dielectric(to_eye.dot(normal), 1.0, n_eff);
+        let to_light = setup.source.direction_to_light(p);
+        let cos_l = to_light.dot(normal);
+        let mut glint = 0.0;
+        if cos_l > 0.0 && setup.gloss > 0.0 {
+            let h = (to_light + to_eye).normalize();
+            glint = setup.gloss
+                * fresnel_dielectric(h.dot(to_light), 1.0, n_eff)
+                * setup.source.irradiance_at(p)
+                * cos_l
+                * (GLOSS_EXPONENT + 8.0)
+                / 8.0
+                * normal.dot(h).max(0.0).powf(GLOSS_EXPONENT);
+        }
+        for (px, s) in pixel.iter_mut().zip(setup.light_spectrum) {
+            *px = glint * s;
+        }
+        let Some(mut dir) = refract(ray.direction, normal, 1.0, n_eff) else {
+            return;
+        };
+        // Radiance leaving the stone is scaled by (1 − F) / n² (étendue). The ray's throughput
+        // is `scale × shape`: filters flat in wavelength (most clusters, voids, the surface)
+        // change only the scale; the shape changes only in the bins of a Bragg line, and is
+        // kept at a maximum of 1, so the ray lives while `scale` exceeds MIN_THROUGHPUT.
+        let mut scale = (1.0 - fresnel) / (n_eff * n_eff);
+        shape_thr.fill(1.0);
+        let mut origin = p;
+        for _ in 0..MAX_VIEW_BOUNCES {
+            let inner = Ray {
+                origin,
+                direction: dir,
+            };
+            let Some((t0, t1)) = shape.intersect(&inner) else {
+                break;
+            };
+            let to_eye = -dir;
+            grid.traverse(&inner, t0.max(0.0), t1, |seg| {
+                let slot = light.slot_of_cell[seg.index] as usize;
+                match structure.cells[seg.index] {
+                    Cell::Outside => return true,
+                    Cell::Void => {
+                        let kept =
+                            (-setup.body_extinction_per_mm * (seg.t_exit - seg.t_enter)).exp();
+                        let glow = &shading.diffuse[slot * bins..(slot + 1) * bins];
+                        add_filtered(pixel, shape_thr, glow, scale * (1.0 - kept));
+                        scale *= kept;
+                    }
+                    Cell::Cluster => {
+                        for lobe in 0..LOBES {
+                            let l = shading.lobes[slot * LOBES + lobe];
+                            let c = l.mirror.dot(to_eye);
+                            if c <= l.cos_min {
+                                continue;
+                            }
+                            // Eq. (2)'s specular term: E · R(θ) · peak · cosⁿ' θ'.
+                            let entry = (slot * LOBES + lobe) * bins;
+                            let spectrum = &shading.specular[entry..entry + bins];
+                            add_filtered(pixel, shape_thr, spectrum, scale * c.powf(l.exponent));
+                        }
+                        if shading.glows[slot] {
+                            let glow = &shading.diffuse[slot * bins..(slot + 1) * bins];
+                            add_filtered(pixel, shape_thr, glow, scale);
+                        }
+                        let normal = shading.normals[slot];
+                        scale *= cluster_optics.transmit_shape(dir.dot(normal).abs(), shape_thr);
+                    }
+                }
+                scale > MIN_THROUGHPUT
+            });
+            if scale <= MIN_THROUGHPUT {
+                break;
+            }
+            // Far surface: the backdrop through the stone, and internal reflection.
+            let q = inner.at(t1);
+            let n_q = shape.normal(q);
+            let f_out = fresnel_dielectric(dir.dot(n_q), n_eff, 1.0);
+            let seen = (1.0 - f_out) * n_eff * n_eff * setup.background;
+            add_filtered(pixel, shape_thr, setup.light_spectrum, scale * seen);
+            scale *= f_out;
+            dir = reflect(dir, n_q);
+            origin = q;
+            if scale <= MIN_THROUGHPUT {
+                break;
+            }
+        }
+    }
+}
+
+/// `pixel += k · shape ⊙ spectrum`.
+#[inline(always)]
+fn add_filtered(pixel: &mut [f32], shape: &[f32], spectrum: &[f32], k: f32) {
+    for ((p, s), e) in pixel.iter_mut().zip(shape).zip(spectrum) {
+        *p += k * s * e;
+    }
 }

@@ -25,38 +25,35 @@ const MIN_SPECULAR_COS: f32 = 0.173_648_18; // cos 80°
 pub struct Lobe {
     /// Direction of the Bragg-reflected light (zero: no specular term).
     pub mirror: Vec3,
+    /// Cosine below which the lobe is under [`LOBE_CUTOFF`] of its peak (above 1: never
+    /// seen), a cheap test before `powf`.
+    pub cos_min: f32,
     /// Phong exponent, widened from `n` by the spread of the stored light's directions
     /// (Toksvig 2005): `n' = ρ n / (ρ + n (1 − ρ))`, ρ the mean resultant length. Light
     /// stored from one direction keeps `n`; light mixed from many directions reflects into a
     /// broad, dim lobe instead of a spurious sharp one.
     pub exponent: f32,
-    /// Cosine below which the lobe is under [`LOBE_CUTOFF`] of its peak (above 1: never
-    /// seen), a cheap test before `powf`.
-    pub cos_min: f32,
-    /// |cos θ| between the stored light and the (111) normal: where to read R.
-    pub cos_incidence: f32,
-    /// Peak of the normalised Phong lobe times π, `(n' + 2) / 2`.
-    pub peak: f32,
 }
 
 const NO_LOBE: Lobe = Lobe {
     mirror: Vec3::ZERO,
-    exponent: 1.0,
     cos_min: 2.0,
-    cos_incidence: 1.0,
-    peak: 0.0,
+    exponent: 1.0,
 };
 
 /// Per-slot shading terms, in units where a white Lambertian diffuser under unit irradiance
-/// has the light's spectrum (π × radiance). The specular spectrum of a lobe,
-/// `E · R(θ) · peak · cosⁿ' θ'`, is formed in the view pass only where a camera ray meets the
-/// lobe.
+/// has the light's spectrum (π × radiance). The specular term of a lobe,
+/// `E · R(θ) · peak · cosⁿ' θ'`, is its spectrum `E · R(θ) · peak` (formed here, once per
+/// light) times `cosⁿ' θ'` (formed in the view pass where a camera ray meets the lobe).
 #[derive(Clone, Debug)]
 pub struct Shading {
     /// Bins per spectrum.
     pub bins: usize,
     /// Specular lobes, `slots × LOBES`.
     pub lobes: Vec<Lobe>,
+    /// Specular spectra `E · R(θ) · peak`, `slots × LOBES × bins`, the peak of the normalised
+    /// Phong lobe times π being `(n' + 2) / 2` (zero where the lobe has no specular term).
+    pub specular: Vec<f32>,
     /// (111) normal of each slot's cell (clusters only).
     pub normals: Vec<Vec3>,
     /// Diffuse spectra `slots × bins`: clusters Σ E · D(θ) · cos θ (eq. 2's first sum);
@@ -85,16 +82,18 @@ impl Shading {
             }
         }
         let mut lobes = vec![NO_LOBE; slots * LOBES];
+        let mut specular = vec![0.0f32; slots * LOBES * bins];
         let mut normals = vec![Vec3::ZERO; slots];
         let mut diffuse = vec![0.0f32; slots * bins];
         lobes
             .par_chunks_mut(LOBES)
+            .zip(specular.par_chunks_mut(LOBES * bins))
             .zip(normals.par_iter_mut())
             .zip(diffuse.par_chunks_mut(bins))
             .enumerate()
             .for_each_init(
                 || vec![0.0f32; bins],
-                |d, (slot, ((out, slot_normal), glow))| {
+                |d, (slot, (((out, spec), slot_normal), glow))| {
                     let cell = cell_of_slot[slot];
                     match structure.cells[cell] {
                         Cell::Cluster => {
@@ -131,11 +130,24 @@ impl Shading {
                                 .max(1e-3);
                                 *out = Lobe {
                                     mirror: crate::geometry::reflect(w, normal),
-                                    exponent,
                                     cos_min: LOBE_CUTOFF.powf(1.0 / exponent),
-                                    cos_incidence: cos,
-                                    peak: 0.5 * (exponent + 2.0),
+                                    exponent,
                                 };
+                                let peak = 0.5 * (exponent + 2.0);
+                                let spec = &mut spec[lobe * bins..(lobe + 1) * bins];
+                                // `d` is free again: it takes the reflectance.
+                                match optics.reflectance(cos, d) {
+                                    Some(r) => {
+                                        for (s, &e) in spec.iter_mut().zip(e) {
+                                            *s = e * r * peak;
+                                        }
+                                    }
+                                    None => {
+                                        for ((s, &e), &r) in spec.iter_mut().zip(e).zip(d.iter()) {
+                                            *s = e * r * peak;
+                                        }
+                                    }
+                                }
                             }
                         }
                         Cell::Void => {
@@ -157,6 +169,7 @@ impl Shading {
         Shading {
             bins,
             lobes,
+            specular,
             normals,
             diffuse,
             glows,
