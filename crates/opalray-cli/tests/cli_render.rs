@@ -159,7 +159,12 @@ fn bench_prints_json_medians() {
         "color",
         "total",
     ] {
-        assert!(v["median_s"][stage].as_f64().is_some(), "median_s.{stage}");
+        let median = v["median_s"][stage].as_f64().expect("median_s");
+        let fastest = v["min_s"][stage].as_f64().expect("min_s");
+        assert!(
+            fastest <= median && fastest >= 0.0,
+            "{stage}: {fastest} > {median}"
+        );
     }
 }
 
