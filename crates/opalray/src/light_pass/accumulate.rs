@@ -71,7 +71,21 @@ impl Accumulator {
 
     /// The sums as floats, `entries × stride`: for each entry the fluence spectrum (`bins`
     /// values), Σ P·w (3) and Σ P (1).
+    #[cfg(test)]
     pub fn into_sums(self) -> Vec<f32> {
+        self.into_group_sums(1, 1, 0)
+    }
+
+    /// The sums as floats, with room left for other entries: the accumulator's entries, taken
+    /// `per_group` at a time, are written into groups of `group` entries starting at entry
+    /// `first` of each group; the other entries are zero. (The light pass accumulates the two
+    /// scattered lobes of each cell and leaves the direct lobe, solved per cell, to be
+    /// filled in.)
+    pub fn into_group_sums(self, group: usize, per_group: usize, first: usize) -> Vec<f32> {
+        assert!(
+            first + per_group <= group,
+            "the entries must fit in their group"
+        );
         let scale: Vec<f64> = (0..self.stride)
             .map(|k| {
                 if k < self.bins {
@@ -81,12 +95,17 @@ impl Accumulator {
                 }
             })
             .collect();
-        let mut out = vec![0.0f32; self.sums.len()];
-        out.par_chunks_mut(self.stride)
-            .zip(self.sums.par_chunks(self.stride))
+        let stride = self.stride;
+        let groups = self.sums.len() / (stride * per_group);
+        let mut out = vec![0.0f32; groups * group * stride];
+        out.par_chunks_mut(group * stride)
+            .zip(self.sums.par_chunks(per_group * stride))
             .for_each(|(o, s)| {
-                for ((o, &s), &k) in o.iter_mut().zip(s).zip(&scale) {
-                    *o = (s as f64 * k) as f32;
+                let o = &mut o[first * stride..(first + per_group) * stride];
+                for (o, s) in o.chunks_exact_mut(stride).zip(s.chunks_exact(stride)) {
+                    for ((o, &s), &k) in o.iter_mut().zip(s).zip(&scale) {
+                        *o = (s as f64 * k) as f32;
+                    }
                 }
             });
         out
@@ -97,18 +116,16 @@ impl Accumulator {
 /// spectra (`entries × bins`), unit mean directions (zero where nothing arrived) and the mean
 /// resultant length of the directions (|Σ P·w| / Σ P: 1 for light from one direction,
 /// towards 0 for light from many).
-pub fn split_sums(sums: &[f32], bins: usize) -> (Vec<f32>, Vec<Vec3>, Vec<f32>) {
+pub fn split_sums(mut sums: Vec<f32>, bins: usize) -> (Vec<f32>, Vec<Vec3>, Vec<f32>) {
     let stride = bins + 4;
     let entries = sums.len() / stride;
-    let mut fluence = vec![0.0f32; entries * bins];
     let mut directions = vec![Vec3::ZERO; entries];
     let mut concentration = vec![0.0f32; entries];
-    fluence
-        .par_chunks_mut(bins)
-        .zip(directions.par_iter_mut().zip(concentration.par_iter_mut()))
+    directions
+        .par_iter_mut()
+        .zip(concentration.par_iter_mut())
         .zip(sums.par_chunks(stride))
-        .for_each(|((f, (dir, conc)), chunk)| {
-            f.copy_from_slice(&chunk[..bins]);
+        .for_each(|((dir, conc), chunk)| {
             let d = Vec3::new(chunk[bins], chunk[bins + 1], chunk[bins + 2]);
             let total = chunk[bins + 3];
             *conc = if total > 0.0 {
@@ -118,7 +135,14 @@ pub fn split_sums(sums: &[f32], bins: usize) -> (Vec<f32>, Vec<Vec3>, Vec<f32>) 
             };
             *dir = d.normalize_or_zero();
         });
-    (fluence, directions, concentration)
+    // The spectra, packed in place: entry k moves from k·stride down to k·bins, so copying
+    // in order never overwrites what is still to be read (and no second buffer is faulted
+    // in).
+    for k in 1..entries {
+        sums.copy_within(k * stride..k * stride + bins, k * bins);
+    }
+    sums.truncate(entries * bins);
+    (sums, directions, concentration)
 }
 
 /// The deposits of one tile of rays, in `f32`, for the entries the tile touches.
@@ -220,7 +244,7 @@ mod tests {
                 a.add_tile(&mut tile);
             }
         }
-        let (f, d, c) = split_sums(&a.into_sums(), 1);
+        let (f, d, c) = split_sums(a.into_sums(), 1);
         assert!((c[1] - 1.0).abs() < 1e-6 && c[0] == 0.0);
         assert_eq!(f[0], 0.0);
         assert!((f[1] - 5.0).abs() < 1e-5, "{}", f[1]);
@@ -235,7 +259,7 @@ mod tests {
         tile.deposit(0, &[1.0], 1.0, Vec3::X, 1.0);
         tile.deposit(0, &[1.0], 1.0, Vec3::new(0.0, 1.0, 0.0), 1.0);
         a.add_tile(&mut tile);
-        let (_, d, c) = split_sums(&a.into_sums(), 1);
+        let (_, d, c) = split_sums(a.into_sums(), 1);
         // Two perpendicular unit vectors of equal weight: |Σ w| / Σ 1 = √2 / 2.
         assert!(
             (c[0] - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-5,
@@ -260,7 +284,7 @@ mod tests {
         tile.deposit(0, &[1.0], 1.0, Vec3::X, 1.0);
         a.add_tile(&mut tile);
         a.add_tile(&mut tile);
-        let (f, _, _) = split_sums(&a.into_sums(), 1);
+        let (f, _, _) = split_sums(a.into_sums(), 1);
         assert!((f[0] - 1.0).abs() < 1e-6);
     }
 }

@@ -42,6 +42,8 @@ use walk::{Scratch, Walker};
 /// Lobes stored per cell: 0 = direct light; light reflected inside at least once,
 /// 1 = travelling down (−z), 2 = travelling up (+z).
 pub const LOBES: usize = 3;
+/// Lobes the rays store (1 and 2); lobe 0, the direct light, is solved per cell.
+const SCATTERED_LOBES: usize = 2;
 /// Marks a cell with no storage (outside the stone).
 pub const NO_SLOT: u32 = u32::MAX;
 /// Work items are square tiles of the ray lattice, this many rays on a side: neighbouring
@@ -250,7 +252,7 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
     // accumulator; integer sums make the order of those additions irrelevant.
     let next_task = AtomicU64::new(0);
     let shared = Mutex::new(Accumulator::new(
-        slots * LOBES,
+        slots * SCATTERED_LOBES,
         bins,
         max_spectral,
         max_power,
@@ -258,7 +260,7 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
     let ledger = (0..rayon::current_num_threads())
         .into_par_iter()
         .map(|_| {
-            let mut tile = TileSums::new(slots * LOBES, bins);
+            let mut tile = TileSums::new(slots * SCATTERED_LOBES, bins);
             let mut ledger = EnergyLedger::default();
             let mut scratch = Scratch::default();
             loop {
@@ -284,7 +286,7 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         .into_inner()
         .expect("no worker panicked while holding the accumulator");
     let stride = acc.stride();
-    let mut sums = acc.into_sums();
+    let mut sums = acc.into_group_sums(LOBES, SCATTERED_LOBES, 1);
     walker.fill_direct(&mut sums, stride, LOBES);
     smooth::smooth_sums(
         &mut sums,
@@ -294,7 +296,7 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         structure.grid,
         stride,
     );
-    let (fluence, directions, concentration) = split_sums(&sums, bins);
+    let (fluence, directions, concentration) = split_sums(sums, bins);
     LightField {
         grid: optics.grid,
         slot_of_cell,

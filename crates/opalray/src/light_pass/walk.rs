@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::accumulate::TileSums;
 use super::interaction::{ClusterOptics, Split};
 use super::source::{LightSource, RayLattice};
-use super::{EnergyLedger, LOBES};
+use super::{EnergyLedger, SCATTERED_LOBES};
 use crate::geometry::{fresnel_dielectric, reflect, refract, CellGrid, Ellipsoid, Ray};
 use crate::sampling::{stage, Rng};
 use crate::spectrum;
@@ -181,7 +181,7 @@ impl Walker<'_> {
                     // The direct light is computed per cell (`direct.rs`), not stored.
                     if kind != DIRECT {
                         acc.deposit(
-                            slot * LOBES + lobe,
+                            slot * SCATTERED_LOBES + lobe - 1,
                             &spectrum,
                             track * self.inv_volume[slot],
                             direction,
@@ -198,7 +198,7 @@ impl Walker<'_> {
                     // The direct light is computed per cell (`direct.rs`), not stored.
                     if kind != DIRECT {
                         acc.deposit(
-                            slot * LOBES + lobe,
+                            slot * SCATTERED_LOBES + lobe - 1,
                             &spectrum,
                             length * self.inv_volume[slot],
                             direction,
