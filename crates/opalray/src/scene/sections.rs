@@ -249,7 +249,7 @@ pub enum Illuminant {
 /// | `illuminant`   | –    | "D65"         | "D65", "A", "C", "E"  |
 /// | `intensity`    | –    | 1.0           | (0, 1e6]              |
 /// | `distance_mm`  | mm   | 100           | (0, 1e6]              |
-/// | `rays`         | –    | 262144        | 1 ..= 1e9             |
+/// | `rays`         | –    | 196608        | 1 ..= 1e9             |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct LightConfig {
@@ -276,7 +276,7 @@ impl Default for LightConfig {
             illuminant: Illuminant::D65,
             intensity: 1.0,
             distance_mm: 100.0,
-            rays: 262_144,
+            rays: 196_608,
         }
     }
 }
@@ -290,7 +290,7 @@ impl LightConfig {
         if !(1..=1_000_000_000).contains(&self.rays) {
             return Err(Error::field(
                 "light.rays",
-                format!("must be in 1..=1000000000, got {}; try 262144", self.rays),
+                format!("must be in 1..=1000000000, got {}; try 196608", self.rays),
             ));
         }
         Ok(())
