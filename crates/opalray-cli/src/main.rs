@@ -7,6 +7,11 @@ mod cmd;
 
 use clap::{Parser, Subcommand};
 
+/// mimalloc keeps freed memory for reuse: the passes allocate and free buffers of tens of MB
+/// per frame, which the system allocator hands back to the kernel and then faults in again.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// Spectral rendering of precious opal's play of colour.
 #[derive(Parser)]
 #[command(name = "opalray", version, about, long_about = None)]

@@ -9,7 +9,7 @@ use serde::Serialize;
 use crate::color::{illuminant_spectrum, to_rgb, RgbImage};
 use crate::error::Result;
 use crate::geometry::Camera;
-use crate::light_pass::{trace_light, ClusterOptics, LightField, LightSetup, LightSource};
+use crate::light_pass::{trace_light, ClusterOptics, EnergyLedger, LightSetup, LightSource};
 use crate::optics::{build_optics, OpticsTables};
 use crate::scene::{LightKind, Scene, BODY_EXTINCTION_PER_MM};
 use crate::spectrum::SpectralImage;
@@ -70,8 +70,10 @@ pub struct Frame {
     pub spectral: SpectralImage,
     /// Linear RGB in the scene's colour space.
     pub rgb: RgbImage,
-    /// The light pass's statistics (rays, energy ledger).
-    pub light: LightField,
+    /// Light rays traced.
+    pub light_rays: u64,
+    /// The light pass's energy bookkeeping.
+    pub ledger: EnergyLedger,
     /// Seconds per stage (structure and optics as prepared).
     pub times: StageTimes,
     /// Void ratio of the structure (void cells / inside cells).
@@ -152,7 +154,7 @@ impl Prepared {
         let body_albedo = s.render.body_albedo();
 
         let start = Instant::now();
-        let light = trace_light(
+        let mut light = trace_light(
             &self.structure,
             &self.optics,
             &LightSetup {
@@ -175,6 +177,9 @@ impl Prepared {
             phong_exponent,
             body_albedo,
         );
+        // The shading holds what the view pass needs of the stored spectra; freeing them
+        // before the image is allocated keeps the peak memory down.
+        light.fluence = Vec::new();
         let spectral = trace_view(
             &self.structure,
             &self.optics,
@@ -200,7 +205,8 @@ impl Prepared {
         Frame {
             spectral,
             rgb,
-            light,
+            light_rays: light.rays,
+            ledger: light.ledger,
             times,
             void_ratio: self.structure.stats.void_ratio,
         }

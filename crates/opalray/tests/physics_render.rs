@@ -181,7 +181,7 @@ fn light_pass_energy_is_accounted_for() {
     let prepared = prepare(&scene).unwrap();
     for angle in [0.0, 30.0, -55.0] {
         let frame = prepared.render(angle);
-        let l = frame.light.ledger;
+        let l = frame.ledger;
         assert!(l.emitted > 0.0 && l.stored > 0.0 && l.absorbed > 0.0 && l.escaped > 0.0);
         let error = (l.accounted() - l.emitted).abs() / l.emitted;
         assert!(

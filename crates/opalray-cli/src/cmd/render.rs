@@ -91,8 +91,8 @@ pub fn run(args: Args) -> Result<()> {
                           "bins": scene.spectrum.bins},
                 "light_angle_deg": scene.light.angle_deg,
                 "void_ratio": frame.void_ratio,
-                "light_rays": frame.light.rays,
-                "energy": frame.light.ledger,
+                "light_rays": frame.light_rays,
+                "energy": frame.ledger,
                 "peak_memory_mb": peak_memory_mb(),
             }),
         )?;
