@@ -166,28 +166,35 @@ impl Walker<'_> {
             let length = seg.t_exit - seg.t_enter;
             ledger.cells_crossed += 1;
             let slot = self.slot_of_cell[seg.index] as usize;
-            match self.cells[seg.index] {
+            let cell = self.cells[seg.index];
+            // The light's track through the cell: the chord in a cluster; in a void (potch)
+            // ∫₀ˡ e^(−σs) ds under exponential attenuation, and its limit ℓ for a clear body.
+            let sigma = self.body_extinction_per_mm;
+            let (track, kept) = match cell {
                 Cell::Outside => return true,
+                Cell::Cluster => (length, 1.0),
                 Cell::Void => {
-                    // Potch: track-length fluence under exponential attenuation.
-                    let sigma = self.body_extinction_per_mm;
                     let kept = (-sigma * length).exp();
-                    // ∫₀ˡ e^(−σs) ds, and its limit ℓ for a clear body.
-                    let track = if sigma * length > 1e-4 {
-                        (1.0 - kept) / sigma
+                    if sigma * length > 1e-4 {
+                        ((1.0 - kept) / sigma, kept)
                     } else {
-                        length
-                    };
-                    // The direct light is computed per cell (`direct.rs`), not stored.
-                    if kind != DIRECT {
-                        acc.deposit(
-                            slot * SCATTERED_LOBES + lobe - 1,
-                            &spectrum,
-                            track * self.inv_volume[slot],
-                            direction,
-                            power,
-                        );
+                        (length, kept)
                     }
+                }
+            };
+            // The direct light is computed per cell (`direct.rs`), not stored.
+            if kind != DIRECT {
+                acc.deposit(
+                    slot * SCATTERED_LOBES + lobe - 1,
+                    &spectrum,
+                    track * self.inv_volume[slot],
+                    direction,
+                    power,
+                );
+            }
+            match cell {
+                Cell::Outside => {}
+                Cell::Void => {
                     let lost = f64::from(power * (1.0 - kept));
                     ledger.stored += f64::from(self.body_albedo) * lost;
                     ledger.absorbed += f64::from(1.0 - self.body_albedo) * lost;
@@ -195,16 +202,6 @@ impl Walker<'_> {
                     power *= kept;
                 }
                 Cell::Cluster => {
-                    // The direct light is computed per cell (`direct.rs`), not stored.
-                    if kind != DIRECT {
-                        acc.deposit(
-                            slot * SCATTERED_LOBES + lobe - 1,
-                            &spectrum,
-                            length * self.inv_volume[slot],
-                            direction,
-                            power,
-                        );
-                    }
                     let normal = self.normals[seg.index];
                     let cos = direction.dot(normal).abs();
                     // Split into the Bragg-reflected branch (followed only if strong
