@@ -13,9 +13,9 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::cells_of_slots;
 use super::source::LightSource;
 use super::walk::Walker;
-use super::NO_SLOT;
 use crate::geometry::{fresnel_dielectric, refract, Ellipsoid, Ray};
 use crate::structure::Cell;
 
@@ -133,10 +133,7 @@ impl Walker<'_> {
     pub(crate) fn fill_direct(&self, sums: &mut [f32], stride: usize, lobes: usize) {
         let bins = self.spectrum.len();
         let [nx, ny, _] = self.grid.n;
-        // Slots are numbered in cell order.
-        let cells: Vec<usize> = (0..self.slot_of_cell.len())
-            .filter(|&c| self.slot_of_cell[c] != NO_SLOT)
-            .collect();
+        let cells = cells_of_slots(self.slot_of_cell);
         // Runs of consecutive cells (mostly along x): each cell's entry search starts from
         // the direction found for the one before, a few iterations fewer.
         const RUN: usize = 64;

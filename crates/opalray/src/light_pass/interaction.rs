@@ -125,10 +125,7 @@ impl<'a> ClusterOptics<'a> {
     /// [`Split::Window`].
     #[inline]
     pub fn split(&self, cos_theta: f32, r: &mut [f32], t: &mut [f32], d: &mut [f32]) -> Split {
-        let last = self.tables.angles - 1;
-        let f = (1.0 - cos_theta.clamp(0.0, 1.0)) * last as f32;
-        let i = (f as usize).min(last - 1);
-        let w = f - i as f32;
+        let (i, w) = self.row_at(cos_theta);
         if let (Some(a), Some(b)) = (self.flat[i], self.flat[i + 1]) {
             return Split::Flat {
                 r: a.0 + w * (b.0 - a.0),
@@ -156,48 +153,12 @@ impl<'a> ClusterOptics<'a> {
         }
     }
 
-    /// Multiply `spectrum` by the transmittance at `cos_theta`, in place: one scalar where
-    /// both neighbouring rows are flat, else the flat level outside the Bragg line's window
-    /// and the interpolated rows inside it (as [`ClusterOptics::split`]).
-    #[inline]
-    pub fn transmit(&self, cos_theta: f32, spectrum: &mut [f32]) {
-        let last = self.tables.angles - 1;
-        let f = (1.0 - cos_theta.clamp(0.0, 1.0)) * last as f32;
-        let i = (f as usize).min(last - 1);
-        let w = f - i as f32;
-        if let (Some(a), Some(b)) = (self.flat[i], self.flat[i + 1]) {
-            let t = a.1 + w * (b.1 - a.1);
-            spectrum.iter_mut().for_each(|s| *s *= t);
-            return;
-        }
-        let (a, b) = (self.window_of(i), self.window_of(i + 1));
-        let (lo, hi) = (a.lo.min(b.lo), a.hi.max(b.hi));
-        let background = a.background.1 + w * (b.background.1 - a.background.1);
-        let (ta, tb) = (self.tables.row(i).1, self.tables.row(i + 1).1);
-        if lo >= hi {
-            spectrum.iter_mut().for_each(|s| *s *= background);
-            return;
-        }
-        spectrum[..lo].iter_mut().for_each(|s| *s *= background);
-        spectrum[hi..].iter_mut().for_each(|s| *s *= background);
-        for ((s, ta), tb) in spectrum[lo..hi]
-            .iter_mut()
-            .zip(&ta[lo..hi])
-            .zip(&tb[lo..hi])
-        {
-            *s *= ta + w * (tb - ta);
-        }
-    }
-
     /// Apply the transmittance at `cos_theta` to a throughput kept as `scale × shape` (shape
     /// at most 1): returns the factor for the scale, and changes the shape only in a Bragg
     /// line's window, renormalised so that its maximum stays 1.
     #[inline]
     pub fn transmit_shape(&self, cos_theta: f32, shape: &mut [f32]) -> f32 {
-        let last = self.tables.angles - 1;
-        let f = (1.0 - cos_theta.clamp(0.0, 1.0)) * last as f32;
-        let i = (f as usize).min(last - 1);
-        let w = f - i as f32;
+        let (i, w) = self.row_at(cos_theta);
         if let (Some(a), Some(b)) = (self.flat[i], self.flat[i + 1]) {
             return a.1 + w * (b.1 - a.1);
         }
@@ -224,6 +185,16 @@ impl<'a> ClusterOptics<'a> {
             shape.iter_mut().for_each(|s| *s *= k);
         }
         background * max
+    }
+
+    /// The table row below `cos_theta` (|cos| of the angle to the planes) and the weight of
+    /// the row after it: rows are uniform in cos θ, row 0 at normal incidence.
+    #[inline(always)]
+    fn row_at(&self, cos_theta: f32) -> (usize, f32) {
+        let last = self.tables.angles - 1;
+        let f = (1.0 - cos_theta.clamp(0.0, 1.0)) * last as f32;
+        let i = (f as usize).min(last - 1);
+        (i, f - i as f32)
     }
 
     /// Row `k`'s window; a flat row's window is empty and its background its mean.
@@ -253,22 +224,12 @@ impl<'a> ClusterOptics<'a> {
         self.one_table(cos_theta, d, 2)
     }
 
-    /// Transmittance only, at `cos_theta`: `Some(t)` where flat, else `None` with the
-    /// spectral transmittance written into `t`.
-    #[inline]
-    pub fn transmittance(&self, cos_theta: f32, t: &mut [f32]) -> Option<f32> {
-        self.one_table(cos_theta, t, 1)
-    }
-
     /// Table `which` (0 = R, 1 = T, 2 = D) at `cos_theta`.
     #[inline(always)]
     fn one_table(&self, cos_theta: f32, out: &mut [f32], which: usize) -> Option<f32> {
         let pick = |row: (&'a [f32], &'a [f32], &'a [f32])| [row.0, row.1, row.2][which];
         let pick_flat = |flat: (f32, f32, f32)| [flat.0, flat.1, flat.2][which];
-        let last = self.tables.angles - 1;
-        let f = (1.0 - cos_theta.clamp(0.0, 1.0)) * last as f32;
-        let i = (f as usize).min(last - 1);
-        let w = f - i as f32;
+        let (i, w) = self.row_at(cos_theta);
         if let (Some(a), Some(b)) = (self.flat[i], self.flat[i + 1]) {
             let (a, b) = (pick_flat(a), pick_flat(b));
             return Some(a + w * (b - a));
@@ -307,7 +268,7 @@ mod tests {
     }
 
     #[test]
-    fn transmit_and_transmit_shape_apply_the_split_transmittance() {
+    fn transmit_shape_applies_the_split_transmittance() {
         let tables = tables();
         let optics = ClusterOptics::new(&tables);
         let bins = tables.grid.bins;
@@ -318,8 +279,6 @@ mod tests {
             windows += usize::from(expected.iter().any(|&t| t != expected[0]));
             // A non-uniform starting spectrum, so that a wrong bin would show.
             let start: Vec<f32> = (0..bins).map(|b| 0.5 + b as f32 / bins as f32).collect();
-            let mut direct = start.clone();
-            optics.transmit(cos, &mut direct);
             let peak = start.iter().fold(0.0f32, |m, &v| m.max(v));
             let mut shape: Vec<f32> = start.iter().map(|v| v / peak).collect();
             let scale = peak * optics.transmit_shape(cos, &mut shape);
@@ -327,10 +286,6 @@ mod tests {
             assert!(max == 0.0 || (max - 1.0).abs() < 1e-6, "shape max {max}");
             for b in 0..bins {
                 let want = start[b] * expected[b];
-                assert!(
-                    (direct[b] - want).abs() <= 1e-6 * want.max(1e-3),
-                    "cos {cos}, bin {b}"
-                );
                 let got = scale * shape[b];
                 assert!(
                     (got - want).abs() <= 1e-5 * want.max(1e-3),

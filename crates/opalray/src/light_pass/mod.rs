@@ -163,6 +163,14 @@ pub fn slots_of_cells(cells: &[Cell]) -> (Vec<u32>, usize) {
     (slots, next as usize)
 }
 
+/// The cell of every slot (the inverse of [`slots_of_cells`]): slots are numbered in cell
+/// order, so this is the list of inside cells.
+pub fn cells_of_slots(slot_of_cell: &[u32]) -> Vec<usize> {
+    (0..slot_of_cell.len())
+        .filter(|&c| slot_of_cell[c] != NO_SLOT)
+        .collect()
+}
+
 /// Sub-samples per axis used to measure how much of a surface cell lies inside the stone.
 const VOLUME_SAMPLES: usize = 4;
 
@@ -246,8 +254,6 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
     let side = walker.lattice.side();
     let tiles_per_row = side.div_ceil(TILE);
     let tasks = tiles_per_row * tiles_per_row;
-    // One accumulator per worker thread, each pulling tasks from a shared counter; integer
-    // sums make the division of work irrelevant to the result.
     // Workers pull tiles from a shared counter and add each finished tile to the one shared
     // accumulator; integer sums make the order of those additions irrelevant.
     let next_task = AtomicU64::new(0);

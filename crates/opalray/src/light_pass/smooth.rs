@@ -7,7 +7,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{LOBES, NO_SLOT};
+use super::{cells_of_slots, LOBES, NO_SLOT};
 use crate::structure::Cell;
 
 /// Normals closer than this (|cos|) count as the same orientation.
@@ -22,12 +22,7 @@ pub(crate) fn smooth_sums(
     grid: [usize; 3],
     width_per_lobe: usize,
 ) {
-    let cell_of_slot: Vec<usize> = slot_of_cell
-        .iter()
-        .enumerate()
-        .filter(|(_, &s)| s != NO_SLOT)
-        .map(|(c, _)| c)
-        .collect();
+    let cell_of_slot = cells_of_slots(slot_of_cell);
     let same_patch = |a: usize, b: usize| match (cells[a], cells[b]) {
         (Cell::Void, Cell::Void) => true,
         (Cell::Cluster, Cell::Cluster) => normals[a].dot(normals[b]).abs() >= SAME_PATCH_COS,

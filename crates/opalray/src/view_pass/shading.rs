@@ -5,7 +5,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::light_pass::{ClusterOptics, LightField, LOBES, NO_SLOT};
+use crate::light_pass::{cells_of_slots, ClusterOptics, LightField, LOBES};
 use crate::structure::{Cell, Structure};
 
 /// Phong lobes below this fraction of their peak are skipped.
@@ -75,12 +75,7 @@ impl Shading {
     ) -> Self {
         let bins = light.grid.bins;
         let slots = light.directions.len() / LOBES;
-        let mut cell_of_slot = vec![0usize; slots];
-        for (cell, &slot) in light.slot_of_cell.iter().enumerate() {
-            if slot != NO_SLOT {
-                cell_of_slot[slot as usize] = cell;
-            }
-        }
+        let cell_of_slot = cells_of_slots(&light.slot_of_cell);
         let mut lobes = vec![NO_LOBE; slots * LOBES];
         let mut specular = vec![0.0f32; slots * LOBES * bins];
         let mut normals = vec![Vec3::ZERO; slots];
