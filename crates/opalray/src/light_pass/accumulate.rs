@@ -182,7 +182,7 @@ impl TileSums {
         }
     }
 
-    /// Add `weight × spectrum` to `entry`, and its direction weighted by `weight × power`.
+    /// Add `weight × spectrum` to `entry`, and its direction weighted by `power`.
     #[inline]
     pub fn deposit(
         &mut self,
@@ -203,11 +203,10 @@ impl TileSums {
         for (sum, &s) in sums[..self.bins].iter_mut().zip(spectrum) {
             *sum += s * weight;
         }
-        let p = power * weight;
         for a in 0..3 {
-            sums[self.bins + a] += direction[a] * p;
+            sums[self.bins + a] += direction[a] * power;
         }
-        sums[self.bins + 3] += p;
+        sums[self.bins + 3] += power;
     }
 }
 
@@ -217,7 +216,7 @@ mod tests {
 
     fn tile_with(entry: usize, spectrum: &[f32]) -> TileSums {
         let mut t = TileSums::new(2, 2);
-        t.deposit(entry, spectrum, 0.37, Vec3::X, 1.0);
+        t.deposit(entry, spectrum, 0.37, Vec3::X, 0.37);
         t
     }
 
@@ -239,7 +238,7 @@ mod tests {
         let mut a = Accumulator::new(2, 1, 0.01, 1.0);
         let mut tile = TileSums::new(2, 1);
         for i in 0..1000 {
-            tile.deposit(1, &[0.01], 0.5, Vec3::Z, 1.0);
+            tile.deposit(1, &[0.01], 0.5, Vec3::Z, 0.5);
             if i % 100 == 99 {
                 a.add_tile(&mut tile);
             }

@@ -176,7 +176,7 @@ impl<'a> ClusterOptics<'a> {
         for ((s, ta), tb) in shape[lo..hi].iter_mut().zip(&ta[lo..hi]).zip(&tb[lo..hi]) {
             *s *= (ta + w * (tb - ta)) * inv;
         }
-        let max = shape.iter().fold(0.0f32, |m, &v| m.max(v));
+        let max = crate::spectrum::max(shape);
         if max <= 0.0 {
             return 0.0;
         }
@@ -193,7 +193,9 @@ impl<'a> ClusterOptics<'a> {
     fn row_at(&self, cos_theta: f32) -> (usize, f32) {
         let last = self.tables.angles - 1;
         let f = (1.0 - cos_theta.clamp(0.0, 1.0)) * last as f32;
-        let i = (f as usize).min(last - 1);
+        // `f` lies in [0, last] (a NaN cosine clamps to NaN and converts to row 0): through
+        // i32, the conversion is one instruction where a float → usize cast is a dozen.
+        let i = (f as i32 as usize).min(last - 1);
         (i, f - i as f32)
     }
 

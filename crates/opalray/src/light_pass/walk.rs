@@ -53,10 +53,13 @@ pub(crate) struct Scratch {
     pool: Vec<Vec<f32>>,
 }
 
+/// A branch's spectrum is `scale × shape`: filters flat in wavelength (most clusters, voids,
+/// the surface) change the scale only, a Bragg line the bins of its window.
 struct Branch {
     origin: Vec3,
     direction: Vec3,
-    spectrum: Vec<f32>,
+    shape: Vec<f32>,
+    scale: f32,
     power: f32,
     bounces: u32,
     lobe: usize,
@@ -112,15 +115,16 @@ impl Walker<'_> {
         let Some(direction) = refract(ray.direction, normal, 1.0, self.n_eff) else {
             return;
         };
-        let mut spectrum = scratch.pool.pop().unwrap_or_default();
-        spectrum.clear();
-        spectrum.extend(self.spectrum.iter().map(|s| s * weight * (1.0 - fresnel)));
+        let mut shape = scratch.pool.pop().unwrap_or_default();
+        shape.clear();
+        shape.extend_from_slice(self.spectrum);
         let threshold = CUTOFF_FRACTION * p_in * (1.0 - fresnel);
         scratch.stack.push(Branch {
             origin: p,
             direction,
             power: p_in * (1.0 - fresnel),
-            spectrum,
+            shape,
+            scale: weight * (1.0 - fresnel),
             bounces: 0,
             lobe: DIRECT,
         });
@@ -141,7 +145,8 @@ impl Walker<'_> {
         let Branch {
             origin,
             direction,
-            mut spectrum,
+            mut shape,
+            mut scale,
             mut power,
             bounces,
             lobe: kind,
@@ -150,7 +155,7 @@ impl Walker<'_> {
         let ray = Ray { origin, direction };
         let Some((t0, t1)) = self.shape.intersect(&ray) else {
             ledger.escaped += f64::from(power);
-            scratch.pool.push(spectrum);
+            scratch.pool.push(shape);
             return;
         };
         ledger.branches += 1;
@@ -186,10 +191,10 @@ impl Walker<'_> {
             if kind != DIRECT {
                 acc.deposit(
                     slot * SCATTERED_LOBES + lobe - 1,
-                    &spectrum,
-                    track * self.inv_volume[slot],
+                    &shape,
+                    scale * track * self.inv_volume[slot],
                     direction,
-                    power,
+                    power * track * self.inv_volume[slot],
                 );
             }
             match cell {
@@ -198,7 +203,7 @@ impl Walker<'_> {
                     let lost = f64::from(power * (1.0 - kept));
                     ledger.stored += f64::from(self.body_albedo) * lost;
                     ledger.absorbed += f64::from(1.0 - self.body_albedo) * lost;
-                    spectrum.iter_mut().for_each(|s| *s *= kept);
+                    scale *= kept;
                     power *= kept;
                 }
                 Cell::Cluster => {
@@ -207,7 +212,7 @@ impl Walker<'_> {
                     // Split into the Bragg-reflected branch (followed only if strong
                     // enough), the diffuse part (stored here) and the transmitted ray.
                     let (p_r, p_d, p_t);
-                    let mut reflected: Option<Vec<f32>> = None;
+                    let mut reflected: Option<(Vec<f32>, f32)> = None;
                     match self.optics.split(cos, r, t, d) {
                         Split::Flat { r, t, d } => {
                             p_r = power * r;
@@ -216,10 +221,10 @@ impl Walker<'_> {
                             if p_r > 0.0 && p_r >= threshold {
                                 let mut v = pool.pop().unwrap_or_default();
                                 v.clear();
-                                v.extend(spectrum.iter().map(|s| s * r));
-                                reflected = Some(v);
+                                v.extend_from_slice(&shape);
+                                reflected = Some((v, scale * r));
                             }
-                            spectrum.iter_mut().for_each(|s| *s *= t);
+                            scale *= t;
                         }
                         Split::Window {
                             lo,
@@ -230,36 +235,56 @@ impl Walker<'_> {
                         } => {
                             let bw = self.bin_width_nm;
                             let (r, t, d) = (&r[lo..hi], &t[lo..hi], &d[lo..hi]);
-                            let inside = &spectrum[lo..hi];
-                            let p_out = power - spectrum::sum(inside) * bw;
-                            p_r = rb * p_out + spectrum::dot(inside, r) * bw;
-                            p_d = db * p_out + spectrum::dot(inside, d) * bw;
-                            p_t = tb * p_out + spectrum::dot(inside, t) * bw;
+                            let inside = &shape[lo..hi];
+                            let k = scale * bw;
+                            let p_out = power - spectrum::sum(inside) * k;
+                            p_r = rb * p_out + spectrum::dot(inside, r) * k;
+                            p_d = db * p_out + spectrum::dot(inside, d) * k;
+                            p_t = tb * p_out + spectrum::dot(inside, t) * k;
                             if p_r > 0.0 && p_r >= threshold {
+                                // The reflected shape: rb outside the window, r inside.
                                 let mut v = pool.pop().unwrap_or_default();
                                 v.clear();
-                                v.extend(spectrum.iter().map(|s| s * rb));
-                                for (v, (s, r)) in v[lo..hi].iter_mut().zip(inside.iter().zip(r)) {
-                                    *v = s * r;
+                                v.extend_from_slice(&shape);
+                                if rb > 0.0 {
+                                    let inv = 1.0 / rb;
+                                    for (v, r) in v[lo..hi].iter_mut().zip(r) {
+                                        *v *= r * inv;
+                                    }
+                                    reflected = Some((v, scale * rb));
+                                } else {
+                                    v[..lo].fill(0.0);
+                                    v[hi..].fill(0.0);
+                                    for (v, r) in v[lo..hi].iter_mut().zip(r) {
+                                        *v *= r;
+                                    }
+                                    reflected = Some((v, scale));
                                 }
-                                reflected = Some(v);
                             }
-                            spectrum[..lo].iter_mut().for_each(|s| *s *= tb);
-                            spectrum[hi..].iter_mut().for_each(|s| *s *= tb);
-                            spectrum[lo..hi]
-                                .iter_mut()
-                                .zip(t)
-                                .for_each(|(s, t)| *s *= t);
+                            if tb > 0.0 {
+                                let inv = 1.0 / tb;
+                                for (s, t) in shape[lo..hi].iter_mut().zip(t) {
+                                    *s *= t * inv;
+                                }
+                                scale *= tb;
+                            } else {
+                                shape[..lo].fill(0.0);
+                                shape[hi..].fill(0.0);
+                                for (s, t) in shape[lo..hi].iter_mut().zip(t) {
+                                    *s *= t;
+                                }
+                            }
                         }
                     }
                     ledger.stored += f64::from(p_d);
                     ledger.absorbed += f64::from(power - p_r - p_d - p_t);
                     power = p_t;
                     match reflected {
-                        Some(v) => stack.push(Branch {
+                        Some((v, k)) => stack.push(Branch {
                             origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
                             direction: reflect(direction, normal),
-                            spectrum: v,
+                            shape: v,
+                            scale: k,
                             power: p_r,
                             bounces,
                             lobe: SCATTERED,
@@ -275,7 +300,7 @@ impl Walker<'_> {
             alive
         });
         if !alive {
-            pool.push(spectrum);
+            pool.push(shape);
             return;
         }
         // Leave through the surface, or reflect internally (totally beyond the critical angle).
@@ -285,24 +310,24 @@ impl Walker<'_> {
         ledger.escaped += f64::from(power * (1.0 - fresnel));
         let inner = power * fresnel;
         if fresnel <= 0.0 {
-            pool.push(spectrum);
+            pool.push(shape);
             return;
         }
         if bounces >= MAX_SURFACE_BOUNCES {
             ledger.truncated += f64::from(inner);
-            pool.push(spectrum);
+            pool.push(shape);
             return;
         }
         if inner < threshold {
             ledger.truncated += f64::from(inner);
-            pool.push(spectrum);
+            pool.push(shape);
             return;
         }
-        spectrum.iter_mut().for_each(|s| *s *= fresnel);
         stack.push(Branch {
             origin: exit,
             direction: reflect(direction, normal),
-            spectrum,
+            shape,
+            scale: scale * fresnel,
             power: inner,
             bounces: bounces + 1,
             lobe: SCATTERED,
