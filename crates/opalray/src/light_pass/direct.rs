@@ -91,8 +91,18 @@ impl Walker<'_> {
         };
         // The spectrum is kept as `scale × out`: filters flat in wavelength change the scale
         // only, a Bragg line the bins of its window.
-        out.copy_from_slice(self.spectrum);
-        let mut scale = irradiance;
+        let (mut peak, top) = self.spectrum.iter().enumerate().fold(
+            (0, 0.0f32),
+            |(a, m), (k, &v)| if v > m { (k, v) } else { (a, m) },
+        );
+        if top <= 0.0 {
+            return Vec3::ZERO;
+        }
+        out.iter_mut()
+            .zip(self.spectrum)
+            .for_each(|(o, &s)| *o = s / top);
+        out[peak] = 1.0;
+        let mut scale = irradiance * top;
         let ray = Ray::new(p, d);
         let reach = (centre - p).length() + self.grid.cell.length();
         self.grid.traverse(&ray, 0.0, reach, |seg| {
@@ -117,9 +127,11 @@ impl Walker<'_> {
                 // The light crossing a cluster is what reaches it; it is split only on leaving.
                 Cell::Cluster if own => {}
                 Cell::Cluster => {
-                    scale *= self
-                        .optics
-                        .transmit_shape(d.dot(self.normals[seg.index]).abs(), out);
+                    scale *= self.optics.transmit_shape(
+                        d.dot(self.normals[seg.index]).abs(),
+                        out,
+                        &mut peak,
+                    );
                 }
             }
             !own

@@ -64,18 +64,37 @@ fn median(v: &[f32]) -> f32 {
     s[s.len() / 2]
 }
 
-/// The optics tables plus, per row, whether the row is flat.
+/// What lies between table rows `i` and `i + 1`, read where a ray meets the planes at an angle
+/// between theirs: whether both are flat, the union of their windows, and the flat or
+/// background values (R, T, D) of row `i` with the step to row `i + 1`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct RowPair {
+    flat: bool,
+    lo: usize,
+    hi: usize,
+    level: [f32; 3],
+    step: [f32; 3],
+}
+
+impl RowPair {
+    /// The flat or background value of table `which` (0 = R, 1 = T, 2 = D) at weight `w`.
+    #[inline(always)]
+    fn at(&self, which: usize, w: f32) -> f32 {
+        self.level[which] + w * self.step[which]
+    }
+}
+
+/// The optics tables plus, per pair of neighbouring rows, where they are flat.
 #[derive(Debug)]
 pub struct ClusterOptics<'a> {
     tables: &'a OpticsTables,
-    flat: Vec<Option<(f32, f32, f32)>>,
-    windows: Vec<RowWindow>,
+    pairs: Vec<RowPair>,
 }
 
 impl<'a> ClusterOptics<'a> {
     /// Summarise `tables`.
     pub fn new(tables: &'a OpticsTables) -> Self {
-        let flat = (0..tables.angles)
+        let flat: Vec<Option<(f32, f32, f32)>> = (0..tables.angles)
             .map(|i| {
                 let (r, t, d) = tables.row(i);
                 let spread = |v: &[f32]| {
@@ -94,7 +113,7 @@ impl<'a> ClusterOptics<'a> {
             .collect();
         // Rows that are not flat: the median of each table is the level away from the Bragg
         // line, and the window spans every bin that differs from it by more than the tolerance.
-        let windows = (0..tables.angles)
+        let windows: Vec<RowWindow> = (0..tables.angles)
             .map(|i| {
                 let (r, t, d) = tables.row(i);
                 let background = (median(r), median(t), median(d));
@@ -108,11 +127,35 @@ impl<'a> ClusterOptics<'a> {
                 RowWindow { lo, hi, background }
             })
             .collect();
-        ClusterOptics {
-            tables,
-            flat,
-            windows,
-        }
+        // A flat row's window is empty and its background its mean.
+        let window_of = |k: usize| match flat[k] {
+            Some(mean) => RowWindow {
+                lo: usize::MAX,
+                hi: 0,
+                background: mean,
+            },
+            None => windows[k],
+        };
+        let pairs = (0..tables.angles - 1)
+            .map(|i| {
+                let (a, b) = (window_of(i), window_of(i + 1));
+                let flat = flat[i].is_some() && flat[i + 1].is_some();
+                let (lo, hi) = if flat {
+                    (0, 0)
+                } else {
+                    (a.lo.min(b.lo), a.hi.max(b.hi))
+                };
+                let (x, y) = (a.background, b.background);
+                RowPair {
+                    flat,
+                    lo,
+                    hi,
+                    level: [x.0, x.1, x.2],
+                    step: [y.0 - x.0, y.1 - x.1, y.2 - x.2],
+                }
+            })
+            .collect();
+        ClusterOptics { tables, pairs }
     }
 
     /// The tables.
@@ -126,16 +169,16 @@ impl<'a> ClusterOptics<'a> {
     #[inline]
     pub fn split(&self, cos_theta: f32, r: &mut [f32], t: &mut [f32], d: &mut [f32]) -> Split {
         let (i, w) = self.row_at(cos_theta);
-        if let (Some(a), Some(b)) = (self.flat[i], self.flat[i + 1]) {
+        let pair = &self.pairs[i];
+        if pair.flat {
             return Split::Flat {
-                r: a.0 + w * (b.0 - a.0),
-                t: a.1 + w * (b.1 - a.1),
-                d: a.2 + w * (b.2 - a.2),
+                r: pair.at(0, w),
+                t: pair.at(1, w),
+                d: pair.at(2, w),
             };
         }
         // The union of both rows' windows, interpolated densely inside.
-        let (a, b) = (self.window_of(i), self.window_of(i + 1));
-        let (lo, hi) = (a.lo.min(b.lo), a.hi.max(b.hi));
+        let (lo, hi) = (pair.lo, pair.hi);
         let (ra, ta, da) = self.tables.row(i);
         let (rb, tb, db) = self.tables.row(i + 1);
         if lo < hi {
@@ -143,28 +186,26 @@ impl<'a> ClusterOptics<'a> {
             lerp(&mut t[lo..hi], &ta[lo..hi], &tb[lo..hi], w);
             lerp(&mut d[lo..hi], &da[lo..hi], &db[lo..hi], w);
         }
-        let (x, y) = (a.background, b.background);
         Split::Window {
             lo,
             hi,
-            r: x.0 + w * (y.0 - x.0),
-            t: x.1 + w * (y.1 - x.1),
-            d: x.2 + w * (y.2 - x.2),
+            r: pair.at(0, w),
+            t: pair.at(1, w),
+            d: pair.at(2, w),
         }
     }
 
-    /// Apply the transmittance at `cos_theta` to a throughput kept as `scale × shape` (shape
-    /// at most 1): returns the factor for the scale, and changes the shape only in a Bragg
-    /// line's window, renormalised so that its maximum stays 1.
+    /// Apply the transmittance at `cos_theta` to a throughput kept as `scale × shape`, the
+    /// shape's maximum being 1, at bin `peak`: returns the factor for the scale, and changes
+    /// the shape only in a Bragg line's window, renormalised so that its maximum stays 1 (and
+    /// `peak` names where it is). The rest of the shape is scanned only when the window holds
+    /// the peak: a line's window spans a few bins of forty.
     #[inline]
-    pub fn transmit_shape(&self, cos_theta: f32, shape: &mut [f32]) -> f32 {
+    pub fn transmit_shape(&self, cos_theta: f32, shape: &mut [f32], peak: &mut usize) -> f32 {
         let (i, w) = self.row_at(cos_theta);
-        if let (Some(a), Some(b)) = (self.flat[i], self.flat[i + 1]) {
-            return a.1 + w * (b.1 - a.1);
-        }
-        let (a, b) = (self.window_of(i), self.window_of(i + 1));
-        let (lo, hi) = (a.lo.min(b.lo), a.hi.max(b.hi));
-        let background = a.background.1 + w * (b.background.1 - a.background.1);
+        let pair = &self.pairs[i];
+        let background = pair.at(1, w);
+        let (lo, hi) = (pair.lo, pair.hi);
         if lo >= hi {
             return background;
         }
@@ -173,17 +214,38 @@ impl<'a> ClusterOptics<'a> {
         }
         let (ta, tb) = (self.tables.row(i).1, self.tables.row(i + 1).1);
         let inv = 1.0 / background;
-        for ((s, ta), tb) in shape[lo..hi].iter_mut().zip(&ta[lo..hi]).zip(&tb[lo..hi]) {
+        let (mut window_max, mut window_arg) = (0.0f32, lo);
+        for (k, ((s, ta), tb)) in shape[lo..hi]
+            .iter_mut()
+            .zip(&ta[lo..hi])
+            .zip(&tb[lo..hi])
+            .enumerate()
+        {
             *s *= (ta + w * (tb - ta)) * inv;
+            if *s > window_max {
+                window_max = *s;
+                window_arg = lo + k;
+            }
         }
-        let max = crate::spectrum::max(shape);
+        let (max, arg) = if !(lo..hi).contains(peak) {
+            // The peak, 1, lies outside the window and is unchanged.
+            if window_max <= 1.0 {
+                return background;
+            }
+            (window_max, window_arg)
+        } else {
+            shape.iter().enumerate().fold(
+                (0.0f32, 0),
+                |(m, a), (k, &v)| if v > m { (v, k) } else { (m, a) },
+            )
+        };
         if max <= 0.0 {
             return 0.0;
         }
-        if max != 1.0 {
-            let k = 1.0 / max;
-            shape.iter_mut().for_each(|s| *s *= k);
-        }
+        let k = 1.0 / max;
+        shape.iter_mut().for_each(|s| *s *= k);
+        shape[arg] = 1.0;
+        *peak = arg;
         background * max
     }
 
@@ -197,19 +259,6 @@ impl<'a> ClusterOptics<'a> {
         // i32, the conversion is one instruction where a float → usize cast is a dozen.
         let i = (f as i32 as usize).min(last - 1);
         (i, f - i as f32)
-    }
-
-    /// Row `k`'s window; a flat row's window is empty and its background its mean.
-    #[inline]
-    fn window_of(&self, k: usize) -> RowWindow {
-        match self.flat[k] {
-            Some(mean) => RowWindow {
-                lo: usize::MAX,
-                hi: 0,
-                background: mean,
-            },
-            None => self.windows[k],
-        }
     }
 
     /// Specular reflectance only, at `cos_theta`: `Some(r)` where flat, else `None` with the
@@ -230,11 +279,10 @@ impl<'a> ClusterOptics<'a> {
     #[inline(always)]
     fn one_table(&self, cos_theta: f32, out: &mut [f32], which: usize) -> Option<f32> {
         let pick = |row: (&'a [f32], &'a [f32], &'a [f32])| [row.0, row.1, row.2][which];
-        let pick_flat = |flat: (f32, f32, f32)| [flat.0, flat.1, flat.2][which];
         let (i, w) = self.row_at(cos_theta);
-        if let (Some(a), Some(b)) = (self.flat[i], self.flat[i + 1]) {
-            let (a, b) = (pick_flat(a), pick_flat(b));
-            return Some(a + w * (b - a));
+        let pair = &self.pairs[i];
+        if pair.flat {
+            return Some(pair.at(which, w));
         }
         let a = pick(self.tables.row(i));
         let b = pick(self.tables.row(i + 1));
@@ -270,6 +318,44 @@ mod tests {
     }
 
     #[test]
+    fn a_chain_of_transmissions_is_their_product_wherever_the_peak_is() {
+        // A spectrum peaked inside the Bragg lines' range, through 60 clusters at angles that
+        // put their windows over it and next to it: scale × shape must stay the start spectrum
+        // times the product of the transmittances, with the shape's maximum 1 at `peak`.
+        let tables = tables();
+        let optics = ClusterOptics::new(&tables);
+        let bins = tables.grid.bins;
+        for centre in [8usize, 12, 16, 20] {
+            let start: Vec<f32> = (0..bins)
+                .map(|b| 1.0 / (1.0 + 0.05 * (b as f32 - centre as f32).powi(2)))
+                .collect();
+            let mut want: Vec<f64> = start.iter().map(|&v| f64::from(v)).collect();
+            let mut shape = start.clone();
+            let (mut scale, mut peak) = (1.0f32, centre);
+            for k in 0..60 {
+                let cos = 0.70 + 0.3 * ((k * 37) % 60) as f32 / 60.0;
+                let t = split_t(&optics, cos);
+                want.iter_mut()
+                    .zip(&t)
+                    .for_each(|(w, &t)| *w *= f64::from(t));
+                scale *= optics.transmit_shape(cos, &mut shape, &mut peak);
+                let max = shape.iter().fold(0.0f32, |m, &v| m.max(v));
+                assert_eq!(shape[peak], max, "step {k}: the peak moved without `peak`");
+                assert!((max - 1.0).abs() < 1e-6, "step {k}: shape max {max}");
+            }
+            let top = want.iter().fold(0.0f64, |m, &v| m.max(v));
+            for b in 0..bins {
+                let got = f64::from(scale * shape[b]);
+                assert!(
+                    (got - want[b]).abs() <= 1e-4 * top,
+                    "peak {centre}, bin {b}: {got} against {}",
+                    want[b]
+                );
+            }
+        }
+    }
+
+    #[test]
     fn transmit_shape_applies_the_split_transmittance() {
         let tables = tables();
         let optics = ClusterOptics::new(&tables);
@@ -283,9 +369,11 @@ mod tests {
             let start: Vec<f32> = (0..bins).map(|b| 0.5 + b as f32 / bins as f32).collect();
             let peak = start.iter().fold(0.0f32, |m, &v| m.max(v));
             let mut shape: Vec<f32> = start.iter().map(|v| v / peak).collect();
-            let scale = peak * optics.transmit_shape(cos, &mut shape);
+            let mut at = bins - 1;
+            let scale = peak * optics.transmit_shape(cos, &mut shape, &mut at);
             let max = shape.iter().fold(0.0f32, |m, &v| m.max(v));
             assert!(max == 0.0 || (max - 1.0).abs() < 1e-6, "shape max {max}");
+            assert!(max == 0.0 || shape[at] == max, "the peak is at bin {at}");
             for b in 0..bins {
                 let want = start[b] * expected[b];
                 let got = scale * shape[b];

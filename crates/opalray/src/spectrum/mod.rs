@@ -141,25 +141,6 @@ pub fn dot(a: &[f32], b: &[f32]) -> f32 {
     dot_with(a, Some(b))
 }
 
-/// The largest of `values` and 0 (values are non-negative spectra), with eight interleaved
-/// partial maxima that the compiler turns into vector instructions (`f32::max`, with its
-/// NaN rules, stays a scalar loop).
-#[inline]
-pub fn max(values: &[f32]) -> f32 {
-    let mut acc = [0.0f32; 8];
-    let chunks = values.chunks_exact(8);
-    let tail = chunks
-        .remainder()
-        .iter()
-        .fold(0.0f32, |m, &v| if v > m { v } else { m });
-    for c in chunks {
-        for k in 0..8 {
-            acc[k] = if c[k] > acc[k] { c[k] } else { acc[k] };
-        }
-    }
-    acc.iter().fold(tail, |m, &v| if v > m { v } else { m })
-}
-
 #[inline(always)]
 fn dot_with(a: &[f32], b: Option<&[f32]>) -> f32 {
     let mut acc = [0.0f32; 8];
@@ -234,19 +215,6 @@ mod tests {
         let g = WavelengthGrid::new(400.0, 410.0, 1).unwrap();
         let samples = [(401.0, 0.0), (402.0, 1.0), (403.0, 0.0)];
         assert!((g.bin_average(&samples)[0] - 0.1).abs() < 1e-12);
-    }
-
-    #[test]
-    fn vector_max_finds_the_peak_wherever_it_is() {
-        for len in [0usize, 1, 7, 8, 9, 40, 43] {
-            for peak in 0..len {
-                let v: Vec<f32> = (0..len)
-                    .map(|i| if i == peak { 2.5 } else { (i % 5) as f32 * 0.3 })
-                    .collect();
-                assert_eq!(max(&v), 2.5, "length {len}, peak at {peak}");
-            }
-        }
-        assert_eq!(max(&[]), 0.0);
     }
 
     #[test]

@@ -157,6 +157,7 @@ impl View<'_> {
         // kept at a maximum of 1, so the ray lives while `scale` exceeds MIN_THROUGHPUT.
         let mut scale = (1.0 - fresnel) / (n_eff * n_eff);
         shape_thr.fill(1.0);
+        let mut peak = 0;
         let mut origin = p;
         for _ in 0..MAX_VIEW_BOUNCES {
             let inner = Ray {
@@ -195,7 +196,11 @@ impl View<'_> {
                             add_filtered(pixel, shape_thr, glow, scale);
                         }
                         let normal = shading.normals[slot];
-                        scale *= cluster_optics.transmit_shape(dir.dot(normal).abs(), shape_thr);
+                        scale *= cluster_optics.transmit_shape(
+                            dir.dot(normal).abs(),
+                            shape_thr,
+                            &mut peak,
+                        );
                     }
                 }
                 scale > MIN_THROUGHPUT
