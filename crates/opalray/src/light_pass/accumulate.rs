@@ -150,10 +150,9 @@ pub fn split_sums(mut sums: Vec<f32>, bins: usize) -> (Vec<f32>, Vec<Vec3>, Vec<
 pub struct TileSums {
     stride: usize,
     bins: usize,
-    /// For each global entry, the tile generation that last touched it.
-    stamp: Vec<u32>,
-    /// For each global entry touched in this generation, its local index.
-    local: Vec<u32>,
+    /// For each global entry, the tile generation that last touched it and, if that is
+    /// this generation, its local index (one record: one memory access per deposit).
+    stamp: Vec<(u32, u32)>,
     generation: u32,
     entries: Vec<u32>,
     sums: Vec<f32>,
@@ -165,8 +164,7 @@ impl TileSums {
         TileSums {
             stride: bins + 4,
             bins,
-            stamp: vec![0; entries],
-            local: vec![0; entries],
+            stamp: vec![(0, 0); entries],
             generation: 1,
             entries: Vec::new(),
             sums: Vec::new(),
@@ -178,7 +176,7 @@ impl TileSums {
         self.sums.clear();
         self.generation = self.generation.wrapping_add(1).max(1);
         if self.generation == 1 {
-            self.stamp.fill(0);
+            self.stamp.fill((0, 0));
         }
     }
 
@@ -192,13 +190,14 @@ impl TileSums {
         direction: Vec3,
         power: f32,
     ) {
-        if self.stamp[entry] != self.generation {
-            self.stamp[entry] = self.generation;
-            self.local[entry] = self.entries.len() as u32;
+        let (stamp, mut local) = self.stamp[entry];
+        if stamp != self.generation {
+            local = self.entries.len() as u32;
+            self.stamp[entry] = (self.generation, local);
             self.entries.push(entry as u32);
             self.sums.resize(self.sums.len() + self.stride, 0.0);
         }
-        let base = self.local[entry] as usize * self.stride;
+        let base = local as usize * self.stride;
         let sums = &mut self.sums[base..base + self.stride];
         for (sum, &s) in sums[..self.bins].iter_mut().zip(spectrum) {
             *sum += s * weight;

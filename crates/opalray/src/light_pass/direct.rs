@@ -128,7 +128,7 @@ impl Walker<'_> {
                 Cell::Cluster if own => {}
                 Cell::Cluster => {
                     scale *= self.optics.transmit_shape(
-                        d.dot(self.normals[seg.index]).abs(),
+                        d.dot(self.sites[seg.index].normal).abs(),
                         out,
                         &mut peak,
                     );

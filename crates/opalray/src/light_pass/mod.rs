@@ -37,7 +37,7 @@ use crate::optics::OpticsTables;
 use crate::spectrum::WavelengthGrid;
 use crate::structure::{Cell, Structure};
 use accumulate::{split_sums, Accumulator, TileSums};
-use walk::{Scratch, Walker};
+use walk::{Scratch, Site, Walker};
 
 /// Lobes stored per cell: 0 = direct light; light reflected inside at least once,
 /// 1 = travelling down (−z), 2 = travelling up (+z).
@@ -227,9 +227,14 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         })
         .collect();
     let bins = optics.grid.bins;
+    let sites: Vec<Site> = normals
+        .iter()
+        .zip(&slot_of_cell)
+        .map(|(&normal, &slot)| Site { normal, slot })
+        .collect();
     let walker = Walker {
         cells: &structure.cells,
-        normals: &normals,
+        sites: &sites,
         slot_of_cell: &slot_of_cell,
         optics: ClusterOptics::new(optics),
         shape,

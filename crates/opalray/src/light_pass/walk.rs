@@ -26,7 +26,8 @@ const MAX_SURFACE_BOUNCES: u32 = 24;
 /// Everything a light ray needs to know, shared by all threads.
 pub(crate) struct Walker<'a> {
     pub cells: &'a [Cell],
-    pub normals: &'a [Vec3],
+    /// Per cell, what a crossing ray reads: the (111) normal and the storage slot.
+    pub sites: &'a [Site],
     pub slot_of_cell: &'a [u32],
     pub optics: ClusterOptics<'a>,
     pub shape: Ellipsoid,
@@ -41,6 +42,14 @@ pub(crate) struct Walker<'a> {
     /// Per slot, 1 / (the cell's volume inside the stone), mm⁻³.
     pub inv_volume: Vec<f32>,
     pub seed: u64,
+}
+
+/// What a ray crossing a cell reads about it, in one record (one memory access instead of
+/// one per array): the cluster's (111) normal (zero elsewhere) and the cell's storage slot.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Site {
+    pub normal: Vec3,
+    pub slot: u32,
 }
 
 /// Per-thread scratch space reused from ray to ray.
@@ -170,7 +179,8 @@ impl Walker<'_> {
         self.grid.traverse(&ray, t0.max(0.0), t1, |seg| {
             let length = seg.t_exit - seg.t_enter;
             ledger.cells_crossed += 1;
-            let slot = self.slot_of_cell[seg.index] as usize;
+            let site = self.sites[seg.index];
+            let slot = site.slot as usize;
             let cell = self.cells[seg.index];
             // The light's track through the cell: the chord in a cluster; in a void (potch)
             // ∫₀ˡ e^(−σs) ds under exponential attenuation, and its limit ℓ for a clear body.
@@ -207,7 +217,7 @@ impl Walker<'_> {
                     power *= kept;
                 }
                 Cell::Cluster => {
-                    let normal = self.normals[seg.index];
+                    let normal = site.normal;
                     let cos = direction.dot(normal).abs();
                     // Split into the Bragg-reflected branch (followed only if strong
                     // enough), the diffuse part (stored here) and the transmitted ray.
