@@ -85,6 +85,9 @@ impl CellGrid {
                 t_delta[a] = -self.cell[a] / d[a];
             }
         }
+        // The linear index moves by one of these per step, instead of being recomputed.
+        let along = [1i64, self.n[0] as i64, (self.n[0] * self.n[1]) as i64];
+        let mut index = cell[0] + along[1] * cell[1] + along[2] * cell[2];
         let mut t = t_start;
         loop {
             let axis = if t_max[0] < t_max[1] {
@@ -99,10 +102,8 @@ impl CellGrid {
                 2
             };
             let t_next = t_max[axis].min(t_end).max(t);
-            let index =
-                cell[0] as usize + self.n[0] * (cell[1] as usize + self.n[1] * cell[2] as usize);
             if !visit(Segment {
-                index,
+                index: index as usize,
                 t_enter: t,
                 t_exit: t_next,
             }) || t_next >= t_end
@@ -114,6 +115,7 @@ impl CellGrid {
             if cell[axis] < 0 || cell[axis] >= self.n[axis] as i64 {
                 return;
             }
+            index += step[axis] * along[axis];
             t_max[axis] += t_delta[axis];
         }
     }
