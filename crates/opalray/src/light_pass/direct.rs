@@ -14,6 +14,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::cells_of_slots;
+use super::interaction::Transmission;
 use super::source::LightSource;
 use super::walk::Walker;
 use crate::geometry::{fresnel_dielectric, refract, Ellipsoid, Ray};
@@ -84,7 +85,14 @@ impl Walker<'_> {
     /// The direct light of the cell `cell` (centre `centre`): its fluence spectrum is written
     /// into `out` (power per mm² per nm) and its direction of travel returned; both zero where
     /// no direct light arrives. `guess` as for [`Walker::entry`].
-    fn direct_at(&self, cell: usize, centre: Vec3, out: &mut [f32], guess: Option<Vec3>) -> Vec3 {
+    fn direct_at(
+        &self,
+        cell: usize,
+        centre: Vec3,
+        out: &mut [f32],
+        guess: Option<Vec3>,
+        transmission: &mut Transmission,
+    ) -> Vec3 {
         out.fill(0.0);
         let Some((p, d, irradiance)) = self.entry(centre, guess) else {
             return Vec3::ZERO;
@@ -104,6 +112,7 @@ impl Walker<'_> {
         out[peak] = 1.0;
         let mut scale = irradiance * top;
         let ray = Ray::new(p, d);
+        let mut last_normal = Vec3::NAN;
         let reach = (centre - p).length() + self.grid.cell.length();
         self.grid.traverse(&ray, 0.0, reach, |seg| {
             let length = seg.t_exit - seg.t_enter;
@@ -127,11 +136,13 @@ impl Walker<'_> {
                 // The light crossing a cluster is what reaches it; it is split only on leaving.
                 Cell::Cluster if own => {}
                 Cell::Cluster => {
-                    scale *= self.optics.transmit_shape(
-                        d.dot(self.sites[seg.index].normal).abs(),
-                        out,
-                        &mut peak,
-                    );
+                    // Cells of one patch, met one after another, share the transmittance.
+                    let normal = self.sites[seg.index].normal;
+                    if normal != last_normal {
+                        self.optics.transmission(d.dot(normal).abs(), transmission);
+                        last_normal = normal;
+                    }
+                    scale *= transmission.apply(out, &mut peak);
                 }
             }
             !own
@@ -154,12 +165,14 @@ impl Walker<'_> {
             .zip(cells.par_chunks(RUN))
             .for_each(|(entries, cells)| {
                 let mut guess = None;
+                let mut transmission = Transmission::default();
                 for (entry, &cell) in entries.chunks_exact_mut(stride * lobes).zip(cells) {
                     let centre = self
                         .grid
                         .cell_center(cell % nx, cell / nx % ny, cell / (nx * ny));
                     let (spectrum, rest) = entry[..stride].split_at_mut(bins);
-                    let direction = self.direct_at(cell, centre, spectrum, guess);
+                    let direction =
+                        self.direct_at(cell, centre, spectrum, guess, &mut transmission);
                     guess = (direction != Vec3::ZERO).then_some(direction);
                     // Direction sums with a unit weight: one exact direction (ρ = 1).
                     rest[..3].copy_from_slice(&direction.to_array());

@@ -50,6 +50,60 @@ pub enum Split {
     },
 }
 
+/// A cluster's transmittance at one angle, ready to apply to any number of throughputs: its
+/// level away from the Bragg line and, in the line's window `lo..hi`, each bin's ratio to
+/// that level. (A camera ray crossing a patch meets cell after cell at the same angle.)
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Transmission {
+    background: f32,
+    lo: usize,
+    hi: usize,
+    ratio: Vec<f32>,
+}
+
+impl Transmission {
+    /// Apply to a throughput kept as `scale × shape`, the shape's maximum being 1, at bin
+    /// `peak`: returns the factor for the scale, and changes the shape only in the window,
+    /// renormalised so that its maximum stays 1 (and `peak` names where it is). The rest of
+    /// the shape is scanned only when the window holds the peak: a line's window spans a few
+    /// bins of forty.
+    #[inline]
+    pub fn apply(&self, shape: &mut [f32], peak: &mut usize) -> f32 {
+        let (lo, hi) = (self.lo, self.hi);
+        if lo >= hi {
+            return self.background;
+        }
+        let (mut window_max, mut window_arg) = (0.0f32, lo);
+        for (k, (s, r)) in shape[lo..hi].iter_mut().zip(&self.ratio).enumerate() {
+            *s *= r;
+            if *s > window_max {
+                window_max = *s;
+                window_arg = lo + k;
+            }
+        }
+        let (max, arg) = if !(lo..hi).contains(peak) {
+            // The peak, 1, lies outside the window and is unchanged.
+            if window_max <= 1.0 {
+                return self.background;
+            }
+            (window_max, window_arg)
+        } else {
+            shape.iter().enumerate().fold(
+                (0.0f32, 0),
+                |(m, a), (k, &v)| if v > m { (v, k) } else { (m, a) },
+            )
+        };
+        if max <= 0.0 {
+            return 0.0;
+        }
+        let k = 1.0 / max;
+        shape.iter_mut().for_each(|s| *s *= k);
+        shape[arg] = 1.0;
+        *peak = arg;
+        self.background * max
+    }
+}
+
 /// A table row that is flat except in a window of bins.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct RowWindow {
@@ -195,58 +249,31 @@ impl<'a> ClusterOptics<'a> {
         }
     }
 
-    /// Apply the transmittance at `cos_theta` to a throughput kept as `scale × shape`, the
-    /// shape's maximum being 1, at bin `peak`: returns the factor for the scale, and changes
-    /// the shape only in a Bragg line's window, renormalised so that its maximum stays 1 (and
-    /// `peak` names where it is). The rest of the shape is scanned only when the window holds
-    /// the peak: a line's window spans a few bins of forty.
+    /// The transmittance at `cos_theta`, written into `out` (see [`Transmission`]).
     #[inline]
-    pub fn transmit_shape(&self, cos_theta: f32, shape: &mut [f32], peak: &mut usize) -> f32 {
+    pub fn transmission(&self, cos_theta: f32, out: &mut Transmission) {
         let (i, w) = self.row_at(cos_theta);
         let pair = &self.pairs[i];
         let background = pair.at(1, w);
         let (lo, hi) = (pair.lo, pair.hi);
-        if lo >= hi {
-            return background;
-        }
-        if background <= f32::MIN_POSITIVE {
-            return 0.0;
+        out.ratio.clear();
+        if lo >= hi || background <= f32::MIN_POSITIVE {
+            out.background = if lo >= hi { background } else { 0.0 };
+            out.lo = 0;
+            out.hi = 0;
+            return;
         }
         let (ta, tb) = (self.tables.row(i).1, self.tables.row(i + 1).1);
         let inv = 1.0 / background;
-        let (mut window_max, mut window_arg) = (0.0f32, lo);
-        for (k, ((s, ta), tb)) in shape[lo..hi]
-            .iter_mut()
-            .zip(&ta[lo..hi])
-            .zip(&tb[lo..hi])
-            .enumerate()
-        {
-            *s *= (ta + w * (tb - ta)) * inv;
-            if *s > window_max {
-                window_max = *s;
-                window_arg = lo + k;
-            }
-        }
-        let (max, arg) = if !(lo..hi).contains(peak) {
-            // The peak, 1, lies outside the window and is unchanged.
-            if window_max <= 1.0 {
-                return background;
-            }
-            (window_max, window_arg)
-        } else {
-            shape.iter().enumerate().fold(
-                (0.0f32, 0),
-                |(m, a), (k, &v)| if v > m { (v, k) } else { (m, a) },
-            )
-        };
-        if max <= 0.0 {
-            return 0.0;
-        }
-        let k = 1.0 / max;
-        shape.iter_mut().for_each(|s| *s *= k);
-        shape[arg] = 1.0;
-        *peak = arg;
-        background * max
+        out.background = background;
+        out.lo = lo;
+        out.hi = hi;
+        out.ratio.extend(
+            ta[lo..hi]
+                .iter()
+                .zip(&tb[lo..hi])
+                .map(|(ta, tb)| (ta + w * (tb - ta)) * inv),
+        );
     }
 
     /// The table row below `cos_theta` (|cos| of the angle to the planes) and the weight of
@@ -332,13 +359,15 @@ mod tests {
             let mut want: Vec<f64> = start.iter().map(|&v| f64::from(v)).collect();
             let mut shape = start.clone();
             let (mut scale, mut peak) = (1.0f32, centre);
+            let mut scratch = Transmission::default();
             for k in 0..60 {
                 let cos = 0.70 + 0.3 * ((k * 37) % 60) as f32 / 60.0;
                 let t = split_t(&optics, cos);
                 want.iter_mut()
                     .zip(&t)
                     .for_each(|(w, &t)| *w *= f64::from(t));
-                scale *= optics.transmit_shape(cos, &mut shape, &mut peak);
+                optics.transmission(cos, &mut scratch);
+                scale *= scratch.apply(&mut shape, &mut peak);
                 let max = shape.iter().fold(0.0f32, |m, &v| m.max(v));
                 assert_eq!(shape[peak], max, "step {k}: the peak moved without `peak`");
                 assert!((max - 1.0).abs() < 1e-6, "step {k}: shape max {max}");
@@ -356,7 +385,7 @@ mod tests {
     }
 
     #[test]
-    fn transmit_shape_applies_the_split_transmittance() {
+    fn a_transmission_applies_the_split_transmittance() {
         let tables = tables();
         let optics = ClusterOptics::new(&tables);
         let bins = tables.grid.bins;
@@ -370,7 +399,9 @@ mod tests {
             let peak = start.iter().fold(0.0f32, |m, &v| m.max(v));
             let mut shape: Vec<f32> = start.iter().map(|v| v / peak).collect();
             let mut at = bins - 1;
-            let scale = peak * optics.transmit_shape(cos, &mut shape, &mut at);
+            let mut scratch = Transmission::default();
+            optics.transmission(cos, &mut scratch);
+            let scale = peak * scratch.apply(&mut shape, &mut at);
             let max = shape.iter().fold(0.0f32, |m, &v| m.max(v));
             assert!(max == 0.0 || (max - 1.0).abs() < 1e-6, "shape max {max}");
             assert!(max == 0.0 || shape[at] == max, "the peak is at bin {at}");

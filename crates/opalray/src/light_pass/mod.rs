@@ -22,7 +22,7 @@ mod smooth;
 mod source;
 mod walk;
 
-pub use interaction::{ClusterOptics, Split};
+pub use interaction::{ClusterOptics, Split, Transmission};
 pub use source::{LightSource, RayLattice};
 
 use std::sync::atomic::{AtomicU64, Ordering};

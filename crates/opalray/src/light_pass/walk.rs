@@ -169,6 +169,12 @@ impl Walker<'_> {
         };
         ledger.branches += 1;
         let mut alive = true;
+        let mut last_normal = Vec3::NAN;
+        let mut last_split = Split::Flat {
+            r: 0.0,
+            t: 1.0,
+            d: 0.0,
+        };
         let Scratch {
             r,
             t,
@@ -218,12 +224,17 @@ impl Walker<'_> {
                 }
                 Cell::Cluster => {
                     let normal = site.normal;
-                    let cos = direction.dot(normal).abs();
+                    // Cells of one patch, met one after another, split the light alike:
+                    // `r`, `t`, `d` still hold the last split's window.
+                    if normal != last_normal {
+                        last_split = self.optics.split(direction.dot(normal).abs(), r, t, d);
+                        last_normal = normal;
+                    }
                     // Split into the Bragg-reflected branch (followed only if strong
                     // enough), the diffuse part (stored here) and the transmitted ray.
                     let (p_r, p_d, p_t);
                     let mut reflected: Option<(Vec<f32>, f32)> = None;
-                    match self.optics.split(cos, r, t, d) {
+                    match last_split {
                         Split::Flat { r, t, d } => {
                             p_r = power * r;
                             p_d = power * d;

@@ -12,10 +12,13 @@ mod shading;
 
 pub use shading::{Lobe, Shading, LOBE_CUTOFF};
 
+use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, CellGrid, Ellipsoid, Ray};
-use crate::light_pass::{stone_geometry, ClusterOptics, LightField, LightSource, LOBES};
+use crate::light_pass::{
+    stone_geometry, ClusterOptics, LightField, LightSource, Transmission, LOBES,
+};
 use crate::optics::OpticsTables;
 use crate::spectrum::SpectralImage;
 use crate::structure::{Cell, Structure};
@@ -80,10 +83,10 @@ pub fn trace_view(
         .par_chunks_mut(setup.width * bins)
         .enumerate()
         .for_each_init(
-            || vec![0.0f32; bins],
-            |shape_thr, (y, row)| {
+            || (vec![0.0f32; bins], Transmission::default()),
+            |(shape_thr, transmission), (y, row)| {
                 for (x, pixel) in row.chunks_exact_mut(bins).enumerate() {
-                    ctx.shade_pixel(x, y, pixel, shape_thr);
+                    ctx.shade_pixel(x, y, pixel, shape_thr, transmission);
                 }
             },
         );
@@ -104,11 +107,19 @@ struct View<'a> {
 }
 
 impl View<'_> {
-    /// The spectrum seen through pixel `(x, y)`, written into `pixel`; `shape_thr` is scratch
-    /// space for the shape of the ray's throughput. (Not inlined: one call per pixel costs
-    /// nothing, and profiles can tell the view pass apart.)
+    /// The spectrum seen through pixel `(x, y)`, written into `pixel`; `shape_thr` and
+    /// `transmission` are scratch space for the shape of the ray's throughput and a cluster's
+    /// transmittance. (Not inlined: one call per pixel costs nothing, and profiles can tell
+    /// the view pass apart.)
     #[inline(never)]
-    fn shade_pixel(&self, x: usize, y: usize, pixel: &mut [f32], shape_thr: &mut [f32]) {
+    fn shade_pixel(
+        &self,
+        x: usize,
+        y: usize,
+        pixel: &mut [f32],
+        shape_thr: &mut [f32],
+        transmission: &mut Transmission,
+    ) {
         let View {
             structure,
             light,
@@ -168,6 +179,9 @@ impl View<'_> {
                 break;
             };
             let to_eye = -dir;
+            // Along one segment, cells of one patch meet the ray at the same angle and share
+            // their transmittance.
+            let mut last_normal = Vec3::NAN;
             grid.traverse(&inner, t0.max(0.0), t1, |seg| {
                 let slot = light.slot_of_cell[seg.index] as usize;
                 match structure.cells[seg.index] {
@@ -196,11 +210,11 @@ impl View<'_> {
                             add_filtered(pixel, shape_thr, glow, scale);
                         }
                         let normal = shading.normals[slot];
-                        scale *= cluster_optics.transmit_shape(
-                            dir.dot(normal).abs(),
-                            shape_thr,
-                            &mut peak,
-                        );
+                        if normal != last_normal {
+                            cluster_optics.transmission(dir.dot(normal).abs(), transmission);
+                            last_normal = normal;
+                        }
+                        scale *= transmission.apply(shape_thr, &mut peak);
                     }
                 }
                 scale > MIN_THROUGHPUT
