@@ -3,6 +3,11 @@
 //! (both voids, or clusters with the same orientation) are blended with a separable
 //! [1 2 1] / 4 kernel along x, y and z. Patch boundaries stay sharp; inside a patch, where the
 //! light varies smoothly, the noise of a finite number of rays falls about threefold.
+//!
+//! The direct light, solved per cell without noise, is blended too. A cluster filters light
+//! once per crossing, whatever the chord, so the paths to neighbouring cells may cross one
+//! cell of a patch more or fewer and differ by a whole Bragg-line transmission; the kernel
+//! anti-aliases that count (left out, the default image changes by 3.5 % RMS, in bands).
 
 use glam::Vec3;
 use rayon::prelude::*;
