@@ -42,6 +42,7 @@ pub(crate) fn refracted_entry(
     // Move the entry point until the refracted direction at it points at the target.
     let mut d = guess.unwrap_or_else(|| -source.direction_to_light(target));
     let mut found = None;
+    let (mut previous_step, mut damped) = (f32::INFINITY, false);
     for k in 0..ENTRY_ITERATIONS {
         let back = Ray::new(target, -d);
         let (_, t_far) = shape.intersect(&back)?;
@@ -53,13 +54,17 @@ pub(crate) fn refracted_entry(
             return None;
         }
         let refracted = refract(incoming, normal, 1.0, n_eff)?;
-        let converged = (refracted - d).length_squared() < 1e-10;
-        // Damped: near the rim, where the surface curves fast, the plain iteration
-        // overshoots and oscillates.
-        d = if k < 2 {
-            refracted
-        } else {
+        let step = (refracted - d).length_squared();
+        let converged = step < 1e-10;
+        // Damped from the third step on once the plain iteration stops halving its step:
+        // near the rim, where the surface curves fast, it overshoots and oscillates. Where
+        // the surface is gentle it converges in a few plain steps.
+        damped |= k >= 2 && step > 0.25 * previous_step;
+        previous_step = step;
+        d = if damped {
             (d + ENTRY_DAMPING * (refracted - d)).normalize()
+        } else {
+            refracted
         };
         found = Some((p, normal, cos_i));
         if converged {
