@@ -24,8 +24,31 @@ use crate::structure::Cell;
 /// under 10⁻⁵, after a few steps on most of the stone; about 1 % of the paper's stone's cells,
 /// at the strongly curved rim, use up all of them and keep the last step.
 const ENTRY_ITERATIONS: usize = 24;
-/// Step towards the refracted direction taken per iteration after the first two.
+/// Step towards the refracted direction taken per iteration once the search is damped.
 const ENTRY_DAMPING: f32 = 0.5;
+
+/// The light's spectrum as `top × shape`, the shape's maximum 1 at bin `peak`: where every
+/// cell's direct light starts, formed once.
+struct UnitSpectrum {
+    shape: Vec<f32>,
+    peak: usize,
+    top: f32,
+}
+
+impl UnitSpectrum {
+    fn new(spectrum: &[f32]) -> Self {
+        let (peak, top) =
+            spectrum.iter().enumerate().fold(
+                (0, 0.0f32),
+                |(a, m), (k, &v)| if v > m { (k, v) } else { (a, m) },
+            );
+        let mut shape: Vec<f32> = spectrum.iter().map(|&s| s / top).collect();
+        if top > 0.0 {
+            shape[peak] = 1.0;
+        }
+        UnitSpectrum { shape, peak, top }
+    }
+}
 
 /// Where the light that reaches `target` straight (refracted once) enters the stone:
 /// `(entry point, refracted direction, irradiance across the beam inside)`, or `None`
@@ -89,33 +112,29 @@ impl Walker<'_> {
 
     /// The direct light of the cell `cell` (centre `centre`): its fluence spectrum is written
     /// into `out` (power per mm² per nm) and its direction of travel returned; both zero where
-    /// no direct light arrives. `guess` as for [`Walker::entry`].
+    /// no direct light arrives. `guess` as for [`Walker::entry`]; `light` is the light's
+    /// spectrum, formed once for all cells.
     fn direct_at(
         &self,
         cell: usize,
         centre: Vec3,
         out: &mut [f32],
         guess: Option<Vec3>,
+        light: &UnitSpectrum,
         transmission: &mut Transmission,
     ) -> Vec3 {
         out.fill(0.0);
         let Some((p, d, irradiance)) = self.entry(centre, guess) else {
             return Vec3::ZERO;
         };
-        // The spectrum is kept as `scale × out`: filters flat in wavelength change the scale
-        // only, a Bragg line the bins of its window.
-        let (mut peak, top) = self.spectrum.iter().enumerate().fold(
-            (0, 0.0f32),
-            |(a, m), (k, &v)| if v > m { (k, v) } else { (a, m) },
-        );
-        if top <= 0.0 {
+        if light.top <= 0.0 {
             return Vec3::ZERO;
         }
-        out.iter_mut()
-            .zip(self.spectrum)
-            .for_each(|(o, &s)| *o = s / top);
-        out[peak] = 1.0;
-        let mut scale = irradiance * top;
+        // The spectrum is kept as `scale × out`: filters flat in wavelength change the scale
+        // only, a Bragg line the bins of its window.
+        out.copy_from_slice(&light.shape);
+        let mut peak = light.peak;
+        let mut scale = irradiance * light.top;
         let ray = Ray::new(p, d);
         let mut last_normal = Vec3::NAN;
         let reach = (centre - p).length() + self.grid.cell.length();
@@ -163,6 +182,7 @@ impl Walker<'_> {
         let bins = self.spectrum.len();
         let [nx, ny, _] = self.grid.n;
         let cells = cells_of_slots(self.slot_of_cell);
+        let light = UnitSpectrum::new(self.spectrum);
         // Runs of consecutive cells (mostly along x): each cell's entry search starts from
         // the direction found for the one before, a few iterations fewer.
         const RUN: usize = 64;
@@ -177,7 +197,7 @@ impl Walker<'_> {
                         .cell_center(cell % nx, cell / nx % ny, cell / (nx * ny));
                     let (spectrum, rest) = entry[..stride].split_at_mut(bins);
                     let direction =
-                        self.direct_at(cell, centre, spectrum, guess, &mut transmission);
+                        self.direct_at(cell, centre, spectrum, guess, &light, &mut transmission);
                     guess = (direction != Vec3::ZERO).then_some(direction);
                     // Direction sums with a unit weight: one exact direction (ρ = 1).
                     rest[..3].copy_from_slice(&direction.to_array());

@@ -87,6 +87,29 @@ fn lobe_of(kind: usize, direction: Vec3) -> usize {
     }
 }
 
+/// Filter the shape of a `scale × shape` spectrum by a fraction that is `background` at every
+/// bin but those of a Bragg line's window, from `lo` on, where it is `window`: returns the
+/// factor for the scale. (Shape and scale keep their product; the shape changes only in the
+/// window, unless the background is zero.)
+#[inline(always)]
+fn filter_window(shape: &mut [f32], lo: usize, window: &[f32], background: f32) -> f32 {
+    let hi = lo + window.len();
+    if background > 0.0 {
+        let inv = 1.0 / background;
+        for (s, f) in shape[lo..hi].iter_mut().zip(window) {
+            *s *= f * inv;
+        }
+        background
+    } else {
+        shape[..lo].fill(0.0);
+        shape[hi..].fill(0.0);
+        for (s, f) in shape[lo..hi].iter_mut().zip(window) {
+            *s *= f;
+        }
+        1.0
+    }
+}
+
 impl Walker<'_> {
     /// Radiant power of a spectrum (sum over bins × bin width).
     pub fn power(&self, spectrum: &[f32]) -> f32 {
@@ -263,38 +286,13 @@ impl Walker<'_> {
                             p_d = db * p_out + spectrum::dot(inside, d) * k;
                             p_t = tb * p_out + spectrum::dot(inside, t) * k;
                             if p_r > 0.0 && p_r >= threshold {
-                                // The reflected shape: rb outside the window, r inside.
                                 let mut v = pool.pop().unwrap_or_default();
                                 v.clear();
                                 v.extend_from_slice(&shape);
-                                if rb > 0.0 {
-                                    let inv = 1.0 / rb;
-                                    for (v, r) in v[lo..hi].iter_mut().zip(r) {
-                                        *v *= r * inv;
-                                    }
-                                    reflected = Some((v, scale * rb));
-                                } else {
-                                    v[..lo].fill(0.0);
-                                    v[hi..].fill(0.0);
-                                    for (v, r) in v[lo..hi].iter_mut().zip(r) {
-                                        *v *= r;
-                                    }
-                                    reflected = Some((v, scale));
-                                }
+                                let k = filter_window(&mut v, lo, r, rb);
+                                reflected = Some((v, scale * k));
                             }
-                            if tb > 0.0 {
-                                let inv = 1.0 / tb;
-                                for (s, t) in shape[lo..hi].iter_mut().zip(t) {
-                                    *s *= t * inv;
-                                }
-                                scale *= tb;
-                            } else {
-                                shape[..lo].fill(0.0);
-                                shape[hi..].fill(0.0);
-                                for (s, t) in shape[lo..hi].iter_mut().zip(t) {
-                                    *s *= t;
-                                }
-                            }
+                            scale *= filter_window(&mut shape, lo, t, tb);
                         }
                     }
                     ledger.stored += f64::from(p_d);

@@ -120,53 +120,42 @@ impl View<'_> {
         shape_thr: &mut [f32],
         transmission: &mut Transmission,
     ) {
-        let View {
-            structure,
-            light,
-            shading,
-            setup,
-            shape,
-            grid,
-            optics: ref cluster_optics,
-            bins,
-            n_eff,
-        } = *self;
-        let ray = setup.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
-        let Some((t_hit, _)) = shape.intersect(&ray).filter(|h| h.0 > 0.0) else {
-            for (p, s) in pixel.iter_mut().zip(setup.light_spectrum) {
-                *p = setup.background * s;
+        let ray = self.setup.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
+        let Some((t_hit, _)) = self.shape.intersect(&ray).filter(|h| h.0 > 0.0) else {
+            for (p, s) in pixel.iter_mut().zip(self.setup.light_spectrum) {
+                *p = self.setup.background * s;
             }
             return;
         };
         // Surface: the gloss of the light, and the refracted ray.
         let p = ray.at(t_hit);
-        let normal = shape.normal(p);
+        let normal = self.shape.normal(p);
         let to_eye = -ray.direction;
-        let fresnel = fresnel_dielectric(to_eye.dot(normal), 1.0, n_eff);
-        let to_light = setup.source.direction_to_light(p);
+        let fresnel = fresnel_dielectric(to_eye.dot(normal), 1.0, self.n_eff);
+        let to_light = self.setup.source.direction_to_light(p);
         let cos_l = to_light.dot(normal);
         let mut glint = 0.0;
-        if cos_l > 0.0 && setup.gloss > 0.0 {
+        if cos_l > 0.0 && self.setup.gloss > 0.0 {
             let h = (to_light + to_eye).normalize();
-            glint = setup.gloss
-                * fresnel_dielectric(h.dot(to_light), 1.0, n_eff)
-                * setup.source.irradiance_at(p)
+            glint = self.setup.gloss
+                * fresnel_dielectric(h.dot(to_light), 1.0, self.n_eff)
+                * self.setup.source.irradiance_at(p)
                 * cos_l
                 * (GLOSS_EXPONENT + 8.0)
                 / 8.0
                 * normal.dot(h).max(0.0).powf(GLOSS_EXPONENT);
         }
-        for (px, s) in pixel.iter_mut().zip(setup.light_spectrum) {
+        for (px, s) in pixel.iter_mut().zip(self.setup.light_spectrum) {
             *px = glint * s;
         }
-        let Some(mut dir) = refract(ray.direction, normal, 1.0, n_eff) else {
+        let Some(mut dir) = refract(ray.direction, normal, 1.0, self.n_eff) else {
             return;
         };
         // Radiance leaving the stone is scaled by (1 − F) / n² (étendue). The ray's throughput
         // is `scale × shape`: filters flat in wavelength (most clusters, voids, the surface)
         // change only the scale; the shape changes only in the bins of a Bragg line, and is
         // kept at a maximum of 1, so the ray lives while `scale` exceeds MIN_THROUGHPUT.
-        let mut scale = (1.0 - fresnel) / (n_eff * n_eff);
+        let mut scale = (1.0 - fresnel) / (self.n_eff * self.n_eff);
         shape_thr.fill(1.0);
         let mut peak = 0;
         let mut origin = p;
@@ -175,43 +164,45 @@ impl View<'_> {
                 origin,
                 direction: dir,
             };
-            let Some((t0, t1)) = shape.intersect(&inner) else {
+            let Some((t0, t1)) = self.shape.intersect(&inner) else {
                 break;
             };
             let to_eye = -dir;
             // Along one segment, cells of one patch meet the ray at the same angle and share
             // their transmittance.
             let mut last_normal = Vec3::NAN;
-            grid.traverse(&inner, t0.max(0.0), t1, |seg| {
-                let slot = light.slot_of_cell[seg.index] as usize;
-                match structure.cells[seg.index] {
+            self.grid.traverse(&inner, t0.max(0.0), t1, |seg| {
+                let slot = self.light.slot_of_cell[seg.index] as usize;
+                match self.structure.cells[seg.index] {
                     Cell::Outside => return true,
                     Cell::Void => {
                         let kept =
-                            (-setup.body_extinction_per_mm * (seg.t_exit - seg.t_enter)).exp();
-                        let glow = &shading.diffuse[slot * bins..(slot + 1) * bins];
+                            (-self.setup.body_extinction_per_mm * (seg.t_exit - seg.t_enter)).exp();
+                        let glow = &self.shading.diffuse[slot * self.bins..(slot + 1) * self.bins];
                         add_filtered(pixel, shape_thr, glow, scale * (1.0 - kept));
                         scale *= kept;
                     }
                     Cell::Cluster => {
                         for lobe in 0..LOBES {
-                            let l = shading.lobes[slot * LOBES + lobe];
+                            let l = self.shading.lobes[slot * LOBES + lobe];
                             let c = l.mirror.dot(to_eye);
                             if c <= l.cos_min {
                                 continue;
                             }
                             // Eq. (2)'s specular term: E · R(θ) · peak · cosⁿ' θ'.
-                            let entry = (slot * LOBES + lobe) * bins;
-                            let spectrum = &shading.specular[entry..entry + bins];
+                            let entry = (slot * LOBES + lobe) * self.bins;
+                            let spectrum = &self.shading.specular[entry..entry + self.bins];
                             add_filtered(pixel, shape_thr, spectrum, scale * c.powf(l.exponent));
                         }
-                        if shading.glows[slot] {
-                            let glow = &shading.diffuse[slot * bins..(slot + 1) * bins];
+                        if self.shading.glows[slot] {
+                            let glow =
+                                &self.shading.diffuse[slot * self.bins..(slot + 1) * self.bins];
                             add_filtered(pixel, shape_thr, glow, scale);
                         }
-                        let normal = shading.normals[slot];
+                        let normal = self.shading.normals[slot];
                         if normal != last_normal {
-                            cluster_optics.transmission(dir.dot(normal).abs(), transmission);
+                            self.optics
+                                .transmission(dir.dot(normal).abs(), transmission);
                             last_normal = normal;
                         }
                         scale *= transmission.apply(shape_thr, &mut peak);
@@ -224,10 +215,10 @@ impl View<'_> {
             }
             // Far surface: the backdrop through the stone, and internal reflection.
             let q = inner.at(t1);
-            let n_q = shape.normal(q);
-            let f_out = fresnel_dielectric(dir.dot(n_q), n_eff, 1.0);
-            let seen = (1.0 - f_out) * n_eff * n_eff * setup.background;
-            add_filtered(pixel, shape_thr, setup.light_spectrum, scale * seen);
+            let n_q = self.shape.normal(q);
+            let f_out = fresnel_dielectric(dir.dot(n_q), self.n_eff, 1.0);
+            let seen = (1.0 - f_out) * self.n_eff * self.n_eff * self.setup.background;
+            add_filtered(pixel, shape_thr, self.setup.light_spectrum, scale * seen);
             scale *= f_out;
             dir = reflect(dir, n_q);
             origin = q;
