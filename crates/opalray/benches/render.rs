@@ -44,6 +44,7 @@ fn render(c: &mut Criterion) {
         gloss: scene.render.gloss as f32,
         background: scene.render.background as f32,
         body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
+        reflection_block: scene.render.reflection_block as usize,
     };
     group.bench_function("view_pass_640x480", |b| {
         b.iter(|| {

@@ -195,6 +195,7 @@ impl Prepared {
                 gloss: s.render.gloss as f32,
                 background: s.render.background as f32,
                 body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
+                reflection_block: s.render.reflection_block as usize,
             },
         );
         times.view_pass = seconds(start);

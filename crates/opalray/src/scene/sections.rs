@@ -344,6 +344,7 @@ impl CameraConfig {
 /// | `body_tone`        | –    | 2       | 1 ..= 9      |
 /// | `gloss`            | –    | 1.0     | [0, 10]      |
 /// | `background`       | –    | 0.005   | [0, 1]       |
+/// | `reflection_block` | px   | 2       | 1 ..= 8      |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderConfig {
@@ -360,6 +361,10 @@ pub struct RenderConfig {
     /// Grey level of the backdrop behind the stone, as a reflectance under the light
     /// (0 black velvet … 1 white card).
     pub background: f64,
+    /// Pixels on a side of the blocks whose weak internal reflections (Fresnel fraction
+    /// under 0.2 at the far surface) are shaded with one shared ray; 1 shades every pixel's
+    /// own reflection.
+    pub reflection_block: u32,
 }
 
 impl Default for RenderConfig {
@@ -371,6 +376,7 @@ impl Default for RenderConfig {
             body_tone: 2,
             gloss: 1.0,
             background: 0.005,
+            reflection_block: 2,
         }
     }
 }
@@ -403,7 +409,17 @@ impl RenderConfig {
             ));
         }
         check_range("render.gloss", self.gloss, 0.0, 10.0, 1.0)?;
-        check_range("render.background", self.background, 0.0, 1.0, 0.005)
+        check_range("render.background", self.background, 0.0, 1.0, 0.005)?;
+        if !(1..=8).contains(&self.reflection_block) {
+            return Err(Error::field(
+                "render.reflection_block",
+                format!(
+                    "must be in 1..=8 pixels, got {}; try 2 (or 1 for every pixel's own)",
+                    self.reflection_block
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// Single-scattering albedo of the potch (common opal) filling the voids, from the body

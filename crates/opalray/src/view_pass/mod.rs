@@ -52,6 +52,9 @@ pub struct ViewSetup<'a> {
     pub background: f32,
     /// Extinction of the potch in voids, per mm.
     pub body_extinction_per_mm: f32,
+    /// Pixels on a side of the blocks whose weak internal reflections share one ray (1: none
+    /// shared).
+    pub reflection_block: usize,
 }
 
 /// Render the spectral image (paper §3.3).
@@ -77,20 +80,81 @@ pub fn trace_view(
         bins,
         n_eff,
     };
+    let block = setup.reflection_block.max(1);
     let mut image = SpectralImage::new(setup.width, setup.height, light.grid);
     image
         .data
-        .par_chunks_mut(setup.width * bins)
+        .par_chunks_mut(block * setup.width * bins)
         .enumerate()
         .for_each_init(
-            || (vec![0.0f32; bins], Transmission::default()),
-            |(shape_thr, transmission), (y, row)| {
-                for (x, pixel) in row.chunks_exact_mut(bins).enumerate() {
-                    ctx.shade_pixel(x, y, pixel, shape_thr, transmission);
+            || BlockScratch::new(bins, block),
+            |scratch, (by, rows)| {
+                for x0 in (0..setup.width).step_by(block) {
+                    ctx.shade_block(x0, by * block, block, rows, scratch);
                 }
             },
         );
     image
+}
+
+/// Internal reflections at the far surface weaker than this (the Fresnel fraction) are shaded
+/// once per block of pixels ([`ViewSetup::reflection_block`]); stronger ones, near and beyond the critical angle
+/// at the rim, per pixel.
+const SHARED_REFLECTION: f32 = 0.2;
+/// The reflected rays of a block's pixels are shaded together only if every one is within this
+/// cosine of their mean direction (about 2°).
+const SHARED_SPREAD_COS: f32 = 0.999_4;
+
+/// A camera ray stopped at its first internal reflection, to be finished with its block.
+#[derive(Clone, Copy, Debug)]
+struct Deferred {
+    /// The pixel within its block's rows (`x + width · row`).
+    pixel: usize,
+    /// Where it reflects and where it goes on.
+    origin: Vec3,
+    direction: Vec3,
+    /// Throughput scale after the reflection (the shape is kept in `BlockScratch::shapes`).
+    scale: f32,
+    /// Bin of the shape's maximum.
+    peak: usize,
+}
+
+/// Which segment a walk starts with, and whether a weak first reflection is returned (to be
+/// shaded with the block's) instead of followed.
+#[derive(Clone, Copy, Debug)]
+struct Path {
+    first: u32,
+    defer: bool,
+}
+
+/// A walk that starts after the first internal reflection.
+const REFLECTED: Path = Path {
+    first: 1,
+    defer: false,
+};
+
+/// Per-thread scratch space of the view pass.
+struct BlockScratch {
+    /// The throughput shape of the ray being walked.
+    shape: Vec<f32>,
+    /// Throughput shapes of the block's deferred rays, `block² × bins`.
+    shapes: Vec<f32>,
+    deferred: Vec<Deferred>,
+    /// The radiance of the block's shared reflected path.
+    shared: Vec<f32>,
+    transmission: Transmission,
+}
+
+impl BlockScratch {
+    fn new(bins: usize, block: usize) -> Self {
+        BlockScratch {
+            shape: vec![0.0; bins],
+            shapes: vec![0.0; block * block * bins],
+            deferred: Vec::with_capacity(block * block),
+            shared: vec![0.0; bins],
+            transmission: Transmission::default(),
+        }
+    }
 }
 
 /// Everything a camera ray needs, shared by all threads.
@@ -107,25 +171,124 @@ struct View<'a> {
 }
 
 impl View<'_> {
+    /// Shade the `block × block` pixels whose top-left corner is `(x0, y0)`; `rows` holds
+    /// the block's rows of the image. Each pixel's ray is walked through the stone to the far
+    /// surface. Where it reflects there only weakly (a few per cent, most of the stone), the
+    /// reflected path is walked once for the block, from the mean of its pixels' reflected
+    /// rays, and each pixel takes it through its own throughput: the reflected view, a few
+    /// per cent of the image, is resolved at `block` pixels instead of one. Strong
+    /// reflections (total internal reflection at the rim), and blocks whose reflected rays
+    /// spread by more than about 2°, are walked per pixel.
+    fn shade_block(
+        &self,
+        x0: usize,
+        y0: usize,
+        block: usize,
+        rows: &mut [f32],
+        scratch: &mut BlockScratch,
+    ) {
+        let (width, bins) = (self.setup.width, self.bins);
+        let x1 = (x0 + block).min(width);
+        let y1 = (y0 + block).min(self.setup.height);
+        let share = block > 1;
+        scratch.deferred.clear();
+        for y in y0..y1 {
+            for x in x0..x1 {
+                let at = x + width * (y - y0);
+                let pixel = &mut rows[at * bins..(at + 1) * bins];
+                if let Some(mut d) = self.shade_pixel(
+                    x,
+                    y,
+                    share,
+                    pixel,
+                    &mut scratch.shape,
+                    &mut scratch.transmission,
+                ) {
+                    let k = scratch.deferred.len();
+                    scratch.shapes[k * bins..(k + 1) * bins].copy_from_slice(&scratch.shape);
+                    d.pixel = at;
+                    scratch.deferred.push(d);
+                }
+            }
+        }
+        if scratch.deferred.is_empty() {
+            return;
+        }
+        let n = scratch.deferred.len() as f32;
+        let origin = scratch.deferred.iter().map(|d| d.origin).sum::<Vec3>() / n;
+        let direction = scratch
+            .deferred
+            .iter()
+            .map(|d| d.direction)
+            .sum::<Vec3>()
+            .normalize_or_zero();
+        let together = scratch
+            .deferred
+            .iter()
+            .all(|d| d.direction.dot(direction) >= SHARED_SPREAD_COS);
+        if together {
+            let s0 = scratch.deferred.iter().fold(0.0f32, |m, d| m.max(d.scale));
+            scratch.shape.fill(1.0);
+            scratch.shared.fill(0.0);
+            let mut peak = 0;
+            self.walk(
+                origin,
+                direction,
+                s0,
+                &mut peak,
+                REFLECTED,
+                &mut scratch.shared,
+                &mut scratch.shape,
+                &mut scratch.transmission,
+            );
+            for (k, d) in scratch.deferred.iter().enumerate() {
+                let pixel = &mut rows[d.pixel * bins..(d.pixel + 1) * bins];
+                let shape = &scratch.shapes[k * bins..(k + 1) * bins];
+                add_filtered(pixel, shape, &scratch.shared, d.scale / s0);
+            }
+        } else {
+            for (k, d) in scratch.deferred.iter().enumerate() {
+                let pixel = &mut rows[d.pixel * bins..(d.pixel + 1) * bins];
+                scratch
+                    .shape
+                    .copy_from_slice(&scratch.shapes[k * bins..(k + 1) * bins]);
+                let mut peak = d.peak;
+                self.walk(
+                    d.origin,
+                    d.direction,
+                    d.scale,
+                    &mut peak,
+                    REFLECTED,
+                    pixel,
+                    &mut scratch.shape,
+                    &mut scratch.transmission,
+                );
+            }
+        }
+    }
+
     /// The spectrum seen through pixel `(x, y)`, written into `pixel`; `shape_thr` and
     /// `transmission` are scratch space for the shape of the ray's throughput and a cluster's
-    /// transmittance. (Not inlined: one call per pixel costs nothing, and profiles can tell
-    /// the view pass apart.)
+    /// transmittance. With `share`, returns the ray's first internal reflection where that is
+    /// weak enough to be shaded with its block's (its throughput shape left in `shape_thr`).
+    /// (Not inlined: one call per pixel costs nothing, and profiles can tell the view pass
+    /// apart.)
     #[inline(never)]
     fn shade_pixel(
         &self,
         x: usize,
         y: usize,
+        share: bool,
         pixel: &mut [f32],
         shape_thr: &mut [f32],
         transmission: &mut Transmission,
-    ) {
+    ) -> Option<Deferred> {
         let ray = self.setup.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
         let Some((t_hit, _)) = self.shape.intersect(&ray).filter(|h| h.0 > 0.0) else {
             for (p, s) in pixel.iter_mut().zip(self.setup.light_spectrum) {
                 *p = self.setup.background * s;
             }
-            return;
+            return None;
         };
         // Surface: the gloss of the light, and the refracted ray.
         let p = ray.at(t_hit);
@@ -148,25 +311,51 @@ impl View<'_> {
         for (px, s) in pixel.iter_mut().zip(self.setup.light_spectrum) {
             *px = glint * s;
         }
-        let Some(mut dir) = refract(ray.direction, normal, 1.0, self.n_eff) else {
-            return;
-        };
+        let dir = refract(ray.direction, normal, 1.0, self.n_eff)?;
         // Radiance leaving the stone is scaled by (1 − F) / n² (étendue). The ray's throughput
         // is `scale × shape`: filters flat in wavelength (most clusters, voids, the surface)
         // change only the scale; the shape changes only in the bins of a Bragg line, and is
         // kept at a maximum of 1, so the ray lives while `scale` exceeds MIN_THROUGHPUT.
-        let mut scale = (1.0 - fresnel) / (self.n_eff * self.n_eff);
+        let scale = (1.0 - fresnel) / (self.n_eff * self.n_eff);
         shape_thr.fill(1.0);
         let mut peak = 0;
-        let mut origin = p;
-        for _ in 0..MAX_VIEW_BOUNCES {
+        let path = Path {
+            first: 0,
+            defer: share,
+        };
+        self.walk(
+            p,
+            dir,
+            scale,
+            &mut peak,
+            path,
+            pixel,
+            shape_thr,
+            transmission,
+        )
+    }
+
+    /// Walk a ray inside the stone from `origin` (on or inside the surface) with throughput
+    /// `scale × shape_thr`, adding what it sees to `pixel`, through internal reflections until
+    /// [`MAX_VIEW_BOUNCES`] segments (counting from `path.first`) are walked or it fades.
+    #[allow(clippy::too_many_arguments)]
+    fn walk(
+        &self,
+        mut origin: Vec3,
+        mut dir: Vec3,
+        mut scale: f32,
+        peak: &mut usize,
+        path: Path,
+        pixel: &mut [f32],
+        shape_thr: &mut [f32],
+        transmission: &mut Transmission,
+    ) -> Option<Deferred> {
+        for bounce in path.first..MAX_VIEW_BOUNCES {
             let inner = Ray {
                 origin,
                 direction: dir,
             };
-            let Some((t0, t1)) = self.shape.intersect(&inner) else {
-                break;
-            };
+            let (t0, t1) = self.shape.intersect(&inner)?;
             let to_eye = -dir;
             // Along one segment, cells of one patch meet the ray at the same angle and share
             // their transmittance.
@@ -205,13 +394,13 @@ impl View<'_> {
                                 .transmission(dir.dot(normal).abs(), transmission);
                             last_normal = normal;
                         }
-                        scale *= transmission.apply(shape_thr, &mut peak);
+                        scale *= transmission.apply(shape_thr, peak);
                     }
                 }
                 scale > MIN_THROUGHPUT
             });
             if scale <= MIN_THROUGHPUT {
-                break;
+                return None;
             }
             // Far surface: the backdrop through the stone, and internal reflection.
             let q = inner.at(t1);
@@ -223,9 +412,19 @@ impl View<'_> {
             dir = reflect(dir, n_q);
             origin = q;
             if scale <= MIN_THROUGHPUT {
-                break;
+                return None;
+            }
+            if path.defer && bounce == 0 && f_out < SHARED_REFLECTION {
+                return Some(Deferred {
+                    pixel: 0,
+                    origin,
+                    direction: dir,
+                    scale,
+                    peak: *peak,
+                });
             }
         }
+        None
     }
 }
 
