@@ -193,6 +193,36 @@ fn light_pass_energy_is_accounted_for() {
 }
 
 #[test]
+fn split_lattice_delivers_the_light_on_the_stones_outline() {
+    // The rays that meet the stone, trapped cells split into quarter-power rays or not, carry
+    // the light falling on its outline: unit irradiance times the ellipsoid's projected area
+    // along the light, π·a·b·c·√(d_x²/a² + d_y²/b² + d_z²/c²).
+    let scene = small_scene(32, 24, 40, 60_000);
+    let prepared = prepare(&scene).unwrap();
+    let spectrum = prepared.light_spectrum();
+    let power =
+        spectrum.iter().map(|&v| f64::from(v)).sum::<f64>() * prepared.optics.grid.bin_width_nm();
+    let [a, b, c] = scene.structure.semi_axes_mm;
+    for angle in [0.0f64, 30.0, -55.0] {
+        let frame = prepared.render(angle);
+        let (dx, dz) = (angle.to_radians().sin(), angle.to_radians().cos());
+        let area = std::f64::consts::PI * a * b * c * ((dx / a).powi(2) + (dz / c).powi(2)).sqrt();
+        let delivered = frame.ledger.emitted / power;
+        assert!(
+            (delivered / area - 1.0).abs() < 2e-3,
+            "{angle}°: {delivered} mm² vs {area} mm²"
+        );
+        // Some cells were split, far from all (which would trace four rays per cell).
+        let cells = 245 * 245;
+        assert!(
+            frame.light_rays > cells && frame.light_rays < 2 * cells,
+            "{angle}°: {} rays for {cells} cells",
+            frame.light_rays
+        );
+    }
+}
+
+#[test]
 fn doubling_the_light_rays_changes_the_image_by_under_two_percent() {
     // The shipped number of rays against twice as many.
     let rays = Scene::default().light.rays;

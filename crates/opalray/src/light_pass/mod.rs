@@ -66,6 +66,8 @@ pub struct EnergyLedger {
     pub absorbed: f64,
     /// Cut: branches too weak to follow, or trapped by total internal reflection.
     pub truncated: f64,
+    /// Rays traced: one per lattice cell, more where the light is trapped.
+    pub rays: u64,
     /// Cells crossed by all rays and branches (work done, not energy).
     pub cells_crossed: u64,
     /// Branches followed (refracted rays, Bragg reflections, internal reflections).
@@ -80,6 +82,7 @@ impl EnergyLedger {
         self.stored += o.stored;
         self.absorbed += o.absorbed;
         self.truncated += o.truncated;
+        self.rays += o.rays;
         self.cells_crossed += o.cells_crossed;
         self.branches += o.branches;
         self
@@ -99,7 +102,8 @@ pub struct LightSetup<'a> {
     pub source: LightSource,
     /// The light's spectrum per bin, scaled so that irradiance 1 has luminance 1.
     pub spectrum: &'a [f32],
-    /// Rays to trace (rounded to a square lattice).
+    /// Cells of the ray lattice (rounded to a square): one ray each, more where the light
+    /// is trapped.
     pub rays: u64,
     /// Seed of the ray streams.
     pub seed: u64,
@@ -249,7 +253,6 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         inv_volume: inverse_inside_volumes(&grid, &shape, &slot_of_cell, slots),
         seed: setup.seed,
     };
-    let rays = walker.lattice.len();
     // Bounds of one deposit, for the fixed-point scale: no ray ever carries more than it had
     // on entering, and no chord through a cell is longer than its diagonal.
     let max_weight = grid.cell.length() * walker.inv_volume.iter().fold(0.0f32, |m, &v| m.max(v));
@@ -314,7 +317,7 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         fluence,
         directions,
         concentration,
-        rays,
+        rays: ledger.rays,
         ledger,
     }
 }

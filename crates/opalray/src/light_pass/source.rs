@@ -92,6 +92,12 @@ impl RayLattice {
         self.side
     }
 
+    /// Width of one lattice cell at the stone, mm (for a point light, of the cone's base at
+    /// the stone's centre, roughly).
+    pub fn spacing(&self) -> f32 {
+        2.0 * self.radius / self.side as f32
+    }
+
     /// Number of rays.
     pub fn len(&self) -> u64 {
         self.side * self.side
@@ -104,9 +110,16 @@ impl RayLattice {
 
     /// Ray `index`, jittered within its lattice cell by `rng`.
     pub fn ray(&self, index: u64, rng: &mut Rng) -> Ray {
+        let fu = rng.uniform_f32();
+        let fv = rng.uniform_f32();
+        self.ray_in(index, fu, fv)
+    }
+
+    /// The ray through the point `(fu, fv)` (each in [0, 1)) of lattice cell `index`.
+    pub fn ray_in(&self, index: u64, fu: f32, fv: f32) -> Ray {
         let (i, j) = (index % self.side, index / self.side);
-        let u = ((i as f32 + rng.uniform_f32()) / self.side as f32) * 2.0 - 1.0;
-        let v = ((j as f32 + rng.uniform_f32()) / self.side as f32) * 2.0 - 1.0;
+        let u = ((i as f32 + fu) / self.side as f32) * 2.0 - 1.0;
+        let v = ((j as f32 + fv) / self.side as f32) * 2.0 - 1.0;
         match self.source {
             LightSource::Directional { direction } => {
                 let (a, b) = direction.any_orthonormal_pair();

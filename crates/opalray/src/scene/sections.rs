@@ -249,7 +249,7 @@ pub enum Illuminant {
 /// | `illuminant`   | –    | "D65"         | "D65", "A", "C", "E"  |
 /// | `intensity`    | –    | 1.0           | (0, 1e6]              |
 /// | `distance_mm`  | mm   | 100           | (0, 1e6]              |
-/// | `rays`         | –    | 196608        | 1 ..= 1e9             |
+/// | `rays`         | –    | 65536         | 1 ..= 1e9             |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct LightConfig {
@@ -264,7 +264,7 @@ pub struct LightConfig {
     pub intensity: f64,
     /// Distance of a point light from the opal's centre, mm.
     pub distance_mm: f64,
-    /// Rays traced in the light pass.
+    /// Cells of the light pass's ray lattice: one ray each, 2 × 2 where the light is trapped.
     pub rays: u64,
 }
 
@@ -276,7 +276,7 @@ impl Default for LightConfig {
             illuminant: Illuminant::D65,
             intensity: 1.0,
             distance_mm: 100.0,
-            rays: 196_608,
+            rays: 65_536,
         }
     }
 }
@@ -290,7 +290,7 @@ impl LightConfig {
         if !(1..=1_000_000_000).contains(&self.rays) {
             return Err(Error::field(
                 "light.rays",
-                format!("must be in 1..=1000000000, got {}; try 196608", self.rays),
+                format!("must be in 1..=1000000000, got {}; try 65536", self.rays),
             ));
         }
         Ok(())
