@@ -340,10 +340,19 @@ impl Walker<'_> {
                             let (r, t, d) = (&r[lo..hi], &t[lo..hi], &d[lo..hi]);
                             let inside = &shape[lo..hi];
                             let k = scale * bw;
-                            let p_out = power - spectrum::sum(inside) * k;
-                            p_r = rb * p_out + spectrum::dot(inside, r) * k;
-                            p_d = db * p_out + spectrum::dot(inside, d) * k;
-                            p_t = tb * p_out + spectrum::dot(inside, t) * k;
+                            // The window holds a few bins: its four sums in one pass.
+                            let (mut s_in, mut s_r, mut s_d, mut s_t) = (0.0, 0.0, 0.0, 0.0);
+                            for i in 0..inside.len() {
+                                let s = inside[i];
+                                s_in += s;
+                                s_r += s * r[i];
+                                s_d += s * d[i];
+                                s_t += s * t[i];
+                            }
+                            let p_out = power - s_in * k;
+                            p_r = rb * p_out + s_r * k;
+                            p_d = db * p_out + s_d * k;
+                            p_t = tb * p_out + s_t * k;
                             if p_r > 0.0 && p_r >= threshold {
                                 let mut v = pool.pop().unwrap_or_default();
                                 v.clear();
