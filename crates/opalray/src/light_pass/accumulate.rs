@@ -199,13 +199,17 @@ impl TileSums {
         }
         let base = local as usize * self.stride;
         let sums = &mut self.sums[base..base + self.stride];
-        for (sum, &s) in sums[..self.bins].iter_mut().zip(spectrum) {
+        let (spectral, rest) = sums.split_at_mut(self.bins);
+        for (sum, &s) in spectral.iter_mut().zip(spectrum) {
             *sum += s * weight;
         }
-        for a in 0..3 {
-            sums[self.bins + a] += direction[a] * power;
-        }
-        sums[self.bins + 3] += power;
+        let tail: &mut [f32; 4] = (&mut rest[..4])
+            .try_into()
+            .expect("a direction and a power after the spectrum");
+        tail[0] += direction.x * power;
+        tail[1] += direction.y * power;
+        tail[2] += direction.z * power;
+        tail[3] += power;
     }
 }
 

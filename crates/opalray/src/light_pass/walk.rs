@@ -342,12 +342,11 @@ impl Walker<'_> {
                             let k = scale * bw;
                             // The window holds a few bins: its four sums in one pass.
                             let (mut s_in, mut s_r, mut s_d, mut s_t) = (0.0, 0.0, 0.0, 0.0);
-                            for i in 0..inside.len() {
-                                let s = inside[i];
+                            for (((&s, &r), &d), &t) in inside.iter().zip(r).zip(d).zip(t) {
                                 s_in += s;
-                                s_r += s * r[i];
-                                s_d += s * d[i];
-                                s_t += s * t[i];
+                                s_r += s * r;
+                                s_d += s * d;
+                                s_t += s * t;
                             }
                             let p_out = power - s_in * k;
                             p_r = rb * p_out + s_r * k;
