@@ -59,6 +59,8 @@ pub struct Transmission {
     lo: usize,
     hi: usize,
     ratio: Vec<f32>,
+    /// The largest ratio: where it is at most 1, no bin of a shape can rise above its peak.
+    ratio_max: f32,
 }
 
 impl Transmission {
@@ -73,16 +75,23 @@ impl Transmission {
         if lo >= hi {
             return self.background;
         }
-        let (mut window_max, mut window_arg) = (0.0f32, lo);
-        for (k, (s, r)) in shape[lo..hi].iter_mut().zip(&self.ratio).enumerate() {
+        for (s, r) in shape[lo..hi].iter_mut().zip(&self.ratio) {
             *s *= r;
-            if *s > window_max {
-                window_max = *s;
-                window_arg = lo + k;
-            }
         }
         let (max, arg) = if !(lo..hi).contains(peak) {
-            // The peak, 1, lies outside the window and is unchanged.
+            // The peak, 1, lies outside the window and is unchanged; a window bin can rise
+            // above it only if some ratio exceeds 1.
+            if self.ratio_max <= 1.0 {
+                return self.background;
+            }
+            let (window_max, window_arg) =
+                shape[lo..hi]
+                    .iter()
+                    .enumerate()
+                    .fold(
+                        (0.0f32, lo),
+                        |(m, a), (k, &v)| if v > m { (v, lo + k) } else { (m, a) },
+                    );
             if window_max <= 1.0 {
                 return self.background;
             }
@@ -274,6 +283,7 @@ impl<'a> ClusterOptics<'a> {
                 .zip(&tb[lo..hi])
                 .map(|(ta, tb)| (ta + w * (tb - ta)) * inv),
         );
+        out.ratio_max = out.ratio.iter().fold(0.0f32, |m, &r| m.max(r));
     }
 
     /// The table row below `cos_theta` (|cos| of the angle to the planes) and the weight of
