@@ -53,7 +53,8 @@ pub struct LookArgs {
     /// Wavelength bins over the spectrum's range (spectrum.bins).
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub bins: Option<usize>,
-    /// Rays traced in the light pass (light.rays).
+    /// Cells of the light pass's ray lattice: one ray each, 2 × 2 where the light is trapped
+    /// near the rim (light.rays).
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub rays: Option<u64>,
     /// Body tone, 1 (N1, black opal) … 9 (N9, white opal) (render.body_tone).
