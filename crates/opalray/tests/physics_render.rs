@@ -222,6 +222,19 @@ fn split_lattice_delivers_the_light_on_the_stones_outline() {
     }
 }
 
+/// RMS of `a − reference` over RMS of `reference`, on 8-bit display values.
+fn relative_rms(a: &[u8], reference: &[u8]) -> f64 {
+    let rms = |v: &mut dyn Iterator<Item = f64>| {
+        let (sum, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x * x, n + 1));
+        (sum / n as f64).sqrt()
+    };
+    let diff = rms(&mut a
+        .iter()
+        .zip(reference)
+        .map(|(&x, &y)| f64::from(x) - f64::from(y)));
+    diff / rms(&mut reference.iter().map(|&y| f64::from(y)))
+}
+
 #[test]
 fn doubling_the_light_rays_changes_the_image_by_under_two_percent() {
     // The shipped number of rays against twice as many.
@@ -234,16 +247,7 @@ fn doubling_the_light_rays_changes_the_image_by_under_two_percent() {
         let frame = p.render(30.0);
         opalray::color::to_display_rgb8(&frame.rgb, &p.scene.color)
     };
-    let a = display(rays);
-    let b = display(2 * rays);
-    let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
-    let diff: Vec<f64> = a
-        .iter()
-        .zip(&b)
-        .map(|(&x, &y)| f64::from(x) - f64::from(y))
-        .collect();
-    let level: Vec<f64> = b.iter().map(|&y| f64::from(y)).collect();
-    let relative = rms(&diff) / rms(&level);
+    let relative = relative_rms(&display(rays), &display(2 * rays));
     eprintln!(
         "doubling {rays} rays changes the image by {:.2} % RMS",
         100.0 * relative
@@ -330,14 +334,7 @@ fn shared_weak_reflections_stay_close_to_every_pixels_own() {
     let own = display(&prepared);
     prepared.scene.render.reflection_block = 2;
     let shared = display(&prepared);
-    let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
-    let diff: Vec<f64> = shared
-        .iter()
-        .zip(&own)
-        .map(|(&x, &y)| f64::from(x) - f64::from(y))
-        .collect();
-    let level: Vec<f64> = own.iter().map(|&y| f64::from(y)).collect();
-    let relative = rms(&diff) / rms(&level);
+    let relative = relative_rms(&shared, &own);
     eprintln!(
         "sharing weak reflections changes the image by {:.2} % RMS",
         100.0 * relative
