@@ -24,7 +24,7 @@ const CUTOFF_FRACTION: f32 = 0.005;
 const MAX_SURFACE_BOUNCES: u32 = 24;
 /// Lattice cells whose light would be trapped by total internal reflection are traced with
 /// this many rays on a side, each carrying its share of the cell's power.
-pub(crate) const TRAPPED_SPLIT: u64 = 2;
+const TRAPPED_SPLIT: u64 = 2;
 
 /// Everything a light ray needs to know, shared by all threads.
 pub(crate) struct Walker<'a> {

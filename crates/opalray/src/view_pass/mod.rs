@@ -98,8 +98,8 @@ pub fn trace_view(
 }
 
 /// Internal reflections at the far surface weaker than this (the Fresnel fraction) are shaded
-/// once per block of pixels ([`ViewSetup::reflection_block`]); stronger ones, near and beyond the critical angle
-/// at the rim, per pixel.
+/// once per block of pixels ([`ViewSetup::reflection_block`]); stronger ones, near and beyond
+/// the critical angle at the rim, per pixel.
 const SHARED_REFLECTION: f32 = 0.2;
 /// The reflected rays of a block's pixels are shaded together only if every one is within this
 /// cosine of their mean direction (about 2°).
@@ -108,8 +108,6 @@ const SHARED_SPREAD_COS: f32 = 0.999_4;
 /// A camera ray stopped at its first internal reflection, to be finished with its block.
 #[derive(Clone, Copy, Debug)]
 struct Deferred {
-    /// The pixel within its block's rows (`x + width · row`).
-    pixel: usize,
     /// Where it reflects and where it goes on.
     origin: Vec3,
     direction: Vec3,
@@ -139,7 +137,8 @@ struct BlockScratch {
     shape: Vec<f32>,
     /// Throughput shapes of the block's deferred rays, `block² × bins`.
     shapes: Vec<f32>,
-    deferred: Vec<Deferred>,
+    /// The deferred rays, each with its pixel within the block's rows (`x + width · row`).
+    deferred: Vec<(usize, Deferred)>,
     /// The radiance of the block's shared reflected path.
     shared: Vec<f32>,
     transmission: Transmission,
@@ -196,7 +195,7 @@ impl View<'_> {
             for x in x0..x1 {
                 let at = x + width * (y - y0);
                 let pixel = &mut rows[at * bins..(at + 1) * bins];
-                if let Some(mut d) = self.shade_pixel(
+                if let Some(d) = self.shade_pixel(
                     x,
                     y,
                     share,
@@ -206,8 +205,7 @@ impl View<'_> {
                 ) {
                     let k = scratch.deferred.len();
                     scratch.shapes[k * bins..(k + 1) * bins].copy_from_slice(&scratch.shape);
-                    d.pixel = at;
-                    scratch.deferred.push(d);
+                    scratch.deferred.push((at, d));
                 }
             }
         }
@@ -215,19 +213,22 @@ impl View<'_> {
             return;
         }
         let n = scratch.deferred.len() as f32;
-        let origin = scratch.deferred.iter().map(|d| d.origin).sum::<Vec3>() / n;
+        let origin = scratch.deferred.iter().map(|(_, d)| d.origin).sum::<Vec3>() / n;
         let direction = scratch
             .deferred
             .iter()
-            .map(|d| d.direction)
+            .map(|(_, d)| d.direction)
             .sum::<Vec3>()
             .normalize_or_zero();
         let together = scratch
             .deferred
             .iter()
-            .all(|d| d.direction.dot(direction) >= SHARED_SPREAD_COS);
+            .all(|(_, d)| d.direction.dot(direction) >= SHARED_SPREAD_COS);
         if together {
-            let s0 = scratch.deferred.iter().fold(0.0f32, |m, d| m.max(d.scale));
+            let s0 = scratch
+                .deferred
+                .iter()
+                .fold(0.0f32, |m, (_, d)| m.max(d.scale));
             scratch.shape.fill(1.0);
             scratch.shared.fill(0.0);
             let mut peak = 0;
@@ -241,14 +242,14 @@ impl View<'_> {
                 &mut scratch.shape,
                 &mut scratch.transmission,
             );
-            for (k, d) in scratch.deferred.iter().enumerate() {
-                let pixel = &mut rows[d.pixel * bins..(d.pixel + 1) * bins];
+            for (k, &(at, d)) in scratch.deferred.iter().enumerate() {
+                let pixel = &mut rows[at * bins..(at + 1) * bins];
                 let shape = &scratch.shapes[k * bins..(k + 1) * bins];
                 add_filtered(pixel, shape, &scratch.shared, d.scale / s0);
             }
         } else {
-            for (k, d) in scratch.deferred.iter().enumerate() {
-                let pixel = &mut rows[d.pixel * bins..(d.pixel + 1) * bins];
+            for (k, &(at, d)) in scratch.deferred.iter().enumerate() {
+                let pixel = &mut rows[at * bins..(at + 1) * bins];
                 scratch
                     .shape
                     .copy_from_slice(&scratch.shapes[k * bins..(k + 1) * bins]);
@@ -416,7 +417,6 @@ impl View<'_> {
             }
             if path.defer && bounce == 0 && f_out < SHARED_REFLECTION {
                 return Some(Deferred {
-                    pixel: 0,
                     origin,
                     direction: dir,
                     scale,
