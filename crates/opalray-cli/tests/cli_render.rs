@@ -7,7 +7,7 @@ mod common;
 use std::path::Path;
 use std::process::Output;
 
-use common::{files_in, opalray_with_threads, stderr};
+use common::{files_in, opalray_with_env, opalray_with_threads, stderr};
 
 fn opalray(dir: &Path, args: &[&str], threads: Option<&str>) -> Output {
     opalray_with_threads(dir, args, threads)
@@ -96,6 +96,26 @@ fn render_bytes_do_not_depend_on_threads() {
     let read = |n: &str| std::fs::read(dir.path().join(n)).unwrap();
     assert_eq!(read("one.png"), read("three.png"));
     assert_eq!(read("one.png"), read("two.png"));
+}
+
+#[test]
+fn render_bytes_do_not_depend_on_the_vector_instructions() {
+    // The hot loops run in a copy compiled for AVX2 where the processor has it; forcing the
+    // portable copy must give the same spectrum, to the bit.
+    let dir = tempfile::tempdir().unwrap();
+    for (mode, name) in [("portable", "portable.exr"), ("widest", "widest.exr")] {
+        let out = opalray_with_env(
+            dir.path(),
+            &args(
+                &["render", "--light-angle", "-20", "--spectral", name],
+                SMALL,
+            ),
+            &[("OPALRAY_SIMD", mode)],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    let read = |n: &str| std::fs::read(dir.path().join(n)).unwrap();
+    assert_eq!(read("portable.exr"), read("widest.exr"));
 }
 
 #[test]

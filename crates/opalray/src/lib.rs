@@ -24,6 +24,7 @@ pub mod output;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod simd;
 pub mod spectrum;
 pub mod structure;
 pub mod view_pass;

@@ -56,6 +56,7 @@ pub fn run(args: Args) -> Result<()> {
         })
         .collect();
     let threads = rayon::current_num_threads();
+    let simd = opalray::simd::level().name();
     let memory = peak_memory_mb();
     if args.json {
         let (mut map, mut min) = (serde_json::Map::new(), serde_json::Map::new());
@@ -66,14 +67,14 @@ pub fn run(args: Args) -> Result<()> {
         println!(
             "{}",
             serde_json::to_string_pretty(&json!({
-                "median_s": map, "min_s": min, "runs": args.runs, "threads": threads,
+                "median_s": map, "min_s": min, "runs": args.runs, "threads": threads, "simd": simd,
                 "image": {"width": scene.render.width, "height": scene.render.height, "bins": scene.spectrum.bins},
                 "light_rays": scene.light.rays, "peak_memory_mb": memory,
             }))?
         );
     } else {
         println!(
-            "opalray bench: {} × {}, {} bins, {} light rays, {} runs, {} threads",
+            "opalray bench: {} × {}, {} bins, {} light rays, {} runs, {} threads, {simd}",
             scene.render.width,
             scene.render.height,
             scene.spectrum.bins,

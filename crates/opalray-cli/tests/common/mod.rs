@@ -15,6 +15,13 @@ pub fn opalray_with_threads(dir: &Path, args: &[&str], threads: Option<&str>) ->
     cmd.output().expect("the opalray binary runs")
 }
 
+/// Run `opalray ARGS` in `dir` with the environment variables `env` set.
+pub fn opalray_with_env(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_opalray"));
+    cmd.args(args).current_dir(dir).envs(env.iter().copied());
+    cmd.output().expect("the opalray binary runs")
+}
+
 /// Run `opalray ARGS` in `dir`.
 pub fn opalray(dir: &Path, args: &[&str]) -> Output {
     opalray_with_threads(dir, args, None)

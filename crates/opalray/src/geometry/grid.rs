@@ -52,6 +52,7 @@ impl CellGrid {
 
     /// Visit, in order, every cell that `ray` crosses for `t` in `[t_start, t_end]` (a range
     /// inside the grid's box). `visit` returns `false` to stop early.
+    #[inline(always)]
     pub fn traverse(
         &self,
         ray: &Ray,

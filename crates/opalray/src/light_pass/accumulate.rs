@@ -181,7 +181,7 @@ impl TileSums {
     }
 
     /// Add `weight × spectrum` to `entry`, and its direction weighted by `power`.
-    #[inline]
+    #[inline(always)]
     pub fn deposit(
         &mut self,
         entry: usize,

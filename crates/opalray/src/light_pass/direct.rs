@@ -141,7 +141,8 @@ impl Walker<'_> {
         self.grid.traverse(&ray, 0.0, reach, |seg| {
             let length = seg.t_exit - seg.t_enter;
             let own = seg.index == cell;
-            match self.cells[seg.index] {
+            let site = self.sites[seg.index];
+            match site.cell() {
                 Cell::Outside => {}
                 Cell::Void => {
                     let sigma = self.body_extinction_per_mm;
@@ -161,7 +162,7 @@ impl Walker<'_> {
                 Cell::Cluster if own => {}
                 Cell::Cluster => {
                     // Cells of one patch, met one after another, share the transmittance.
-                    let normal = self.sites[seg.index].normal;
+                    let normal = site.normal;
                     if normal != last_normal {
                         self.optics.transmission(d.dot(normal).abs(), transmission);
                         last_normal = normal;

@@ -69,7 +69,7 @@ impl Transmission {
     /// renormalised so that its maximum stays 1 (and `peak` names where it is). The rest of
     /// the shape is scanned only when the window holds the peak: a line's window spans a few
     /// bins of forty.
-    #[inline]
+    #[inline(always)]
     pub fn apply(&self, shape: &mut [f32], peak: &mut usize) -> f32 {
         let (lo, hi) = (self.lo, self.hi);
         if lo >= hi {
@@ -229,7 +229,7 @@ impl<'a> ClusterOptics<'a> {
     /// The split at `cos_theta` (|cos| of the angle between ray and plane normal, inside the
     /// stone). Fills `r`, `t`, `d` in the window's bins only when the answer is
     /// [`Split::Window`].
-    #[inline]
+    #[inline(always)]
     pub fn split(&self, cos_theta: f32, r: &mut [f32], t: &mut [f32], d: &mut [f32]) -> Split {
         let (i, w) = self.row_at(cos_theta);
         let pair = &self.pairs[i];
@@ -259,7 +259,7 @@ impl<'a> ClusterOptics<'a> {
     }
 
     /// The transmittance at `cos_theta`, written into `out` (see [`Transmission`]).
-    #[inline]
+    #[inline(always)]
     pub fn transmission(&self, cos_theta: f32, out: &mut Transmission) {
         let (i, w) = self.row_at(cos_theta);
         let pair = &self.pairs[i];
@@ -300,14 +300,14 @@ impl<'a> ClusterOptics<'a> {
 
     /// Specular reflectance only, at `cos_theta`: `Some(r)` where flat, else `None` with the
     /// spectral reflectance written into `r`.
-    #[inline]
+    #[inline(always)]
     pub fn reflectance(&self, cos_theta: f32, r: &mut [f32]) -> Option<f32> {
         self.one_table(cos_theta, r, 0)
     }
 
     /// Diffuse part only, at `cos_theta`: `Some(d)` where flat, else `None` with the spectral
     /// diffuse part written into `d`.
-    #[inline]
+    #[inline(always)]
     pub fn diffuse(&self, cos_theta: f32, d: &mut [f32]) -> Option<f32> {
         self.one_table(cos_theta, d, 2)
     }

@@ -231,13 +231,14 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         })
         .collect();
     let bins = optics.grid.bins;
-    let sites: Vec<Site> = normals
+    let sites: Vec<Site> = structure
+        .cells
         .iter()
+        .zip(&normals)
         .zip(&slot_of_cell)
-        .map(|(&normal, &slot)| Site { normal, slot })
+        .map(|((&cell, &normal), &slot)| Site::new(cell, normal, slot))
         .collect();
     let walker = Walker {
-        cells: &structure.cells,
         sites: &sites,
         slot_of_cell: &slot_of_cell,
         optics: ClusterOptics::new(optics),
@@ -283,11 +284,13 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
                     break;
                 }
                 let (x0, y0) = (task % tiles_per_row * TILE, task / tiles_per_row * TILE);
-                for y in y0..(y0 + TILE).min(side) {
-                    for x in x0..(x0 + TILE).min(side) {
-                        walker.trace(y * side + x, &mut tile, &mut ledger, &mut scratch);
+                crate::simd::widest(|| {
+                    for y in y0..(y0 + TILE).min(side) {
+                        for x in x0..(x0 + TILE).min(side) {
+                            walker.trace(y * side + x, &mut tile, &mut ledger, &mut scratch);
+                        }
                     }
-                }
+                });
                 shared
                     .lock()
                     .expect("no worker panics while holding the accumulator")

@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::accumulate::TileSums;
 use super::interaction::{ClusterOptics, Split};
 use super::source::{LightSource, RayLattice};
-use super::{EnergyLedger, SCATTERED_LOBES};
+use super::{EnergyLedger, NO_SLOT, SCATTERED_LOBES};
 use crate::geometry::{fresnel_dielectric, reflect, refract, CellGrid, Ellipsoid, Ray};
 use crate::sampling::{stage, Rng};
 use crate::spectrum;
@@ -28,7 +28,6 @@ const TRAPPED_SPLIT: u64 = 2;
 
 /// Everything a light ray needs to know, shared by all threads.
 pub(crate) struct Walker<'a> {
-    pub cells: &'a [Cell],
     /// Per cell, what a crossing ray reads: the (111) normal and the storage slot.
     pub sites: &'a [Site],
     pub slot_of_cell: &'a [u32],
@@ -48,11 +47,54 @@ pub(crate) struct Walker<'a> {
 }
 
 /// What a ray crossing a cell reads about it, in one record (one memory access instead of
-/// one per array): the cluster's (111) normal (zero elsewhere) and the cell's storage slot.
+/// one per array): the cluster's (111) normal (zero elsewhere), the cell's storage slot and
+/// its kind.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Site {
     pub normal: Vec3,
-    pub slot: u32,
+    /// The slot, with [`Site::CLUSTER`] set for a cluster; [`NO_SLOT`] outside.
+    tag: u32,
+}
+
+impl Site {
+    /// Marks a cluster's slot (slots stay below it: one per cell).
+    const CLUSTER: u32 = 1 << 31;
+
+    /// The site of a cell.
+    pub fn new(cell: Cell, normal: Vec3, slot: u32) -> Self {
+        match cell {
+            Cell::Cluster => Site {
+                normal,
+                tag: slot | Site::CLUSTER,
+            },
+            Cell::Void => Site {
+                normal: Vec3::ZERO,
+                tag: slot,
+            },
+            Cell::Outside => Site {
+                normal: Vec3::ZERO,
+                tag: NO_SLOT,
+            },
+        }
+    }
+
+    /// The cell's kind.
+    #[inline(always)]
+    pub fn cell(&self) -> Cell {
+        if self.tag == NO_SLOT {
+            Cell::Outside
+        } else if self.tag & Site::CLUSTER != 0 {
+            Cell::Cluster
+        } else {
+            Cell::Void
+        }
+    }
+
+    /// The cell's storage slot (meaningless outside).
+    #[inline(always)]
+    pub fn slot(&self) -> usize {
+        (self.tag & !Site::CLUSTER) as usize
+    }
 }
 
 /// Per-thread scratch space reused from ray to ray.
@@ -122,6 +164,7 @@ impl Walker<'_> {
     /// Trace the light of lattice cell `index`, adding what it deposits to `acc` and its
     /// energy to `ledger`: one ray jittered in the cell, or, where the cell's light would be
     /// trapped, [`TRAPPED_SPLIT`]² rays jittered in its sub-cells.
+    #[inline(always)]
     pub fn trace(
         &self,
         index: u64,
@@ -134,17 +177,18 @@ impl Walker<'_> {
         scratch.t.resize(bins, 0.0);
         scratch.d.resize(bins, 0.0);
         let mut rng = Rng::new(self.seed, stage::LIGHT, index);
-        if !self.is_trapped(index) {
-            let ray = self.lattice.ray(index, &mut rng);
-            self.trace_ray(ray, 1.0, acc, ledger, scratch);
-            return;
-        }
-        let m = TRAPPED_SPLIT;
+        let trapped = self.is_trapped(index);
+        let m = if trapped { TRAPPED_SPLIT } else { 1 };
         let share = 1.0 / (m * m) as f32;
+        // One call site of `trace_ray`, so that it and its walk inline once.
         for k in 0..m * m {
-            let fu = ((k % m) as f32 + rng.uniform_f32()) / m as f32;
-            let fv = ((k / m) as f32 + rng.uniform_f32()) / m as f32;
-            let ray = self.lattice.ray_in(index, fu, fv);
+            let ray = if trapped {
+                let fu = ((k % m) as f32 + rng.uniform_f32()) / m as f32;
+                let fv = ((k / m) as f32 + rng.uniform_f32()) / m as f32;
+                self.lattice.ray_in(index, fu, fv)
+            } else {
+                self.lattice.ray(index, &mut rng)
+            };
             self.trace_ray(ray, share, acc, ledger, scratch);
         }
     }
@@ -180,6 +224,7 @@ impl Walker<'_> {
     }
 
     /// Trace one ray carrying `share` of its lattice cell's power.
+    #[inline(always)]
     fn trace_ray(
         &self,
         ray: Ray,
@@ -225,6 +270,7 @@ impl Walker<'_> {
     }
 
     /// Follow one branch from its origin to where it leaves the stone or fades.
+    #[inline(always)]
     fn walk(
         &self,
         branch: Branch,
@@ -268,8 +314,8 @@ impl Walker<'_> {
             let length = seg.t_exit - seg.t_enter;
             ledger.cells_crossed += 1;
             let site = self.sites[seg.index];
-            let slot = site.slot as usize;
-            let cell = self.cells[seg.index];
+            let slot = site.slot();
+            let cell = site.cell();
             // The light's track through the cell: the chord in a cluster; in a void (potch)
             // ∫₀ˡ e^(−σs) ds under exponential attenuation, and its limit ℓ for a clear body.
             let sigma = self.body_extinction_per_mm;

@@ -342,6 +342,34 @@ impl View<'_> {
     #[allow(clippy::too_many_arguments)]
     fn walk(
         &self,
+        origin: Vec3,
+        dir: Vec3,
+        scale: f32,
+        peak: &mut usize,
+        path: Path,
+        pixel: &mut [f32],
+        shape_thr: &mut [f32],
+        transmission: &mut Transmission,
+    ) -> Option<Deferred> {
+        crate::simd::widest(|| {
+            self.walk_inline(
+                origin,
+                dir,
+                scale,
+                peak,
+                path,
+                pixel,
+                shape_thr,
+                transmission,
+            )
+        })
+    }
+
+    /// [`View::walk`], inlined into the copy compiled for the processor's vector level.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn walk_inline(
+        &self,
         mut origin: Vec3,
         mut dir: Vec3,
         mut scale: f32,
