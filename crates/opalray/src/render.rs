@@ -206,7 +206,7 @@ impl Prepared {
         Frame {
             spectral,
             rgb,
-            light_rays: light.rays,
+            light_rays: light.ledger.rays,
             ledger: light.ledger,
             times,
             void_ratio: self.structure.stats.void_ratio,

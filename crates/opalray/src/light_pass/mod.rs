@@ -127,9 +127,7 @@ pub struct LightField {
     /// Mean resultant length of the directions per slot and lobe, |Σ P·w| / Σ P in [0, 1]:
     /// 1 when all the light came from one direction, smaller the more it is spread.
     pub concentration: Vec<f32>,
-    /// Rays traced.
-    pub rays: u64,
-    /// Energy bookkeeping.
+    /// Energy bookkeeping, with the rays traced.
     pub ledger: EnergyLedger,
 }
 
@@ -320,7 +318,6 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         fluence,
         directions,
         concentration,
-        rays: ledger.rays,
         ledger,
     }
 }

@@ -135,6 +135,25 @@ pub(crate) fn check_range(field: &str, value: f64, lo: f64, hi: f64, example: f6
     }
 }
 
+/// Check that the whole number `value` lies in `range`; the error says what the field `must
+/// be` and what to `try`.
+pub(crate) fn check_count(
+    field: &str,
+    value: u64,
+    range: std::ops::RangeInclusive<u64>,
+    must_be: &str,
+    try_instead: &str,
+) -> Result<()> {
+    if range.contains(&value) {
+        Ok(())
+    } else {
+        Err(Error::field(
+            field,
+            format!("must be {must_be}, got {value}; try {try_instead}"),
+        ))
+    }
+}
+
 /// Check that `value` is finite and strictly positive and at most `hi`.
 pub(crate) fn check_positive(field: &str, value: f64, hi: f64, example: f64) -> Result<()> {
     if value.is_finite() && value > 0.0 && value <= hi {

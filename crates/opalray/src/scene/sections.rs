@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{check_positive, check_range};
+use super::{check_count, check_positive, check_range};
 use crate::error::{Error, Result};
 
 /// Largest cell grid accepted: 64 million cells (about 1.5 GiB of structure data).
@@ -385,12 +385,13 @@ impl RenderConfig {
     /// Check ranges.
     pub fn validate(&self) -> Result<()> {
         for (field, v) in [("render.width", self.width), ("render.height", self.height)] {
-            if !(1..=16_384).contains(&v) {
-                return Err(Error::field(
-                    field,
-                    format!("must be in 1..=16384 pixels, got {v}; try 640 × 480"),
-                ));
-            }
+            check_count(
+                field,
+                v.into(),
+                1..=16_384,
+                "in 1..=16384 pixels",
+                "640 × 480",
+            )?;
         }
         check_range(
             "render.phong_exponent",
@@ -399,26 +400,22 @@ impl RenderConfig {
             10_000.0,
             40.0,
         )?;
-        if !(1..=9).contains(&self.body_tone) {
-            return Err(Error::field(
-                "render.body_tone",
-                format!(
-                    "must be 1 (N1, black) to 9 (N9, white), got {}; try 2",
-                    self.body_tone
-                ),
-            ));
-        }
+        check_count(
+            "render.body_tone",
+            self.body_tone.into(),
+            1..=9,
+            "1 (N1, black) to 9 (N9, white)",
+            "2",
+        )?;
         check_range("render.gloss", self.gloss, 0.0, 10.0, 1.0)?;
         check_range("render.background", self.background, 0.0, 1.0, 0.005)?;
-        if !(1..=8).contains(&self.reflection_block) {
-            return Err(Error::field(
-                "render.reflection_block",
-                format!(
-                    "must be in 1..=8 pixels, got {}; try 2 (or 1 for every pixel's own)",
-                    self.reflection_block
-                ),
-            ));
-        }
+        check_count(
+            "render.reflection_block",
+            self.reflection_block.into(),
+            1..=8,
+            "in 1..=8 pixels",
+            "2 (or 1 for every pixel's own)",
+        )?;
         Ok(())
     }
 

@@ -342,34 +342,6 @@ impl View<'_> {
     #[allow(clippy::too_many_arguments)]
     fn walk(
         &self,
-        origin: Vec3,
-        dir: Vec3,
-        scale: f32,
-        peak: &mut usize,
-        path: Path,
-        pixel: &mut [f32],
-        shape_thr: &mut [f32],
-        transmission: &mut Transmission,
-    ) -> Option<Deferred> {
-        crate::simd::widest(|| {
-            self.walk_inline(
-                origin,
-                dir,
-                scale,
-                peak,
-                path,
-                pixel,
-                shape_thr,
-                transmission,
-            )
-        })
-    }
-
-    /// [`View::walk`], inlined into the copy compiled for the processor's vector level.
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
-    fn walk_inline(
-        &self,
         mut origin: Vec3,
         mut dir: Vec3,
         mut scale: f32,
@@ -379,80 +351,90 @@ impl View<'_> {
         shape_thr: &mut [f32],
         transmission: &mut Transmission,
     ) -> Option<Deferred> {
-        for bounce in path.first..MAX_VIEW_BOUNCES {
-            let inner = Ray {
-                origin,
-                direction: dir,
-            };
-            let (t0, t1) = self.shape.intersect(&inner)?;
-            let to_eye = -dir;
-            // Along one segment, cells of one patch meet the ray at the same angle and share
-            // their transmittance.
-            let mut last_normal = Vec3::NAN;
-            self.grid.traverse(&inner, t0.max(0.0), t1, |seg| {
-                let slot = self.light.slot_of_cell[seg.index] as usize;
-                match self.structure.cells[seg.index] {
-                    Cell::Outside => return true,
-                    Cell::Void => {
-                        let kept =
-                            (-self.setup.body_extinction_per_mm * (seg.t_exit - seg.t_enter)).exp();
-                        let glow = &self.shading.diffuse[slot * self.bins..(slot + 1) * self.bins];
-                        add_filtered(pixel, shape_thr, glow, scale * (1.0 - kept));
-                        scale *= kept;
-                    }
-                    Cell::Cluster => {
-                        for lobe in 0..LOBES {
-                            let l = self.shading.lobes[slot * LOBES + lobe];
-                            let c = l.mirror.dot(to_eye);
-                            if c <= l.cos_min {
-                                continue;
-                            }
-                            // Eq. (2)'s specular term: E · R(θ) · peak · cosⁿ' θ'.
-                            let entry = (slot * LOBES + lobe) * self.bins;
-                            let spectrum = &self.shading.specular[entry..entry + self.bins];
-                            add_filtered(pixel, shape_thr, spectrum, scale * c.powf(l.exponent));
-                        }
-                        if self.shading.glows[slot] {
-                            let glow =
-                                &self.shading.diffuse[slot * self.bins..(slot + 1) * self.bins];
-                            add_filtered(pixel, shape_thr, glow, scale);
-                        }
-                        let normal = self.shading.normals[slot];
-                        if normal != last_normal {
-                            self.optics
-                                .transmission(dir.dot(normal).abs(), transmission);
-                            last_normal = normal;
-                        }
-                        scale *= transmission.apply(shape_thr, peak);
-                    }
-                }
-                scale > MIN_THROUGHPUT
-            });
-            if scale <= MIN_THROUGHPUT {
-                return None;
-            }
-            // Far surface: the backdrop through the stone, and internal reflection.
-            let q = inner.at(t1);
-            let n_q = self.shape.normal(q);
-            let f_out = fresnel_dielectric(dir.dot(n_q), self.n_eff, 1.0);
-            let seen = (1.0 - f_out) * self.n_eff * self.n_eff * self.setup.background;
-            add_filtered(pixel, shape_thr, self.setup.light_spectrum, scale * seen);
-            scale *= f_out;
-            dir = reflect(dir, n_q);
-            origin = q;
-            if scale <= MIN_THROUGHPUT {
-                return None;
-            }
-            if path.defer && bounce == 0 && f_out < SHARED_REFLECTION {
-                return Some(Deferred {
+        // The whole walk runs in the copy compiled for the processor's vector level.
+        crate::simd::widest(move || {
+            for bounce in path.first..MAX_VIEW_BOUNCES {
+                let inner = Ray {
                     origin,
                     direction: dir,
-                    scale,
-                    peak: *peak,
+                };
+                let (t0, t1) = self.shape.intersect(&inner)?;
+                let to_eye = -dir;
+                // Along one segment, cells of one patch meet the ray at the same angle and share
+                // their transmittance.
+                let mut last_normal = Vec3::NAN;
+                self.grid.traverse(&inner, t0.max(0.0), t1, |seg| {
+                    let slot = self.light.slot_of_cell[seg.index] as usize;
+                    match self.structure.cells[seg.index] {
+                        Cell::Outside => return true,
+                        Cell::Void => {
+                            let kept = (-self.setup.body_extinction_per_mm
+                                * (seg.t_exit - seg.t_enter))
+                                .exp();
+                            let glow =
+                                &self.shading.diffuse[slot * self.bins..(slot + 1) * self.bins];
+                            add_filtered(pixel, shape_thr, glow, scale * (1.0 - kept));
+                            scale *= kept;
+                        }
+                        Cell::Cluster => {
+                            for lobe in 0..LOBES {
+                                let l = self.shading.lobes[slot * LOBES + lobe];
+                                let c = l.mirror.dot(to_eye);
+                                if c <= l.cos_min {
+                                    continue;
+                                }
+                                // Eq. (2)'s specular term: E · R(θ) · peak · cosⁿ' θ'.
+                                let entry = (slot * LOBES + lobe) * self.bins;
+                                let spectrum = &self.shading.specular[entry..entry + self.bins];
+                                add_filtered(
+                                    pixel,
+                                    shape_thr,
+                                    spectrum,
+                                    scale * c.powf(l.exponent),
+                                );
+                            }
+                            if self.shading.glows[slot] {
+                                let glow =
+                                    &self.shading.diffuse[slot * self.bins..(slot + 1) * self.bins];
+                                add_filtered(pixel, shape_thr, glow, scale);
+                            }
+                            let normal = self.shading.normals[slot];
+                            if normal != last_normal {
+                                self.optics
+                                    .transmission(dir.dot(normal).abs(), transmission);
+                                last_normal = normal;
+                            }
+                            scale *= transmission.apply(shape_thr, peak);
+                        }
+                    }
+                    scale > MIN_THROUGHPUT
                 });
+                if scale <= MIN_THROUGHPUT {
+                    return None;
+                }
+                // Far surface: the backdrop through the stone, and internal reflection.
+                let q = inner.at(t1);
+                let n_q = self.shape.normal(q);
+                let f_out = fresnel_dielectric(dir.dot(n_q), self.n_eff, 1.0);
+                let seen = (1.0 - f_out) * self.n_eff * self.n_eff * self.setup.background;
+                add_filtered(pixel, shape_thr, self.setup.light_spectrum, scale * seen);
+                scale *= f_out;
+                dir = reflect(dir, n_q);
+                origin = q;
+                if scale <= MIN_THROUGHPUT {
+                    return None;
+                }
+                if path.defer && bounce == 0 && f_out < SHARED_REFLECTION {
+                    return Some(Deferred {
+                        origin,
+                        direction: dir,
+                        scale,
+                        peak: *peak,
+                    });
+                }
             }
-        }
-        None
+            None
+        })
     }
 }
 
