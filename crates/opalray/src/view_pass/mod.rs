@@ -10,7 +10,7 @@
 
 mod shading;
 
-pub use shading::{Lobe, Shading, LOBE_CUTOFF};
+pub use shading::{CellTag, ClusterShade, Lobe, Shading, LOBE_CUTOFF};
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -70,8 +70,6 @@ pub fn trace_view(
     let bins = light.grid.bins;
     let n_eff = optics.n_eff as f32;
     let ctx = View {
-        structure,
-        light,
         shading,
         setup,
         shape,
@@ -158,8 +156,6 @@ impl BlockScratch {
 
 /// Everything a camera ray needs, shared by all threads.
 struct View<'a> {
-    structure: &'a Structure,
-    light: &'a LightField,
     shading: &'a Shading,
     setup: &'a ViewSetup<'a>,
     shape: Ellipsoid,
@@ -364,8 +360,9 @@ impl View<'_> {
                 // their transmittance.
                 let mut last_normal = Vec3::NAN;
                 self.grid.traverse(&inner, t0.max(0.0), t1, |seg| {
-                    let slot = self.light.slot_of_cell[seg.index] as usize;
-                    match self.structure.cells[seg.index] {
+                    let tag = self.shading.tags[seg.index];
+                    let slot = tag.slot();
+                    match tag.cell() {
                         Cell::Outside => return true,
                         Cell::Void => {
                             let kept = (-self.setup.body_extinction_per_mm
@@ -377,8 +374,8 @@ impl View<'_> {
                             scale *= kept;
                         }
                         Cell::Cluster => {
-                            for lobe in 0..LOBES {
-                                let l = self.shading.lobes[slot * LOBES + lobe];
+                            let shade = &self.shading.clusters[slot];
+                            for (lobe, l) in shade.lobes.iter().enumerate() {
                                 let c = l.mirror.dot(to_eye);
                                 if c <= l.cos_min {
                                     continue;
@@ -393,12 +390,12 @@ impl View<'_> {
                                     scale * c.powf(l.exponent),
                                 );
                             }
-                            if self.shading.glows[slot] {
+                            if tag.glows() {
                                 let glow =
                                     &self.shading.diffuse[slot * self.bins..(slot + 1) * self.bins];
                                 add_filtered(pixel, shape_thr, glow, scale);
                             }
-                            let normal = self.shading.normals[slot];
+                            let normal = shade.normal;
                             if normal != last_normal {
                                 self.optics
                                     .transmission(dir.dot(normal).abs(), transmission);

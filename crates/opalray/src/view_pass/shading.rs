@@ -5,7 +5,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::light_pass::{cells_of_slots, ClusterOptics, LightField, LOBES};
+use crate::light_pass::{cells_of_slots, ClusterOptics, LightField, LOBES, NO_SLOT};
 use crate::structure::{Cell, Structure};
 
 /// Phong lobes below this fraction of their peak are skipped.
@@ -41,6 +41,69 @@ const NO_LOBE: Lobe = Lobe {
     exponent: 1.0,
 };
 
+/// What a camera ray reads first about a cell it crosses, in one word: the cell's storage
+/// slot and kind, and whether its diffuse spectrum holds anything visible.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CellTag(u32);
+
+impl CellTag {
+    const CLUSTER: u32 = 1 << 31;
+    const GLOWS: u32 = 1 << 30;
+    const OUTSIDE: CellTag = CellTag(u32::MAX);
+
+    fn new(cell: Cell, slot: u32, glows: bool) -> Self {
+        assert!(
+            cell == Cell::Outside || slot < CellTag::GLOWS,
+            "slots stay below 2³⁰ (the grid's size is checked)"
+        );
+        let glow = if glows { CellTag::GLOWS } else { 0 };
+        match cell {
+            Cell::Outside => CellTag::OUTSIDE,
+            Cell::Void => CellTag(slot | glow),
+            Cell::Cluster => CellTag(slot | glow | CellTag::CLUSTER),
+        }
+    }
+
+    /// The cell's kind.
+    #[inline(always)]
+    pub fn cell(self) -> Cell {
+        if self == CellTag::OUTSIDE {
+            Cell::Outside
+        } else if self.0 & CellTag::CLUSTER != 0 {
+            Cell::Cluster
+        } else {
+            Cell::Void
+        }
+    }
+
+    /// The cell's storage slot (meaningless outside).
+    #[inline(always)]
+    pub fn slot(self) -> usize {
+        (self.0 & !(CellTag::CLUSTER | CellTag::GLOWS)) as usize
+    }
+
+    /// Whether the cell's diffuse spectrum holds anything visible.
+    #[inline(always)]
+    pub fn glows(self) -> bool {
+        self.0 & CellTag::GLOWS != 0
+    }
+}
+
+/// What a camera ray reads about a cluster it crosses, in one record (one or two cache lines
+/// instead of one per array): its (111) normal and the specular lobe of each stored light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClusterShade {
+    /// The (111) normal (zero for voids).
+    pub normal: Vec3,
+    /// The specular lobe of each stored light.
+    pub lobes: [Lobe; LOBES],
+}
+
+const NO_SHADE: ClusterShade = ClusterShade {
+    normal: Vec3::ZERO,
+    lobes: [NO_LOBE; LOBES],
+};
+
 /// Per-slot shading terms, in units where a white Lambertian diffuser under unit irradiance
 /// has the light's spectrum (π × radiance). The specular term of a lobe,
 /// `E · R(θ) · peak · cosⁿ' θ'`, is its spectrum `E · R(θ) · peak` (formed here, once per
@@ -49,19 +112,17 @@ const NO_LOBE: Lobe = Lobe {
 pub struct Shading {
     /// Bins per spectrum.
     pub bins: usize,
-    /// Specular lobes, `slots × LOBES`.
-    pub lobes: Vec<Lobe>,
+    /// Per cell of the grid, its slot, kind and whether it glows.
+    pub tags: Vec<CellTag>,
+    /// Per slot, the cluster's normal and specular lobes.
+    pub clusters: Vec<ClusterShade>,
     /// Specular spectra `E · R(θ) · peak`, `slots × LOBES × bins`, the peak of the normalised
     /// Phong lobe times π being `(n' + 2) / 2` (zero where the lobe has no specular term).
     pub specular: Vec<f32>,
-    /// (111) normal of each slot's cell (clusters only).
-    pub normals: Vec<Vec3>,
     /// Diffuse spectra `slots × bins`: clusters Σ E · D(θ) · cos θ (eq. 2's first sum);
     /// voids the potch's single scattering a · Σ E / 4, to be weighted by the fraction of
     /// the view ray the void intercepts.
     pub diffuse: Vec<f32>,
-    /// Whether each slot's diffuse spectrum holds anything visible.
-    pub glows: Vec<bool>,
 }
 
 impl Shading {
@@ -76,25 +137,23 @@ impl Shading {
         let bins = light.grid.bins;
         let slots = light.directions.len() / LOBES;
         let cell_of_slot = cells_of_slots(&light.slot_of_cell);
-        let mut lobes = vec![NO_LOBE; slots * LOBES];
+        let mut clusters = vec![NO_SHADE; slots];
         let mut specular = vec![0.0f32; slots * LOBES * bins];
-        let mut normals = vec![Vec3::ZERO; slots];
         let mut diffuse = vec![0.0f32; slots * bins];
-        lobes
-            .par_chunks_mut(LOBES)
+        clusters
+            .par_iter_mut()
             .zip(specular.par_chunks_mut(LOBES * bins))
-            .zip(normals.par_iter_mut())
             .zip(diffuse.par_chunks_mut(bins))
             .enumerate()
             .for_each_init(
                 || vec![0.0f32; bins],
-                |d, (slot, (((out, spec), slot_normal), glow))| {
+                |d, (slot, ((shade, spec), glow))| {
                     let cell = cell_of_slot[slot];
                     match structure.cells[cell] {
                         Cell::Cluster => {
                             let normal = structure.normal(cell);
-                            *slot_normal = normal;
-                            for (lobe, out) in out.iter_mut().enumerate() {
+                            shade.normal = normal;
+                            for (lobe, out) in shade.lobes.iter_mut().enumerate() {
                                 let w = light.directions[slot * LOBES + lobe];
                                 if w == Vec3::ZERO {
                                     continue;
@@ -157,17 +216,24 @@ impl Shading {
                     }
                 },
             );
-        let glows = diffuse
-            .par_chunks(bins)
-            .map(|g| g.iter().any(|&v| v > GLOW_FLOOR))
+        let tags = structure
+            .cells
+            .par_iter()
+            .zip(&light.slot_of_cell)
+            .map(|(&cell, &slot)| {
+                let glows = slot != NO_SLOT && {
+                    let g = &diffuse[slot as usize * bins..(slot as usize + 1) * bins];
+                    g.iter().any(|&v| v > GLOW_FLOOR)
+                };
+                CellTag::new(cell, slot, glows)
+            })
             .collect();
         Shading {
             bins,
-            lobes,
+            tags,
+            clusters,
             specular,
-            normals,
             diffuse,
-            glows,
         }
     }
 }
