@@ -73,7 +73,10 @@ fn detect() -> Level {
 }
 
 /// Run `f` compiled for the widest level this processor has. What `f` calls is compiled for
-/// that level too only where it is inlined into `f`: the hot functions are `#[inline(always)]`.
+/// that level too only where it is inlined into `f`: the hot functions are `#[inline(always)]`,
+/// and so are the closures passed here and to the cell traversal (`#[inline(always)] || …`).
+/// Left to the optimiser, a closure that grew past its inlining threshold is compiled apart,
+/// for the portable level, and the vector copy quietly runs the portable code.
 #[inline(always)]
 pub fn widest<R>(f: impl FnOnce() -> R) -> R {
     #[cfg(target_arch = "x86_64")]

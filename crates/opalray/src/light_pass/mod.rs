@@ -282,13 +282,16 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
                     break;
                 }
                 let (x0, y0) = (task % tiles_per_row * TILE, task / tiles_per_row * TILE);
-                crate::simd::widest(|| {
-                    for y in y0..(y0 + TILE).min(side) {
-                        for x in x0..(x0 + TILE).min(side) {
-                            walker.trace(y * side + x, &mut tile, &mut ledger, &mut scratch);
+                crate::simd::widest(
+                    #[inline(always)]
+                    || {
+                        for y in y0..(y0 + TILE).min(side) {
+                            for x in x0..(x0 + TILE).min(side) {
+                                walker.trace(y * side + x, &mut tile, &mut ledger, &mut scratch);
+                            }
                         }
-                    }
-                });
+                    },
+                );
                 shared
                     .lock()
                     .expect("no worker panics while holding the accumulator")

@@ -310,127 +310,133 @@ impl Walker<'_> {
             stack,
             pool,
         } = scratch;
-        self.grid.traverse(&ray, t0.max(0.0), t1, |seg| {
-            let length = seg.t_exit - seg.t_enter;
-            ledger.cells_crossed += 1;
-            let site = self.sites[seg.index];
-            let slot = site.slot();
-            let cell = site.cell();
-            // The light's track through the cell: the chord in a cluster; in a void (potch)
-            // ∫₀ˡ e^(−σs) ds under exponential attenuation, and its limit ℓ for a clear body.
-            let sigma = self.body_extinction_per_mm;
-            let (track, kept) = match cell {
-                Cell::Outside => return true,
-                Cell::Cluster => (length, 1.0),
-                Cell::Void => {
-                    let kept = (-sigma * length).exp();
-                    if sigma * length > 1e-4 {
-                        ((1.0 - kept) / sigma, kept)
-                    } else {
-                        (length, kept)
-                    }
-                }
-            };
-            // The direct light is computed per cell (`direct.rs`), not stored.
-            if kind != DIRECT {
-                acc.deposit(
-                    slot * SCATTERED_LOBES + lobe - 1,
-                    &shape,
-                    scale * track * self.inv_volume[slot],
-                    direction,
-                    power * track * self.inv_volume[slot],
-                );
-            }
-            match cell {
-                Cell::Outside => {}
-                Cell::Void => {
-                    let lost = f64::from(power * (1.0 - kept));
-                    ledger.stored += f64::from(self.body_albedo) * lost;
-                    ledger.absorbed += f64::from(1.0 - self.body_albedo) * lost;
-                    scale *= kept;
-                    power *= kept;
-                }
-                Cell::Cluster => {
-                    let normal = site.normal;
-                    // Cells of one patch, met one after another, split the light alike:
-                    // `r`, `t`, `d` still hold the last split's window.
-                    if normal != last_normal {
-                        last_split = self.optics.split(direction.dot(normal).abs(), r, t, d);
-                        last_normal = normal;
-                    }
-                    // Split into the Bragg-reflected branch (followed only if strong
-                    // enough), the diffuse part (stored here) and the transmitted ray.
-                    let (p_r, p_d, p_t);
-                    let mut reflected: Option<(Vec<f32>, f32)> = None;
-                    match last_split {
-                        Split::Flat { r, t, d } => {
-                            p_r = power * r;
-                            p_d = power * d;
-                            p_t = power * t;
-                            if p_r > 0.0 && p_r >= threshold {
-                                let mut v = pool.pop().unwrap_or_default();
-                                v.clear();
-                                v.extend_from_slice(&shape);
-                                reflected = Some((v, scale * r));
-                            }
-                            scale *= t;
-                        }
-                        Split::Window {
-                            lo,
-                            hi,
-                            r: rb,
-                            t: tb,
-                            d: db,
-                        } => {
-                            let bw = self.bin_width_nm;
-                            let (r, t, d) = (&r[lo..hi], &t[lo..hi], &d[lo..hi]);
-                            let inside = &shape[lo..hi];
-                            let k = scale * bw;
-                            // The window holds a few bins: its four sums in one pass.
-                            let (mut s_in, mut s_r, mut s_d, mut s_t) = (0.0, 0.0, 0.0, 0.0);
-                            for (((&s, &r), &d), &t) in inside.iter().zip(r).zip(d).zip(t) {
-                                s_in += s;
-                                s_r += s * r;
-                                s_d += s * d;
-                                s_t += s * t;
-                            }
-                            let p_out = power - s_in * k;
-                            p_r = rb * p_out + s_r * k;
-                            p_d = db * p_out + s_d * k;
-                            p_t = tb * p_out + s_t * k;
-                            if p_r > 0.0 && p_r >= threshold {
-                                let mut v = pool.pop().unwrap_or_default();
-                                v.clear();
-                                v.extend_from_slice(&shape);
-                                let k = filter_window(&mut v, lo, r, rb);
-                                reflected = Some((v, scale * k));
-                            }
-                            scale *= filter_window(&mut shape, lo, t, tb);
+        self.grid.traverse(
+            &ray,
+            t0.max(0.0),
+            t1,
+            #[inline(always)]
+            |seg| {
+                let length = seg.t_exit - seg.t_enter;
+                ledger.cells_crossed += 1;
+                let site = self.sites[seg.index];
+                let slot = site.slot();
+                let cell = site.cell();
+                // The light's track through the cell: the chord in a cluster; in a void (potch)
+                // ∫₀ˡ e^(−σs) ds under exponential attenuation, and its limit ℓ for a clear body.
+                let sigma = self.body_extinction_per_mm;
+                let (track, kept) = match cell {
+                    Cell::Outside => return true,
+                    Cell::Cluster => (length, 1.0),
+                    Cell::Void => {
+                        let kept = (-sigma * length).exp();
+                        if sigma * length > 1e-4 {
+                            ((1.0 - kept) / sigma, kept)
+                        } else {
+                            (length, kept)
                         }
                     }
-                    ledger.stored += f64::from(p_d);
-                    ledger.absorbed += f64::from(power - p_r - p_d - p_t);
-                    power = p_t;
-                    match reflected {
-                        Some((v, k)) => stack.push(Branch {
-                            origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
-                            direction: reflect(direction, normal),
-                            shape: v,
-                            scale: k,
-                            power: p_r,
-                            bounces,
-                            lobe: SCATTERED,
-                        }),
-                        None => ledger.truncated += f64::from(p_r),
+                };
+                // The direct light is computed per cell (`direct.rs`), not stored.
+                if kind != DIRECT {
+                    acc.deposit(
+                        slot * SCATTERED_LOBES + lobe - 1,
+                        &shape,
+                        scale * track * self.inv_volume[slot],
+                        direction,
+                        power * track * self.inv_volume[slot],
+                    );
+                }
+                match cell {
+                    Cell::Outside => {}
+                    Cell::Void => {
+                        let lost = f64::from(power * (1.0 - kept));
+                        ledger.stored += f64::from(self.body_albedo) * lost;
+                        ledger.absorbed += f64::from(1.0 - self.body_albedo) * lost;
+                        scale *= kept;
+                        power *= kept;
+                    }
+                    Cell::Cluster => {
+                        let normal = site.normal;
+                        // Cells of one patch, met one after another, split the light alike:
+                        // `r`, `t`, `d` still hold the last split's window.
+                        if normal != last_normal {
+                            last_split = self.optics.split(direction.dot(normal).abs(), r, t, d);
+                            last_normal = normal;
+                        }
+                        // Split into the Bragg-reflected branch (followed only if strong
+                        // enough), the diffuse part (stored here) and the transmitted ray.
+                        let (p_r, p_d, p_t);
+                        let mut reflected: Option<(Vec<f32>, f32)> = None;
+                        match last_split {
+                            Split::Flat { r, t, d } => {
+                                p_r = power * r;
+                                p_d = power * d;
+                                p_t = power * t;
+                                if p_r > 0.0 && p_r >= threshold {
+                                    let mut v = pool.pop().unwrap_or_default();
+                                    v.clear();
+                                    v.extend_from_slice(&shape);
+                                    reflected = Some((v, scale * r));
+                                }
+                                scale *= t;
+                            }
+                            Split::Window {
+                                lo,
+                                hi,
+                                r: rb,
+                                t: tb,
+                                d: db,
+                            } => {
+                                let bw = self.bin_width_nm;
+                                let (r, t, d) = (&r[lo..hi], &t[lo..hi], &d[lo..hi]);
+                                let inside = &shape[lo..hi];
+                                let k = scale * bw;
+                                // The window holds a few bins: its four sums in one pass.
+                                let (mut s_in, mut s_r, mut s_d, mut s_t) = (0.0, 0.0, 0.0, 0.0);
+                                for (((&s, &r), &d), &t) in inside.iter().zip(r).zip(d).zip(t) {
+                                    s_in += s;
+                                    s_r += s * r;
+                                    s_d += s * d;
+                                    s_t += s * t;
+                                }
+                                let p_out = power - s_in * k;
+                                p_r = rb * p_out + s_r * k;
+                                p_d = db * p_out + s_d * k;
+                                p_t = tb * p_out + s_t * k;
+                                if p_r > 0.0 && p_r >= threshold {
+                                    let mut v = pool.pop().unwrap_or_default();
+                                    v.clear();
+                                    v.extend_from_slice(&shape);
+                                    let k = filter_window(&mut v, lo, r, rb);
+                                    reflected = Some((v, scale * k));
+                                }
+                                scale *= filter_window(&mut shape, lo, t, tb);
+                            }
+                        }
+                        ledger.stored += f64::from(p_d);
+                        ledger.absorbed += f64::from(power - p_r - p_d - p_t);
+                        power = p_t;
+                        match reflected {
+                            Some((v, k)) => stack.push(Branch {
+                                origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
+                                direction: reflect(direction, normal),
+                                shape: v,
+                                scale: k,
+                                power: p_r,
+                                bounces,
+                                lobe: SCATTERED,
+                            }),
+                            None => ledger.truncated += f64::from(p_r),
+                        }
                     }
                 }
-            }
-            if power < threshold {
-                ledger.truncated += f64::from(power);
-                alive = false;
-            }
-            alive
-        });
+                if power < threshold {
+                    ledger.truncated += f64::from(power);
+                    alive = false;
+                }
+                alive
+            },
+        );
         if !alive {
             pool.push(shape);
             return;

@@ -348,90 +348,100 @@ impl View<'_> {
         transmission: &mut Transmission,
     ) -> Option<Deferred> {
         // The whole walk runs in the copy compiled for the processor's vector level.
-        crate::simd::widest(move || {
-            for bounce in path.first..MAX_VIEW_BOUNCES {
-                let inner = Ray {
-                    origin,
-                    direction: dir,
-                };
-                let (t0, t1) = self.shape.intersect(&inner)?;
-                let to_eye = -dir;
-                // Along one segment, cells of one patch meet the ray at the same angle and share
-                // their transmittance.
-                let mut last_normal = Vec3::NAN;
-                self.grid.traverse(&inner, t0.max(0.0), t1, |seg| {
-                    let tag = self.shading.tags[seg.index];
-                    let slot = tag.slot();
-                    match tag.cell() {
-                        Cell::Outside => return true,
-                        Cell::Void => {
-                            let kept = (-self.setup.body_extinction_per_mm
-                                * (seg.t_exit - seg.t_enter))
-                                .exp();
-                            let glow =
-                                &self.shading.diffuse[slot * self.bins..(slot + 1) * self.bins];
-                            add_filtered(pixel, shape_thr, glow, scale * (1.0 - kept));
-                            scale *= kept;
-                        }
-                        Cell::Cluster => {
-                            let shade = &self.shading.clusters[slot];
-                            for (lobe, l) in shade.lobes.iter().enumerate() {
-                                let c = l.mirror.dot(to_eye);
-                                if c <= l.cos_min {
-                                    continue;
-                                }
-                                // Eq. (2)'s specular term: E · R(θ) · peak · cosⁿ' θ'.
-                                let entry = (slot * LOBES + lobe) * self.bins;
-                                let spectrum = &self.shading.specular[entry..entry + self.bins];
-                                add_filtered(
-                                    pixel,
-                                    shape_thr,
-                                    spectrum,
-                                    scale * c.powf(l.exponent),
-                                );
-                            }
-                            if tag.glows() {
-                                let glow =
-                                    &self.shading.diffuse[slot * self.bins..(slot + 1) * self.bins];
-                                add_filtered(pixel, shape_thr, glow, scale);
-                            }
-                            let normal = shade.normal;
-                            if normal != last_normal {
-                                self.optics
-                                    .transmission(dir.dot(normal).abs(), transmission);
-                                last_normal = normal;
-                            }
-                            scale *= transmission.apply(shape_thr, peak);
-                        }
-                    }
-                    scale > MIN_THROUGHPUT
-                });
-                if scale <= MIN_THROUGHPUT {
-                    return None;
-                }
-                // Far surface: the backdrop through the stone, and internal reflection.
-                let q = inner.at(t1);
-                let n_q = self.shape.normal(q);
-                let f_out = fresnel_dielectric(dir.dot(n_q), self.n_eff, 1.0);
-                let seen = (1.0 - f_out) * self.n_eff * self.n_eff * self.setup.background;
-                add_filtered(pixel, shape_thr, self.setup.light_spectrum, scale * seen);
-                scale *= f_out;
-                dir = reflect(dir, n_q);
-                origin = q;
-                if scale <= MIN_THROUGHPUT {
-                    return None;
-                }
-                if path.defer && bounce == 0 && f_out < SHARED_REFLECTION {
-                    return Some(Deferred {
+        crate::simd::widest(
+            #[inline(always)]
+            move || {
+                for bounce in path.first..MAX_VIEW_BOUNCES {
+                    let inner = Ray {
                         origin,
                         direction: dir,
-                        scale,
-                        peak: *peak,
-                    });
+                    };
+                    let (t0, t1) = self.shape.intersect(&inner)?;
+                    let to_eye = -dir;
+                    // Along one segment, cells of one patch meet the ray at the same angle and share
+                    // their transmittance.
+                    let mut last_normal = Vec3::NAN;
+                    self.grid.traverse(
+                        &inner,
+                        t0.max(0.0),
+                        t1,
+                        #[inline(always)]
+                        |seg| {
+                            let tag = self.shading.tags[seg.index];
+                            let slot = tag.slot();
+                            match tag.cell() {
+                                Cell::Outside => return true,
+                                Cell::Void => {
+                                    let kept = (-self.setup.body_extinction_per_mm
+                                        * (seg.t_exit - seg.t_enter))
+                                        .exp();
+                                    let glow = &self.shading.diffuse
+                                        [slot * self.bins..(slot + 1) * self.bins];
+                                    add_filtered(pixel, shape_thr, glow, scale * (1.0 - kept));
+                                    scale *= kept;
+                                }
+                                Cell::Cluster => {
+                                    let shade = &self.shading.clusters[slot];
+                                    for (lobe, l) in shade.lobes.iter().enumerate() {
+                                        let c = l.mirror.dot(to_eye);
+                                        if c <= l.cos_min {
+                                            continue;
+                                        }
+                                        // Eq. (2)'s specular term: E · R(θ) · peak · cosⁿ' θ'.
+                                        let entry = (slot * LOBES + lobe) * self.bins;
+                                        let spectrum =
+                                            &self.shading.specular[entry..entry + self.bins];
+                                        add_filtered(
+                                            pixel,
+                                            shape_thr,
+                                            spectrum,
+                                            scale * c.powf(l.exponent),
+                                        );
+                                    }
+                                    if tag.glows() {
+                                        let glow = &self.shading.diffuse
+                                            [slot * self.bins..(slot + 1) * self.bins];
+                                        add_filtered(pixel, shape_thr, glow, scale);
+                                    }
+                                    let normal = shade.normal;
+                                    if normal != last_normal {
+                                        self.optics
+                                            .transmission(dir.dot(normal).abs(), transmission);
+                                        last_normal = normal;
+                                    }
+                                    scale *= transmission.apply(shape_thr, peak);
+                                }
+                            }
+                            scale > MIN_THROUGHPUT
+                        },
+                    );
+                    if scale <= MIN_THROUGHPUT {
+                        return None;
+                    }
+                    // Far surface: the backdrop through the stone, and internal reflection.
+                    let q = inner.at(t1);
+                    let n_q = self.shape.normal(q);
+                    let f_out = fresnel_dielectric(dir.dot(n_q), self.n_eff, 1.0);
+                    let seen = (1.0 - f_out) * self.n_eff * self.n_eff * self.setup.background;
+                    add_filtered(pixel, shape_thr, self.setup.light_spectrum, scale * seen);
+                    scale *= f_out;
+                    dir = reflect(dir, n_q);
+                    origin = q;
+                    if scale <= MIN_THROUGHPUT {
+                        return None;
+                    }
+                    if path.defer && bounce == 0 && f_out < SHARED_REFLECTION {
+                        return Some(Deferred {
+                            origin,
+                            direction: dir,
+                            scale,
+                            peak: *peak,
+                        });
+                    }
                 }
-            }
-            None
-        })
+                None
+            },
+        )
     }
 }
 
