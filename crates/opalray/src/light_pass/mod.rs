@@ -36,7 +36,7 @@ use crate::geometry::{CellGrid, Ellipsoid};
 use crate::optics::OpticsTables;
 use crate::spectrum::WavelengthGrid;
 use crate::structure::{Cell, Structure};
-use accumulate::{split_sums, Accumulator, TileSums};
+use accumulate::{directions, Accumulator, TileSums};
 use walk::{Scratch, Site, Walker};
 
 /// Lobes stored per cell: 0 = direct light; light reflected inside at least once,
@@ -120,7 +120,10 @@ pub struct LightField {
     pub grid: WavelengthGrid,
     /// Storage slot of each cell, or [`NO_SLOT`] outside the stone.
     pub slot_of_cell: Vec<u32>,
-    /// Fluence spectra, `slots × LOBES × bins`, power per mm² per nm.
+    /// Fluence spectra, power per mm² per nm, `slots × LOBES` entries of `bins + 4` values:
+    /// each spectrum is followed by the sums its direction was found from (left in place:
+    /// packing the spectra would cost a pass over the whole field). Read through
+    /// [`LightField::fluence`].
     pub fluence: Vec<f32>,
     /// Mean direction of travel per slot and lobe (zero where no light arrived).
     pub directions: Vec<Vec3>,
@@ -135,7 +138,7 @@ impl LightField {
     /// Fluence spectrum of `slot`, `lobe`.
     pub fn fluence(&self, slot: usize, lobe: usize) -> &[f32] {
         let b = self.grid.bins;
-        let start = (slot * LOBES + lobe) * b;
+        let start = (slot * LOBES + lobe) * (b + 4);
         &self.fluence[start..start + b]
     }
 }
@@ -187,31 +190,32 @@ fn inverse_inside_volumes(
     slots: usize,
 ) -> Vec<f32> {
     let [nx, ny, _] = grid.n;
-    let mut inv = vec![0.0f32; slots];
-    for (cell, &slot) in slot_of_cell.iter().enumerate() {
-        if slot == NO_SLOT {
-            continue;
-        }
-        let (x, y, z) = (cell % nx, cell / nx % ny, cell / (nx * ny));
-        let corner = grid.min + Vec3::new(x as f32, y as f32, z as f32) * grid.cell;
-        let whole = (0..8).all(|k| {
-            let offset = Vec3::new((k & 1) as f32, ((k >> 1) & 1) as f32, ((k >> 2) & 1) as f32);
-            shape.contains(corner + offset * grid.cell)
-        });
-        let fraction = if whole {
-            1.0
-        } else {
-            let n = VOLUME_SAMPLES;
-            let inside = (0..n * n * n)
-                .filter(|&k| {
-                    let u = Vec3::new((k % n) as f32, (k / n % n) as f32, (k / (n * n)) as f32);
-                    shape.contains(corner + (u + 0.5) / n as f32 * grid.cell)
-                })
-                .count();
-            (inside.max(1) as f32) / (n * n * n) as f32
-        };
-        inv[slot as usize] = 1.0 / (fraction * grid.cell_volume());
-    }
+    let inv: Vec<f32> = cells_of_slots(slot_of_cell)
+        .into_par_iter()
+        .map(|cell| {
+            let (x, y, z) = (cell % nx, cell / nx % ny, cell / (nx * ny));
+            let corner = grid.min + Vec3::new(x as f32, y as f32, z as f32) * grid.cell;
+            let whole = (0..8).all(|k| {
+                let offset =
+                    Vec3::new((k & 1) as f32, ((k >> 1) & 1) as f32, ((k >> 2) & 1) as f32);
+                shape.contains(corner + offset * grid.cell)
+            });
+            let fraction = if whole {
+                1.0
+            } else {
+                let n = VOLUME_SAMPLES;
+                let inside = (0..n * n * n)
+                    .filter(|&k| {
+                        let u = Vec3::new((k % n) as f32, (k / n % n) as f32, (k / (n * n)) as f32);
+                        shape.contains(corner + (u + 0.5) / n as f32 * grid.cell)
+                    })
+                    .count();
+                (inside.max(1) as f32) / (n * n * n) as f32
+            };
+            1.0 / (fraction * grid.cell_volume())
+        })
+        .collect();
+    debug_assert_eq!(inv.len(), slots);
     inv
 }
 
@@ -314,11 +318,11 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         structure.grid,
         stride,
     );
-    let (fluence, directions, concentration) = split_sums(sums, bins);
+    let (directions, concentration) = directions(&sums, bins);
     LightField {
         grid: optics.grid,
         slot_of_cell,
-        fluence,
+        fluence: sums,
         directions,
         concentration,
         ledger,
