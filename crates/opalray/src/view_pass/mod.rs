@@ -358,8 +358,8 @@ impl View<'_> {
                     };
                     let (t0, t1) = self.shape.intersect(&inner)?;
                     let to_eye = -dir;
-                    // Along one segment, cells of one patch meet the ray at the same angle and share
-                    // their transmittance.
+                    // Along one segment, cells of one patch meet the ray at the same angle and
+                    // share their transmittance.
                     let mut last_normal = Vec3::NAN;
                     self.grid.traverse(
                         &inner,
