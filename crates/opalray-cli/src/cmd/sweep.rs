@@ -54,10 +54,10 @@ pub struct Args {
     pub stats: Option<PathBuf>,
 }
 
-/// Run `opalray sweep`.
 /// Frames rendered at once, at most.
 const FRAMES_AT_ONCE: usize = 2;
 
+/// Run `opalray sweep`.
 pub fn run(args: Args) -> Result<()> {
     check_output("--sheet", &args.sheet, &["png"])?;
     if let Some(path) = &args.animation {

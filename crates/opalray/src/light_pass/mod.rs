@@ -183,14 +183,9 @@ const VOLUME_SAMPLES: usize = 4;
 /// cell cut by the surface only run through its inside part, so dividing by the whole cell's
 /// volume would darken the stone's rim. Cells with all eight corners inside are whole; the
 /// others are measured on a 4 × 4 × 4 sub-grid.
-fn inverse_inside_volumes(
-    grid: &CellGrid,
-    shape: &Ellipsoid,
-    slot_of_cell: &[u32],
-    slots: usize,
-) -> Vec<f32> {
+fn inverse_inside_volumes(grid: &CellGrid, shape: &Ellipsoid, slot_of_cell: &[u32]) -> Vec<f32> {
     let [nx, ny, _] = grid.n;
-    let inv: Vec<f32> = cells_of_slots(slot_of_cell)
+    cells_of_slots(slot_of_cell)
         .into_par_iter()
         .map(|cell| {
             let (x, y, z) = (cell % nx, cell / nx % ny, cell / (nx * ny));
@@ -214,9 +209,7 @@ fn inverse_inside_volumes(
             };
             1.0 / (fraction * grid.cell_volume())
         })
-        .collect();
-    debug_assert_eq!(inv.len(), slots);
-    inv
+        .collect()
 }
 
 /// Trace the light pass (paper §3.2).
@@ -253,7 +246,7 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         lattice: RayLattice::new(setup.source, &shape, setup.rays),
         body_albedo: setup.body_albedo,
         body_extinction_per_mm: setup.body_extinction_per_mm,
-        inv_volume: inverse_inside_volumes(&grid, &shape, &slot_of_cell, slots),
+        inv_volume: inverse_inside_volumes(&grid, &shape, &slot_of_cell),
         seed: setup.seed,
     };
     // Bounds of one deposit, for the fixed-point scale: no ray ever carries more than it had

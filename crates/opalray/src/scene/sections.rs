@@ -287,13 +287,13 @@ impl LightConfig {
         check_range("light.angle_deg", self.angle_deg, -89.0, 89.0, 30.0)?;
         check_positive("light.intensity", self.intensity, 1e6, 1.0)?;
         check_positive("light.distance_mm", self.distance_mm, 1e6, 100.0)?;
-        if !(1..=1_000_000_000).contains(&self.rays) {
-            return Err(Error::field(
-                "light.rays",
-                format!("must be in 1..=1000000000, got {}; try 65536", self.rays),
-            ));
-        }
-        Ok(())
+        check_count(
+            "light.rays",
+            self.rays,
+            1..=1_000_000_000,
+            "in 1..=1000000000",
+            "65536",
+        )
     }
 }
 
@@ -415,8 +415,7 @@ impl RenderConfig {
             1..=8,
             "in 1..=8 pixels",
             "2 (or 1 for every pixel's own)",
-        )?;
-        Ok(())
+        )
     }
 
     /// Single-scattering albedo of the potch (common opal) filling the voids, from the body
