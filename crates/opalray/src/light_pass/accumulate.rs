@@ -1,119 +1,109 @@
-//! Order-independent accumulation of light deposits, in two levels.
+//! Accumulation of light deposits that gives the same sums at any thread count, in two
+//! levels.
 //!
 //! A [`TileSums`] gathers the deposits of one tile of rays in `f32`, in the tile's fixed ray
-//! order, in a small buffer that stays in cache. When the tile is done its sums are rounded
-//! onto a fixed-point scale and added, as 64-bit integers, to the thread's [`Accumulator`].
-//! Integer sums are associative: whichever thread traces a tile and in whatever order the
-//! tiles are added, the result, and so the image bytes, are identical at any
-//! thread count.
+//! order, in a compact buffer of the entries the tile touched. Finished tiles are added to the
+//! one [`OrderedSums`] in tile order, whichever thread traced them and whenever it finished: a
+//! tile that finishes before an earlier one waits, its sums kept, and is added by the thread
+//! that adds the earlier one. Every sum is then formed by the same additions in the same order,
+//! so the result, and the image bytes, are identical at any thread count.
 
 use glam::Vec3;
 use rayon::prelude::*;
 
-/// Fixed-point resolution: the largest possible single deposit maps to 2³¹.
-const DEPOSIT_RANGE: f64 = 2_147_483_648.0;
-
-/// Round `x` (|x| < 2⁵¹) to the nearest integer by the floating-point magic-number trick:
-/// inline and vectorisable, where `f64::round` is a library call.
-#[inline(always)]
-fn round_to_i64(x: f64) -> i64 {
-    const MAGIC: f64 = 6_755_399_441_055_744.0; // 2⁵² + 2⁵¹
-    (x + MAGIC).to_bits() as i64 - MAGIC.to_bits() as i64
-}
-
-/// Sums of the light crossing each stored cell: for every entry (slot and lobe), the fluence
-/// spectrum (`bins` values), the power-weighted direction (3 values) and the power weight.
-#[derive(Clone, Debug)]
-pub struct Accumulator {
+/// Sums of the light crossing each stored cell, in their final layout: the accumulated entries
+/// (slot and scattered lobe), taken `per_group` at a time, fill entries `first ..` of groups of
+/// `group` entries, and the other entries of each group stay zero for the caller (the light
+/// pass accumulates the two scattered lobes of each cell and solves the direct lobe per cell).
+/// Each entry holds the fluence spectrum (`bins` values), the power-weighted direction (3
+/// values) and the power weight.
+#[derive(Debug)]
+pub struct OrderedSums {
     stride: usize,
-    bins: usize,
-    spectrum_scale: f64,
-    direction_scale: f64,
-    sums: Vec<i64>,
+    group: usize,
+    per_group: usize,
+    first: usize,
+    sums: Vec<f32>,
+    /// The tile to be added next.
+    next: u64,
+    /// Finished tiles waiting for an earlier one.
+    waiting: Vec<(u64, TileSums)>,
+    /// Emptied tile sums, to be reused.
+    spare: Vec<TileSums>,
 }
 
-impl Accumulator {
-    /// Zeroed sums for `entries` entries of `bins` spectral values. `max_spectral` and
-    /// `max_power` bound one deposit's spectral value and direction weight; they set the
-    /// fixed-point scales (a resolution of 5·10⁻¹⁰ of them).
-    pub fn new(entries: usize, bins: usize, max_spectral: f32, max_power: f32) -> Self {
+impl OrderedSums {
+    /// Zeroed sums for `entries` accumulated entries of `bins` spectral values, laid out in
+    /// groups as described on the type.
+    pub fn new(entries: usize, bins: usize, group: usize, per_group: usize, first: usize) -> Self {
+        assert!(
+            per_group > 0 && first + per_group <= group && entries % per_group == 0,
+            "the entries must fill whole groups"
+        );
         let stride = bins + 4;
-        Accumulator {
+        OrderedSums {
             stride,
-            bins,
-            spectrum_scale: DEPOSIT_RANGE / f64::from(max_spectral.max(f32::MIN_POSITIVE)),
-            direction_scale: DEPOSIT_RANGE / f64::from(max_power.max(f32::MIN_POSITIVE)),
-            sums: vec![0; entries * stride],
+            group,
+            per_group,
+            first,
+            sums: vec![0.0; entries / per_group * group * stride],
+            next: 0,
+            waiting: Vec::new(),
+            spare: Vec::new(),
         }
     }
 
-    /// Add a tile's sums, rounded onto the fixed-point scale.
-    pub fn add_tile(&mut self, tile: &mut TileSums) {
+    /// Hand in the sums of tile `index` (tiles are numbered from 0, each handed in once): they
+    /// are added once every earlier tile has been, and so may be any waiting tiles after them.
+    pub fn submit(&mut self, index: u64, tile: TileSums) {
+        debug_assert!(index >= self.next, "tile {index} handed in twice");
+        self.waiting.push((index, tile));
+        while let Some(k) = self.waiting.iter().position(|(i, _)| *i == self.next) {
+            let (_, mut tile) = self.waiting.swap_remove(k);
+            self.add(&tile);
+            tile.clear();
+            self.spare.push(tile);
+            self.next += 1;
+        }
+    }
+
+    /// Emptied tile sums handed in earlier, if any, for the next tile.
+    pub fn take_spare(&mut self) -> Option<TileSums> {
+        self.spare.pop()
+    }
+
+    fn add(&mut self, tile: &TileSums) {
+        let stride = self.stride;
         for (k, &entry) in tile.entries.iter().enumerate() {
-            let local = &tile.sums[k * self.stride..(k + 1) * self.stride];
-            let global =
-                &mut self.sums[entry as usize * self.stride..(entry as usize + 1) * self.stride];
-            for (g, &v) in global[..self.bins].iter_mut().zip(&local[..self.bins]) {
-                *g += round_to_i64(f64::from(v) * self.spectrum_scale);
-            }
-            for (g, &v) in global[self.bins..].iter_mut().zip(&local[self.bins..]) {
-                *g += round_to_i64(f64::from(v) * self.direction_scale);
+            let entry = entry as usize;
+            let at = (entry / self.per_group * self.group + self.first + entry % self.per_group)
+                * stride;
+            for (g, &v) in self.sums[at..at + stride]
+                .iter_mut()
+                .zip(&tile.sums[k * stride..(k + 1) * stride])
+            {
+                *g += v;
             }
         }
-        tile.clear();
     }
 
-    /// Values per entry in [`Accumulator::into_sums`]: the spectrum, the power-weighted
-    /// direction and the power weight.
+    /// Values per entry: the spectrum, the power-weighted direction and the power weight.
     pub fn stride(&self) -> usize {
         self.stride
     }
 
-    /// The sums as floats, `entries × stride`: for each entry the fluence spectrum (`bins`
-    /// values), Σ P·w (3) and Σ P (1).
-    #[cfg(test)]
+    /// The sums, `entries × stride` in groups (see the type).
     pub fn into_sums(self) -> Vec<f32> {
-        self.into_group_sums(1, 1, 0)
-    }
-
-    /// The sums as floats, with room left for other entries: the accumulator's entries, taken
-    /// `per_group` at a time, are written into groups of `group` entries starting at entry
-    /// `first` of each group; the other entries are zero. (The light pass accumulates the two
-    /// scattered lobes of each cell and leaves the direct lobe, solved per cell, to be
-    /// filled in.)
-    pub fn into_group_sums(self, group: usize, per_group: usize, first: usize) -> Vec<f32> {
         assert!(
-            first + per_group <= group,
-            "the entries must fit in their group"
+            self.waiting.is_empty(),
+            "every tile before a handed-in one must be handed in"
         );
-        let scale: Vec<f64> = (0..self.stride)
-            .map(|k| {
-                if k < self.bins {
-                    1.0 / self.spectrum_scale
-                } else {
-                    1.0 / self.direction_scale
-                }
-            })
-            .collect();
-        let stride = self.stride;
-        let groups = self.sums.len() / (stride * per_group);
-        let mut out = vec![0.0f32; groups * group * stride];
-        out.par_chunks_mut(group * stride)
-            .zip(self.sums.par_chunks(per_group * stride))
-            .for_each(|(o, s)| {
-                let o = &mut o[first * stride..(first + per_group) * stride];
-                for (o, s) in o.chunks_exact_mut(stride).zip(s.chunks_exact(stride)) {
-                    for ((o, &s), &k) in o.iter_mut().zip(s).zip(&scale) {
-                        *o = (s as f64 * k) as f32;
-                    }
-                }
-            });
-        out
+        self.sums
     }
 }
 
 /// The mean directions of float sums (`entries × (bins + 4)`, see
-/// [`Accumulator::into_sums`]): per entry its unit mean direction (zero where nothing
+/// [`OrderedSums::into_sums`]): per entry its unit mean direction (zero where nothing
 /// arrived) and the mean resultant length of the directions (|Σ P·w| / Σ P: 1 for light from
 /// one direction, towards 0 for light from many). The spectra stay where they are.
 pub fn directions(sums: &[f32], bins: usize) -> (Vec<Vec3>, Vec<f32>) {
@@ -211,51 +201,107 @@ mod tests {
     use super::*;
 
     fn tile_with(entry: usize, spectrum: &[f32]) -> TileSums {
-        let mut t = TileSums::new(2, 2);
-        t.deposit(entry, spectrum, 0.37, Vec3::X, 0.37);
+        let mut t = TileSums::new(2, spectrum.len());
+        t.deposit(entry, spectrum, 1.0, Vec3::X, 1.0);
         t
     }
 
-    #[test]
-    fn tile_order_does_not_change_the_result() {
-        let spectra = [[0.1f32, 0.7], [0.33, 1e-3], [5.0, 0.25]];
-        let sum_in = |order: &[usize]| {
-            let mut a = Accumulator::new(2, 2, 5.0, 1.0);
-            for &k in order {
-                a.add_tile(&mut tile_with(1, &spectra[k]));
-            }
-            a.into_sums()
-        };
-        assert_eq!(sum_in(&[0, 1, 2]), sum_in(&[2, 0, 1]));
+    fn sums_of(mut sums: OrderedSums, tiles: &[(u64, TileSums)]) -> Vec<f32> {
+        for (index, tile) in tiles {
+            sums.submit(*index, tile.clone());
+        }
+        sums.into_sums()
     }
 
     #[test]
-    fn sums_are_accurate_to_the_fixed_point_resolution() {
-        let mut a = Accumulator::new(2, 1, 0.01, 1.0);
-        let mut tile = TileSums::new(2, 1);
+    fn tiles_are_added_in_tile_order_whatever_order_they_arrive_in() {
+        // In f32, (10⁸ + 5) + 5 = 10⁸ + 16 but (5 + 5) + 10⁸ = 10⁸ + 8: adding in arrival
+        // order would make the sum depend on which thread finished first.
+        let tiles: Vec<(u64, TileSums)> = [1e8f32, 5.0, 5.0]
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| (i as u64, tile_with(1, &[v])))
+            .collect();
+        let in_order = sums_of(OrderedSums::new(2, 1, 1, 1, 0), &tiles);
+        assert_eq!(in_order[5], 1e8 + 16.0);
+        for order in [[2, 1, 0], [1, 2, 0], [2, 0, 1]] {
+            let shuffled: Vec<(u64, TileSums)> = order.iter().map(|&k| tiles[k].clone()).collect();
+            assert_eq!(
+                sums_of(OrderedSums::new(2, 1, 1, 1, 0), &shuffled),
+                in_order,
+                "{order:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_tile_waits_for_the_ones_before_it() {
+        let mut sums = OrderedSums::new(2, 1, 1, 1, 0);
+        sums.submit(1, tile_with(0, &[2.0]));
+        assert_eq!(sums.sums[0], 0.0, "tile 1 is not added before tile 0");
+        assert!(sums.take_spare().is_none());
+        sums.submit(0, tile_with(0, &[3.0]));
+        assert_eq!(sums.sums[0], 5.0);
+        let spare = sums
+            .take_spare()
+            .expect("both tiles were emptied for reuse");
+        assert!(spare.entries.is_empty() && spare.sums.is_empty());
+    }
+
+    #[test]
+    #[should_panic(expected = "every tile before")]
+    fn a_missing_tile_is_an_error() {
+        let mut sums = OrderedSums::new(2, 1, 1, 1, 0);
+        sums.submit(1, tile_with(0, &[2.0]));
+        sums.into_sums();
+    }
+
+    #[test]
+    fn entries_fill_their_place_in_the_groups() {
+        // Two accumulated entries per group of three, from entry 1: entry e of the sums goes
+        // to entry 3 (e / 2) + 1 + e % 2.
+        let mut sums = OrderedSums::new(4, 1, 3, 2, 1);
+        let mut tile = TileSums::new(4, 1);
+        for e in 0..4 {
+            tile.deposit(e, &[10.0 + e as f32], 1.0, Vec3::Z, 1.0);
+        }
+        sums.submit(0, tile);
+        let f = sums.into_sums();
+        let spectra: Vec<f32> = f.chunks(5).map(|c| c[0]).collect();
+        assert_eq!(spectra, [0.0, 10.0, 11.0, 0.0, 12.0, 13.0]);
+        assert_eq!(&f[5..10], &[10.0, 0.0, 0.0, 1.0, 1.0]);
+    }
+
+    #[test]
+    fn sums_add_up_the_deposits() {
+        let mut sums = OrderedSums::new(2, 1, 1, 1, 0);
+        let mut tile = sums.take_spare().unwrap_or_else(|| TileSums::new(2, 1));
+        let mut index = 0;
         for i in 0..1000 {
             tile.deposit(1, &[0.01], 0.5, Vec3::Z, 0.5);
             if i % 100 == 99 {
-                a.add_tile(&mut tile);
+                sums.submit(index, tile);
+                index += 1;
+                tile = sums.take_spare().expect("the tile was added at once");
             }
         }
-        let f = a.into_sums();
+        let f = sums.into_sums();
         let (d, c) = directions(&f, 1);
         assert!((c[1] - 1.0).abs() < 1e-6 && c[0] == 0.0);
         assert_eq!(f[0], 0.0);
-        assert!((f[5] - 5.0).abs() < 1e-5, "{}", f[5]);
+        assert!((f[5] - 5.0).abs() < 1e-4, "{}", f[5]);
         assert_eq!(d[1], Vec3::Z);
         assert_eq!(d[0], Vec3::ZERO);
     }
 
     #[test]
     fn opposite_directions_have_no_concentration() {
-        let mut a = Accumulator::new(1, 1, 1.0, 1.0);
+        let mut sums = OrderedSums::new(1, 1, 1, 1, 0);
         let mut tile = TileSums::new(1, 1);
         tile.deposit(0, &[1.0], 1.0, Vec3::X, 1.0);
         tile.deposit(0, &[1.0], 1.0, Vec3::new(0.0, 1.0, 0.0), 1.0);
-        a.add_tile(&mut tile);
-        let (d, c) = directions(&a.into_sums(), 1);
+        sums.submit(0, tile);
+        let (d, c) = directions(&sums.into_sums(), 1);
         // Two perpendicular unit vectors of equal weight: |Σ w| / Σ 1 = √2 / 2.
         assert!(
             (c[0] - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-5,
@@ -263,24 +309,5 @@ mod tests {
             c[0]
         );
         assert!((d[0] - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-5);
-    }
-
-    #[test]
-    fn rounding_is_to_nearest() {
-        assert_eq!(round_to_i64(2.4), 2);
-        assert_eq!(round_to_i64(2.6), 3);
-        assert_eq!(round_to_i64(-2.6), -3);
-        assert_eq!(round_to_i64(1e15 + 0.7), 1_000_000_000_000_001);
-    }
-
-    #[test]
-    fn a_flushed_tile_starts_empty() {
-        let mut a = Accumulator::new(2, 1, 1.0, 1.0);
-        let mut tile = TileSums::new(2, 1);
-        tile.deposit(0, &[1.0], 1.0, Vec3::X, 1.0);
-        a.add_tile(&mut tile);
-        a.add_tile(&mut tile);
-        let f = a.into_sums();
-        assert!((f[0] - 1.0).abs() < 1e-6);
     }
 }

@@ -12,8 +12,8 @@
 //! strong the rest is.
 //!
 //! Rays are drawn on a jittered lattice over the beam, each with its own random stream
-//! `(seed, LIGHT, index)`; deposits are summed in fixed point, so the result is the same at
-//! any thread count.
+//! `(seed, LIGHT, index)`; the deposits of tiles of rays are added in tile order, so the
+//! result is the same at any thread count.
 
 mod accumulate;
 mod direct;
@@ -36,7 +36,7 @@ use crate::geometry::{CellGrid, Ellipsoid};
 use crate::optics::OpticsTables;
 use crate::spectrum::WavelengthGrid;
 use crate::structure::{Cell, Structure};
-use accumulate::{directions, Accumulator, TileSums};
+use accumulate::{directions, OrderedSums, TileSums};
 use walk::{Scratch, Site, Walker};
 
 /// Lobes stored per cell: 0 = direct light; light reflected inside at least once,
@@ -249,28 +249,28 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         inv_volume: inverse_inside_volumes(&grid, &shape, &slot_of_cell),
         seed: setup.seed,
     };
-    // Bounds of one deposit, for the fixed-point scale: no ray ever carries more than it had
-    // on entering, and no chord through a cell is longer than its diagonal.
-    let max_weight = grid.cell.length() * walker.inv_volume.iter().fold(0.0f32, |m, &v| m.max(v));
-    let max_ray = walker.lattice.power_per_ray * walker.lattice.max_irradiance();
-    let max_spectral = setup.spectrum.iter().fold(0.0f32, |m, &v| m.max(v)) * max_ray * max_weight;
-    let max_power = walker.power(setup.spectrum) * max_ray * max_weight;
     let side = walker.lattice.side();
     let tiles_per_row = side.div_ceil(TILE);
     let tasks = tiles_per_row * tiles_per_row;
-    // Workers pull tiles from a shared counter and add each finished tile to the one shared
-    // accumulator; integer sums make the order of those additions irrelevant.
+    // Workers pull tiles from a shared counter and hand each finished tile to the one shared
+    // sum, which adds the tiles in tile order (see `accumulate`).
     let next_task = AtomicU64::new(0);
-    let shared = Mutex::new(Accumulator::new(
+    let shared = Mutex::new(OrderedSums::new(
         slots * SCATTERED_LOBES,
         bins,
-        max_spectral,
-        max_power,
+        LOBES,
+        SCATTERED_LOBES,
+        1,
     ));
+    let lock = || {
+        shared
+            .lock()
+            .expect("no worker panics while holding the sums")
+    };
     let ledger = (0..rayon::current_num_threads())
         .into_par_iter()
         .map(|_| {
-            let mut tile = TileSums::new(slots * SCATTERED_LOBES, bins);
+            let mut spare = None;
             let mut ledger = EnergyLedger::default();
             let mut scratch = Scratch::default();
             loop {
@@ -278,6 +278,9 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
                 if task >= tasks {
                     break;
                 }
+                let mut tile = spare
+                    .take()
+                    .unwrap_or_else(|| TileSums::new(slots * SCATTERED_LOBES, bins));
                 let (x0, y0) = (task % tiles_per_row * TILE, task / tiles_per_row * TILE);
                 crate::simd::widest(
                     #[inline(always)]
@@ -289,19 +292,18 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
                         }
                     },
                 );
-                shared
-                    .lock()
-                    .expect("no worker panics while holding the accumulator")
-                    .add_tile(&mut tile);
+                let mut sums = lock();
+                sums.submit(task, tile);
+                spare = sums.take_spare();
             }
             ledger
         })
         .reduce(EnergyLedger::default, EnergyLedger::add);
-    let acc = shared
+    let sums = shared
         .into_inner()
-        .expect("no worker panicked while holding the accumulator");
-    let stride = acc.stride();
-    let mut sums = acc.into_group_sums(LOBES, SCATTERED_LOBES, 1);
+        .expect("no worker panicked while holding the sums");
+    let stride = sums.stride();
+    let mut sums = sums.into_sums();
     walker.fill_direct(&mut sums, stride, LOBES);
     smooth::smooth_sums(
         &mut sums,
