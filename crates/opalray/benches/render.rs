@@ -3,7 +3,7 @@
 //! view pass (§3.3) and a whole frame after `prepare` (what each frame of a sweep costs).
 
 use criterion::Criterion;
-use opalray::light_pass::{trace_light, ClusterOptics, LightSetup};
+use opalray::light_pass::{trace_light, ClusterOptics, LightSetup, StoneCells};
 use opalray::render::prepare;
 use opalray::scene::{Scene, BODY_EXTINCTION_PER_MM};
 use opalray::view_pass::{trace_view, Shading, ViewSetup};
@@ -22,18 +22,35 @@ fn render(c: &mut Criterion) {
         body_albedo: albedo,
         body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
     };
+    let cells = StoneCells::new(&prepared.structure);
     let mut group = c.benchmark_group("render");
     group.sample_size(10);
     group.bench_function("light_pass_default", |b| {
-        b.iter(|| trace_light(&prepared.structure, &prepared.optics, &light_setup))
+        b.iter(|| trace_light(&prepared.structure, &cells, &prepared.optics, &light_setup))
     });
-    let light = trace_light(&prepared.structure, &prepared.optics, &light_setup);
+    let light = trace_light(&prepared.structure, &cells, &prepared.optics, &light_setup);
     let optics = ClusterOptics::new(&prepared.optics);
     let exponent = scene.render.phong_exponent as f32;
     group.bench_function("shading_default", |b| {
-        b.iter(|| Shading::new(&prepared.structure, &optics, &light, exponent, albedo))
+        b.iter(|| {
+            Shading::new(
+                &prepared.structure,
+                &cells,
+                &optics,
+                &light,
+                exponent,
+                albedo,
+            )
+        })
     });
-    let shading = Shading::new(&prepared.structure, &optics, &light, exponent, albedo);
+    let shading = Shading::new(
+        &prepared.structure,
+        &cells,
+        &optics,
+        &light,
+        exponent,
+        albedo,
+    );
     let view_setup = ViewSetup {
         camera,
         width: scene.render.width as usize,
@@ -57,7 +74,9 @@ fn render(c: &mut Criterion) {
             )
         })
     });
-    group.bench_function("frame_after_prepare", |b| b.iter(|| prepared.render(30.0)));
+    group.bench_function("frame_after_prepare", |b| {
+        b.iter(|| prepared.render_in(&cells, 30.0))
+    });
     group.finish();
 }
 

@@ -9,7 +9,9 @@ use serde::Serialize;
 use crate::color::{illuminant_spectrum, to_rgb, RgbImage};
 use crate::error::Result;
 use crate::geometry::Camera;
-use crate::light_pass::{trace_light, ClusterOptics, EnergyLedger, LightSetup, LightSource};
+use crate::light_pass::{
+    trace_light, ClusterOptics, EnergyLedger, LightSetup, LightSource, StoneCells,
+};
 use crate::optics::{build_optics, OpticsTables};
 use crate::scene::{LightKind, Scene, BODY_EXTINCTION_PER_MM};
 use crate::spectrum::SpectralImage;
@@ -145,8 +147,20 @@ impl Prepared {
             .collect()
     }
 
-    /// Light pass, view pass and colour for one light angle.
+    /// Light pass, view pass and colour for one light angle. (Laying out the stone's cells
+    /// for the passes is timed with the light pass.)
     pub fn render(&self, light_angle_deg: f64) -> Frame {
+        let start = Instant::now();
+        let cells = StoneCells::new(&self.structure);
+        let layout = seconds(start);
+        let mut frame = self.render_in(&cells, light_angle_deg);
+        frame.times.light_pass += layout;
+        frame
+    }
+
+    /// [`Prepared::render`] with the stone's cells laid out once, for many frames (a sweep):
+    /// `cells` must be [`StoneCells::new`] of this structure.
+    pub fn render_in(&self, cells: &StoneCells, light_angle_deg: f64) -> Frame {
         let s = &self.scene;
         let mut times = self.times;
         let (camera, source) = self.placement(light_angle_deg);
@@ -156,6 +170,7 @@ impl Prepared {
         let start = Instant::now();
         let mut light = trace_light(
             &self.structure,
+            cells,
             &self.optics,
             &LightSetup {
                 source,
@@ -172,6 +187,7 @@ impl Prepared {
         let phong_exponent = s.render.phong_exponent as f32;
         let shading = Shading::new(
             &self.structure,
+            cells,
             &ClusterOptics::new(&self.optics),
             &light,
             phong_exponent,

@@ -83,6 +83,8 @@ pub fn run(args: Args) -> Result<()> {
 
     let start = Instant::now();
     let prepared = opalray::render::prepare(&scene)?;
+    // The stone's cells are laid out once for all frames.
+    let cells = opalray::light_pass::StoneCells::new(&prepared.structure);
     let angles: Vec<f64> = (0..args.frames)
         .map(|k| match args.frames {
             1 => args.from,
@@ -101,7 +103,7 @@ pub fn run(args: Args) -> Result<()> {
         let rendered: Vec<_> = batch
             .par_iter()
             .map(|&angle| {
-                let frame = prepared.render(angle);
+                let frame = prepared.render_in(&cells, angle);
                 let rgb = opalray::color::to_display_rgb8(&frame.rgb, &scene.color);
                 bar.inc(1);
                 (frame.times, rgb)

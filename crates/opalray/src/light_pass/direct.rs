@@ -13,7 +13,6 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::cells_of_slots;
 use super::interaction::Transmission;
 use super::source::LightSource;
 use super::walk::Walker;
@@ -182,7 +181,7 @@ impl Walker<'_> {
     pub(crate) fn fill_direct(&self, sums: &mut [f32], stride: usize, lobes: usize) {
         let bins = self.spectrum.len();
         let [nx, ny, _] = self.grid.n;
-        let cells = cells_of_slots(self.slot_of_cell);
+        let cells = self.cell_of_slot;
         let light = UnitSpectrum::new(self.spectrum);
         // Runs of consecutive cells (mostly along x): each cell's entry search starts from
         // the direction found for the one before, or, after two neighbours in its row, from

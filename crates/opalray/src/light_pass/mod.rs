@@ -183,11 +183,11 @@ const VOLUME_SAMPLES: usize = 4;
 /// cell cut by the surface only run through its inside part, so dividing by the whole cell's
 /// volume would darken the stone's rim. Cells with all eight corners inside are whole; the
 /// others are measured on a 4 × 4 × 4 sub-grid.
-fn inverse_inside_volumes(grid: &CellGrid, shape: &Ellipsoid, slot_of_cell: &[u32]) -> Vec<f32> {
+fn inverse_inside_volumes(grid: &CellGrid, shape: &Ellipsoid, cell_of_slot: &[usize]) -> Vec<f32> {
     let [nx, ny, _] = grid.n;
-    cells_of_slots(slot_of_cell)
-        .into_par_iter()
-        .map(|cell| {
+    cell_of_slot
+        .par_iter()
+        .map(|&cell| {
             let (x, y, z) = (cell % nx, cell / nx % ny, cell / (nx * ny));
             let corner = grid.min + Vec3::new(x as f32, y as f32, z as f32) * grid.cell;
             let whole = (0..8).all(|k| {
@@ -212,30 +212,79 @@ fn inverse_inside_volumes(grid: &CellGrid, shape: &Ellipsoid, slot_of_cell: &[u3
         .collect()
 }
 
-/// Trace the light pass (paper §3.2).
-pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSetup) -> LightField {
-    let (shape, grid) = stone_geometry(structure);
-    let (slot_of_cell, slots) = slots_of_cells(&structure.cells);
-    let normals: Vec<Vec3> = structure
-        .cells
-        .par_iter()
-        .enumerate()
-        .map(|(i, c)| match c {
-            Cell::Cluster => structure.normal(i),
-            _ => Vec3::ZERO,
-        })
-        .collect();
+/// The stone's cells as the passes read them, whatever the light: computed once per stone
+/// (the frames of a sweep share it).
+#[derive(Clone, Debug)]
+pub struct StoneCells {
+    /// The stone's surface, in the opal frame (mm).
+    pub shape: Ellipsoid,
+    /// The cell grid over it.
+    pub grid: CellGrid,
+    /// Storage slot of each cell, or [`NO_SLOT`] outside the stone.
+    pub slot_of_cell: Vec<u32>,
+    /// The cell of each slot.
+    pub cell_of_slot: Vec<usize>,
+    /// Per cell, the cluster's (111) normal (zero for voids and outside).
+    pub normals: Vec<Vec3>,
+    /// Per cell, what a light ray crossing it reads.
+    pub(crate) sites: Vec<Site>,
+    /// Per slot, 1 / (the cell's volume inside the stone), mm⁻³.
+    pub inv_volume: Vec<f32>,
+}
+
+impl StoneCells {
+    /// Lay out the cells of `structure`.
+    pub fn new(structure: &Structure) -> Self {
+        let (shape, grid) = stone_geometry(structure);
+        let (slot_of_cell, _) = slots_of_cells(&structure.cells);
+        let normals: Vec<Vec3> = structure
+            .cells
+            .par_iter()
+            .enumerate()
+            .map(|(i, c)| match c {
+                Cell::Cluster => structure.normal(i),
+                _ => Vec3::ZERO,
+            })
+            .collect();
+        let sites = structure
+            .cells
+            .iter()
+            .zip(&normals)
+            .zip(&slot_of_cell)
+            .map(|((&cell, &normal), &slot)| Site::new(cell, normal, slot))
+            .collect();
+        let cell_of_slot = cells_of_slots(&slot_of_cell);
+        let inv_volume = inverse_inside_volumes(&grid, &shape, &cell_of_slot);
+        StoneCells {
+            shape,
+            grid,
+            slot_of_cell,
+            cell_of_slot,
+            normals,
+            sites,
+            inv_volume,
+        }
+    }
+
+    /// Storage slots: inside cells.
+    pub fn slots(&self) -> usize {
+        self.cell_of_slot.len()
+    }
+}
+
+/// Trace the light pass (paper §3.2) through `structure`, whose cells `cells` lays out.
+pub fn trace_light(
+    structure: &Structure,
+    cells: &StoneCells,
+    optics: &OpticsTables,
+    setup: &LightSetup,
+) -> LightField {
+    let StoneCells { shape, grid, .. } = *cells;
+    let slots = cells.slots();
     let bins = optics.grid.bins;
-    let sites: Vec<Site> = structure
-        .cells
-        .iter()
-        .zip(&normals)
-        .zip(&slot_of_cell)
-        .map(|((&cell, &normal), &slot)| Site::new(cell, normal, slot))
-        .collect();
     let walker = Walker {
-        sites: &sites,
-        slot_of_cell: &slot_of_cell,
+        sites: &cells.sites,
+        cell_of_slot: &cells.cell_of_slot,
         optics: ClusterOptics::new(optics),
         shape,
         grid,
@@ -246,7 +295,7 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
         lattice: RayLattice::new(setup.source, &shape, setup.rays),
         body_albedo: setup.body_albedo,
         body_extinction_per_mm: setup.body_extinction_per_mm,
-        inv_volume: inverse_inside_volumes(&grid, &shape, &slot_of_cell),
+        inv_volume: &cells.inv_volume,
         seed: setup.seed,
     };
     let side = walker.lattice.side();
@@ -305,18 +354,11 @@ pub fn trace_light(structure: &Structure, optics: &OpticsTables, setup: &LightSe
     let stride = sums.stride();
     let mut sums = sums.into_sums();
     walker.fill_direct(&mut sums, stride, LOBES);
-    smooth::smooth_sums(
-        &mut sums,
-        &structure.cells,
-        &normals,
-        &slot_of_cell,
-        structure.grid,
-        stride,
-    );
+    smooth::smooth_sums(&mut sums, &structure.cells, cells, structure.grid, stride);
     let (directions, concentration) = directions(&sums, bins);
     LightField {
         grid: optics.grid,
-        slot_of_cell,
+        slot_of_cell: cells.slot_of_cell.clone(),
         fluence: sums,
         directions,
         concentration,

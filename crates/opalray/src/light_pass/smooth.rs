@@ -9,10 +9,9 @@
 //! cell of a patch more or fewer and differ by a whole Bragg-line transmission; the kernel
 //! anti-aliases that count (left out, the default image changes by 3.5 % RMS, in bands).
 
-use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{cells_of_slots, LOBES, NO_SLOT};
+use super::{StoneCells, LOBES, NO_SLOT};
 use crate::structure::Cell;
 
 /// Normals closer than this (|cos|) count as the same orientation.
@@ -22,12 +21,12 @@ const SAME_PATCH_COS: f32 = 0.9995;
 pub(crate) fn smooth_sums(
     fluence: &mut Vec<f32>,
     cells: &[Cell],
-    normals: &[Vec3],
-    slot_of_cell: &[u32],
+    stone: &StoneCells,
     grid: [usize; 3],
     width_per_lobe: usize,
 ) {
-    let cell_of_slot = cells_of_slots(slot_of_cell);
+    let (cell_of_slot, slot_of_cell, normals) =
+        (&stone.cell_of_slot, &stone.slot_of_cell, &stone.normals);
     let same_patch = |a: usize, b: usize| match (cells[a], cells[b]) {
         (Cell::Void, Cell::Void) => true,
         (Cell::Cluster, Cell::Cluster) => normals[a].dot(normals[b]).abs() >= SAME_PATCH_COS,

@@ -30,7 +30,7 @@ const TRAPPED_SPLIT: u64 = 2;
 pub(crate) struct Walker<'a> {
     /// Per cell, what a crossing ray reads: the (111) normal and the storage slot.
     pub sites: &'a [Site],
-    pub slot_of_cell: &'a [u32],
+    pub cell_of_slot: &'a [usize],
     pub optics: ClusterOptics<'a>,
     pub shape: Ellipsoid,
     pub grid: CellGrid,
@@ -42,7 +42,7 @@ pub(crate) struct Walker<'a> {
     pub body_albedo: f32,
     pub body_extinction_per_mm: f32,
     /// Per slot, 1 / (the cell's volume inside the stone), mm⁻³.
-    pub inv_volume: Vec<f32>,
+    pub inv_volume: &'a [f32],
     pub seed: u64,
 }
 

@@ -5,7 +5,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::light_pass::{cells_of_slots, ClusterOptics, LightField, LOBES, NO_SLOT};
+use crate::light_pass::{ClusterOptics, LightField, StoneCells, LOBES, NO_SLOT};
 use crate::structure::{Cell, Structure};
 
 /// Phong lobes below this fraction of their peak are skipped.
@@ -126,9 +126,10 @@ pub struct Shading {
 }
 
 impl Shading {
-    /// Shade every stored slot of `light`.
+    /// Shade every stored slot of `light`, stored in the cells `cells` of `structure`.
     pub fn new(
         structure: &Structure,
+        cells: &StoneCells,
         optics: &ClusterOptics,
         light: &LightField,
         phong_exponent: f32,
@@ -136,7 +137,7 @@ impl Shading {
     ) -> Self {
         let bins = light.grid.bins;
         let slots = light.directions.len() / LOBES;
-        let cell_of_slot = cells_of_slots(&light.slot_of_cell);
+        let cell_of_slot = &cells.cell_of_slot;
         let mut clusters = vec![NO_SHADE; slots];
         let mut specular = vec![0.0f32; slots * LOBES * bins];
         let mut diffuse = vec![0.0f32; slots * bins];
@@ -151,7 +152,7 @@ impl Shading {
                     let cell = cell_of_slot[slot];
                     match structure.cells[cell] {
                         Cell::Cluster => {
-                            let normal = structure.normal(cell);
+                            let normal = cells.normals[cell];
                             shade.normal = normal;
                             for (lobe, out) in shade.lobes.iter_mut().enumerate() {
                                 let w = light.directions[slot * LOBES + lobe];
