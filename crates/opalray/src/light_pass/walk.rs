@@ -238,7 +238,7 @@ impl Walker<'_> {
     /// light pass's noise: tracing these cells with more, weaker rays lowers the noise more
     /// per unit of work than more rays everywhere (`docs/model.md`). Which cells split is fixed
     /// by the geometry alone, not by the random jitter, so the estimate stays unbiased.
-    fn is_trapped(&self, index: u64) -> bool {
+    pub fn is_trapped(&self, index: u64) -> bool {
         let centre = self.lattice.ray_in(index, 0.5, 0.5);
         let Some((t, _)) = self.shape.intersect(&centre).filter(|h| h.0 > 0.0) else {
             let margin = 2.0 * self.lattice.spacing();
