@@ -31,26 +31,18 @@ fn render(c: &mut Criterion) {
     let light = trace_light(&prepared.structure, &cells, &prepared.optics, &light_setup);
     let optics = ClusterOptics::new(&prepared.optics);
     let exponent = scene.render.phong_exponent as f32;
-    group.bench_function("shading_default", |b| {
-        b.iter(|| {
-            Shading::new(
-                &prepared.structure,
-                &cells,
-                &optics,
-                &light,
-                exponent,
-                albedo,
-            )
-        })
-    });
-    let shading = Shading::new(
-        &prepared.structure,
-        &cells,
-        &optics,
-        &light,
-        exponent,
-        albedo,
-    );
+    let shade = || {
+        Shading::new(
+            &prepared.structure,
+            &cells,
+            &optics,
+            &light,
+            exponent,
+            albedo,
+        )
+    };
+    group.bench_function("shading_default", |b| b.iter(shade));
+    let shading = shade();
     let view_setup = ViewSetup {
         camera,
         width: scene.render.width as usize,
