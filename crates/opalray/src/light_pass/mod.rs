@@ -333,13 +333,19 @@ fn heaviest_first(walker: &Walker, side: u64, tiles_per_row: u64) -> Vec<u64> {
     work.into_iter().map(|(_, tile)| tile).collect()
 }
 
-/// Trace the light pass (paper §3.2) through `structure`, whose cells `cells` lays out.
+/// Trace the light pass (paper §3.2) through `structure`, whose cells `cells` lays out
+/// ([`StoneCells::new`] of the same structure).
 pub fn trace_light(
     structure: &Structure,
     cells: &StoneCells,
     optics: &OpticsTables,
     setup: &LightSetup,
 ) -> LightField {
+    assert_eq!(
+        cells.slot_of_cell.len(),
+        structure.cells.len(),
+        "the cells must be laid out from this structure"
+    );
     let slots = cells.slots();
     let bins = optics.grid.bins;
     let walker = Walker::new(cells, optics, setup);
