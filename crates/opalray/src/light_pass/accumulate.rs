@@ -46,7 +46,7 @@ impl OrderedSums {
             group,
             per_group,
             first,
-            sums: vec![0.0; entries / per_group * group * stride],
+            sums: crate::spectrum::zeroed(entries / per_group * group * stride),
             next: 0,
             waiting: Vec::new(),
             spare: Vec::new(),

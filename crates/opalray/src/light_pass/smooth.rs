@@ -34,7 +34,7 @@ pub(crate) fn smooth_sums(
     };
     let stride = [1, grid[0], grid[0] * grid[1]];
     let width = LOBES * width_per_lobe;
-    let mut out = vec![0.0f32; fluence.len()];
+    let mut out = crate::spectrum::zeroed(fluence.len());
     for axis in 0..3 {
         let src = &*fluence;
         out.par_chunks_mut(width)

@@ -25,7 +25,7 @@ impl SpectralImage {
             width,
             height,
             grid,
-            data: vec![0.0; width * height * grid.bins],
+            data: super::zeroed(width * height * grid.bins),
         }
     }
 

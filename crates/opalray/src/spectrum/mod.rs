@@ -127,6 +127,16 @@ impl WavelengthGrid {
     }
 }
 
+/// `n` zeros, written by all threads. `vec![0.0; n]` is one thread's `memset` where the
+/// allocator reuses memory (every frame after the first): a render zeroes a few hundred
+/// megabytes, and the other core would wait.
+pub fn zeroed(n: usize) -> Vec<f32> {
+    use rayon::prelude::*;
+    let mut v = Vec::with_capacity(n);
+    v.par_extend(rayon::iter::repeat_n(0.0f32, n));
+    v
+}
+
 /// Sum of `values` with eight interleaved partial sums, in a fixed order (so the result is
 /// reproducible) that the compiler turns into vector additions.
 #[inline]

@@ -139,8 +139,8 @@ impl Shading {
         let slots = light.directions.len() / LOBES;
         let cell_of_slot = &cells.cell_of_slot;
         let mut clusters = vec![NO_SHADE; slots];
-        let mut specular = vec![0.0f32; slots * LOBES * bins];
-        let mut diffuse = vec![0.0f32; slots * bins];
+        let mut specular = crate::spectrum::zeroed(slots * LOBES * bins);
+        let mut diffuse = crate::spectrum::zeroed(slots * bins);
         clusters
             .par_iter_mut()
             .zip(specular.par_chunks_mut(LOBES * bins))
