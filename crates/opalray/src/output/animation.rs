@@ -6,7 +6,9 @@ use crate::error::{Error, Result};
 use crate::output::write_atomic;
 
 /// Write RGB8 frames (each `width × height`) as a looping animated GIF, `delay_ms` per frame.
-/// Colours are quantised per frame (NeuQuant, as the GIF format allows 256 colours).
+/// Colours are quantised per frame (NeuQuant, as the GIF format allows 256 colours), the
+/// frames in parallel: each frame's palette depends on that frame alone, so the file is the
+/// same at any thread count.
 pub fn write_gif(
     path: &Path,
     frames: &[Vec<u8>],
@@ -14,22 +16,45 @@ pub fn write_gif(
     height: u32,
     delay_ms: u32,
 ) -> Result<()> {
-    use image::codecs::gif::{GifEncoder, Repeat};
-    use image::{Delay, Frame, RgbaImage};
-    let encode = |w: &mut dyn std::io::Write| -> std::io::Result<()> {
-        let mut encoder = GifEncoder::new_with_speed(w, 10);
-        encoder
-            .set_repeat(Repeat::Infinite)
-            .map_err(std::io::Error::other)?;
-        for rgb in frames {
-            let rgba: Vec<u8> = rgb
+    use rayon::prelude::*;
+    let too_large = || Error::Encode {
+        path: path.to_path_buf(),
+        message: format!("a GIF is at most 65535 pixels on a side, not {width} × {height}"),
+    };
+    let w = u16::try_from(width).map_err(|_| too_large())?;
+    let h = u16::try_from(height).map_err(|_| too_large())?;
+    let pixels = width as usize * height as usize;
+    if let Some(bad) = frames.iter().find(|f| f.len() != 3 * pixels) {
+        return Err(Error::Encode {
+            path: path.to_path_buf(),
+            message: format!(
+                "a frame holds {} bytes, not the {} of {width} × {height} RGB",
+                bad.len(),
+                3 * pixels
+            ),
+        });
+    }
+    // GIF delays are in hundredths of a second.
+    let delay = u16::try_from(delay_ms.div_ceil(10)).unwrap_or(u16::MAX);
+    let quantised: Vec<gif::Frame<'static>> = frames
+        .par_iter()
+        .map(|rgb| {
+            let mut rgba: Vec<u8> = rgb
                 .chunks_exact(3)
                 .flat_map(|p| [p[0], p[1], p[2], 255])
                 .collect();
-            let image = RgbaImage::from_raw(width, height, rgba)
-                .ok_or_else(|| std::io::Error::other("frame size does not match"))?;
-            let frame = Frame::from_parts(image, 0, 0, Delay::from_numer_denom_ms(delay_ms, 1));
-            encoder.encode_frame(frame).map_err(std::io::Error::other)?;
+            let mut frame = gif::Frame::from_rgba_speed(w, h, &mut rgba, 10);
+            frame.delay = delay;
+            frame
+        })
+        .collect();
+    let encode = |out: &mut dyn std::io::Write| -> std::io::Result<()> {
+        let mut encoder = gif::Encoder::new(out, w, h, &[]).map_err(std::io::Error::other)?;
+        encoder
+            .set_repeat(gif::Repeat::Infinite)
+            .map_err(std::io::Error::other)?;
+        for frame in &quantised {
+            encoder.write_frame(frame).map_err(std::io::Error::other)?;
         }
         Ok(())
     };
@@ -86,7 +111,22 @@ mod tests {
         write_gif(&path, &frames(), 4, 2, 100).unwrap();
         let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
         let decoded = image::codecs::gif::GifDecoder::new(file).unwrap();
-        assert_eq!(decoded.into_frames().count(), 3);
+        let frames: Vec<image::Frame> = decoded.into_frames().map(|f| f.unwrap()).collect();
+        assert_eq!(frames.len(), 3);
+        // 100 ms a frame; the second frame's grey (80) survives the palette.
+        assert_eq!(frames[1].delay().numer_denom_ms(), (100, 1));
+        assert_eq!(frames[1].buffer().get_pixel(2, 1).0, [80, 80, 80, 255]);
+    }
+
+    #[test]
+    fn gif_refuses_a_frame_of_the_wrong_size_and_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.gif");
+        let mut bad = frames();
+        bad[1].pop();
+        let err = write_gif(&path, &bad, 4, 2, 100).unwrap_err().to_string();
+        assert!(err.contains("23 bytes, not the 24"), "{err}");
+        assert!(!path.exists());
     }
 
     #[test]
