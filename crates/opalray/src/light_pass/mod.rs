@@ -152,30 +152,6 @@ pub fn stone_geometry(structure: &Structure) -> (Ellipsoid, CellGrid) {
     )
 }
 
-/// Storage slots: one per inside cell, in cell order.
-pub fn slots_of_cells(cells: &[Cell]) -> (Vec<u32>, usize) {
-    let mut next = 0u32;
-    let slots = cells
-        .iter()
-        .map(|c| match c {
-            Cell::Outside => NO_SLOT,
-            _ => {
-                next += 1;
-                next - 1
-            }
-        })
-        .collect();
-    (slots, next as usize)
-}
-
-/// The cell of every slot (the inverse of [`slots_of_cells`]): slots are numbered in cell
-/// order, so this is the list of inside cells.
-pub fn cells_of_slots(slot_of_cell: &[u32]) -> Vec<usize> {
-    (0..slot_of_cell.len())
-        .filter(|&c| slot_of_cell[c] != NO_SLOT)
-        .collect()
-}
-
 /// Sub-samples per axis used to measure how much of a surface cell lies inside the stone.
 const VOLUME_SAMPLES: usize = 4;
 
@@ -236,7 +212,15 @@ impl StoneCells {
     /// Lay out the cells of `structure`.
     pub fn new(structure: &Structure) -> Self {
         let (shape, grid) = stone_geometry(structure);
-        let (slot_of_cell, _) = slots_of_cells(&structure.cells);
+        // Storage slots: one per inside cell, numbered in cell order.
+        let mut slot_of_cell = vec![NO_SLOT; structure.cells.len()];
+        let mut cell_of_slot = Vec::new();
+        for (cell, kind) in structure.cells.iter().enumerate() {
+            if *kind != Cell::Outside {
+                slot_of_cell[cell] = cell_of_slot.len() as u32;
+                cell_of_slot.push(cell);
+            }
+        }
         let normals: Vec<Vec3> = structure
             .cells
             .par_iter()
@@ -253,7 +237,6 @@ impl StoneCells {
             .zip(&slot_of_cell)
             .map(|((&cell, &normal), &slot)| Site::new(cell, normal, slot))
             .collect();
-        let cell_of_slot = cells_of_slots(&slot_of_cell);
         let inv_volume = inverse_inside_volumes(&grid, &shape, &cell_of_slot);
         StoneCells {
             shape,
@@ -410,7 +393,7 @@ pub fn trace_light(
     let stride = sums.stride();
     let mut sums = sums.into_sums();
     walker.fill_direct(&mut sums, stride, LOBES);
-    smooth::smooth_sums(&mut sums, &structure.cells, cells, structure.grid, stride);
+    smooth::smooth_sums(&mut sums, &structure.cells, cells, stride);
     let (directions, concentration) = directions(&sums, bins);
     LightField {
         grid: optics.grid,

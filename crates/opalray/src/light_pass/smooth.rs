@@ -22,9 +22,9 @@ pub(crate) fn smooth_sums(
     fluence: &mut Vec<f32>,
     cells: &[Cell],
     stone: &StoneCells,
-    grid: [usize; 3],
     width_per_lobe: usize,
 ) {
+    let grid = stone.grid.n;
     let (cell_of_slot, slot_of_cell, normals) =
         (&stone.cell_of_slot, &stone.slot_of_cell, &stone.normals);
     let same_patch = |a: usize, b: usize| match (cells[a], cells[b]) {

@@ -220,7 +220,7 @@ impl Shading {
         let tags = structure
             .cells
             .par_iter()
-            .zip(&light.slot_of_cell)
+            .zip(&cells.slot_of_cell)
             .map(|(&cell, &slot)| {
                 let glows = slot != NO_SLOT && {
                     let g = &diffuse[slot as usize * bins..(slot as usize + 1) * bins];
