@@ -148,73 +148,84 @@ impl Shading {
             .enumerate()
             .for_each_init(
                 || vec![0.0f32; bins],
+                // Each slot's spectral loops in the copy compiled for the processor's
+                // vector level (`simd`).
                 |d, (slot, ((shade, spec), glow))| {
-                    let cell = cell_of_slot[slot];
-                    match structure.cells[cell] {
-                        Cell::Cluster => {
-                            let normal = cells.normals[cell];
-                            shade.normal = normal;
-                            for (lobe, out) in shade.lobes.iter_mut().enumerate() {
-                                let w = light.directions[slot * LOBES + lobe];
-                                if w == Vec3::ZERO {
-                                    continue;
+                    crate::simd::widest(
+                        #[inline(always)]
+                        || {
+                            let cell = cell_of_slot[slot];
+                            match structure.cells[cell] {
+                                Cell::Cluster => {
+                                    let normal = cells.normals[cell];
+                                    shade.normal = normal;
+                                    for (lobe, out) in shade.lobes.iter_mut().enumerate() {
+                                        let w = light.directions[slot * LOBES + lobe];
+                                        if w == Vec3::ZERO {
+                                            continue;
+                                        }
+                                        let e = light.fluence(slot, lobe);
+                                        let cos = w.dot(normal).abs();
+                                        match optics.diffuse(cos, d) {
+                                            // Flat rows: away from the stop band D is about 10⁻⁵.
+                                            Some(d) if d * cos < GLOW_FLOOR => {}
+                                            Some(d) => {
+                                                for (g, &e) in glow.iter_mut().zip(e) {
+                                                    *g += e * d * cos;
+                                                }
+                                            }
+                                            None => {
+                                                for ((g, &e), &d) in
+                                                    glow.iter_mut().zip(e).zip(d.iter())
+                                                {
+                                                    *g += e * d * cos;
+                                                }
+                                            }
+                                        }
+                                        if cos < MIN_SPECULAR_COS {
+                                            continue;
+                                        }
+                                        let rho = light.concentration[slot * LOBES + lobe];
+                                        let n = phong_exponent;
+                                        let exponent = (rho * n
+                                            / (rho + n * (1.0 - rho)).max(f32::MIN_POSITIVE))
+                                        .max(1e-3);
+                                        *out = Lobe {
+                                            mirror: crate::geometry::reflect(w, normal),
+                                            cos_min: LOBE_CUTOFF.powf(1.0 / exponent),
+                                            exponent,
+                                        };
+                                        let peak = 0.5 * (exponent + 2.0);
+                                        let spec = &mut spec[lobe * bins..(lobe + 1) * bins];
+                                        // `d` is free again: it takes the reflectance.
+                                        match optics.reflectance(cos, d) {
+                                            Some(r) => {
+                                                for (s, &e) in spec.iter_mut().zip(e) {
+                                                    *s = e * r * peak;
+                                                }
+                                            }
+                                            None => {
+                                                for ((s, &e), &r) in
+                                                    spec.iter_mut().zip(e).zip(d.iter())
+                                                {
+                                                    *s = e * r * peak;
+                                                }
+                                            }
+                                        }
+                                    }
                                 }
-                                let e = light.fluence(slot, lobe);
-                                let cos = w.dot(normal).abs();
-                                match optics.diffuse(cos, d) {
-                                    // Flat rows: away from the stop band D is about 10⁻⁵.
-                                    Some(d) if d * cos < GLOW_FLOOR => {}
-                                    Some(d) => {
+                                Cell::Void => {
+                                    for lobe in 0..LOBES {
+                                        let e = light.fluence(slot, lobe);
                                         for (g, &e) in glow.iter_mut().zip(e) {
-                                            *g += e * d * cos;
-                                        }
-                                    }
-                                    None => {
-                                        for ((g, &e), &d) in glow.iter_mut().zip(e).zip(d.iter()) {
-                                            *g += e * d * cos;
+                                            *g += 0.25 * body_albedo * e;
                                         }
                                     }
                                 }
-                                if cos < MIN_SPECULAR_COS {
-                                    continue;
-                                }
-                                let rho = light.concentration[slot * LOBES + lobe];
-                                let n = phong_exponent;
-                                let exponent = (rho * n
-                                    / (rho + n * (1.0 - rho)).max(f32::MIN_POSITIVE))
-                                .max(1e-3);
-                                *out = Lobe {
-                                    mirror: crate::geometry::reflect(w, normal),
-                                    cos_min: LOBE_CUTOFF.powf(1.0 / exponent),
-                                    exponent,
-                                };
-                                let peak = 0.5 * (exponent + 2.0);
-                                let spec = &mut spec[lobe * bins..(lobe + 1) * bins];
-                                // `d` is free again: it takes the reflectance.
-                                match optics.reflectance(cos, d) {
-                                    Some(r) => {
-                                        for (s, &e) in spec.iter_mut().zip(e) {
-                                            *s = e * r * peak;
-                                        }
-                                    }
-                                    None => {
-                                        for ((s, &e), &r) in spec.iter_mut().zip(e).zip(d.iter()) {
-                                            *s = e * r * peak;
-                                        }
-                                    }
-                                }
+                                Cell::Outside => {}
                             }
-                        }
-                        Cell::Void => {
-                            for lobe in 0..LOBES {
-                                let e = light.fluence(slot, lobe);
-                                for (g, &e) in glow.iter_mut().zip(e) {
-                                    *g += 0.25 * body_albedo * e;
-                                }
-                            }
-                        }
-                        Cell::Outside => {}
-                    }
+                        },
+                    )
                 },
             );
         let tags = structure
