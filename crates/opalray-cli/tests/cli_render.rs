@@ -241,6 +241,15 @@ fn bad_input_is_refused_in_one_line_with_no_file() {
             ],
             "--animation",
         ),
+        // Two outputs naming one file: the second would replace the first.
+        (
+            &["sweep", "--sheet", "s.png", "--animation", "./s.png"],
+            "the same file as --sheet",
+        ),
+        (
+            &["render", "-o", "x.exr", "--spectral", "x.exr"],
+            "the same file as --output",
+        ),
         (&["bench", "--runs", "0"], "--runs"),
         (&["bench", "--bins", "0"], "spectrum.bins"),
     ];

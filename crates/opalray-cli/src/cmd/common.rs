@@ -148,6 +148,31 @@ pub fn check_output(flag: &str, path: &Path, allowed: &[&str]) -> Result<()> {
     Ok(())
 }
 
+/// Refuse two outputs that name the same file (the second written would replace the first),
+/// before any work is done. `outputs` are the flags and their paths, in the order given.
+pub fn check_distinct(outputs: &[(&str, &Path)]) -> Result<()> {
+    // The same file whatever the spelling: the directory resolved, then the file's name.
+    let key = |path: &Path| {
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        (
+            dir.canonicalize().ok(),
+            path.file_name().map(|n| n.to_owned()),
+        )
+    };
+    for (k, (flag, path)) in outputs.iter().enumerate() {
+        if let Some((first, _)) = outputs[..k].iter().find(|(_, p)| key(p) == key(path)) {
+            anyhow::bail!(
+                "{flag} {}: the same file as {first}; give each output its own name",
+                path.display()
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Refuse an output path whose extension is not one of `allowed`, before any work is done.
 pub fn check_extension(flag: &str, path: &Path, allowed: &[&str]) -> Result<()> {
     let ext = path

@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use anyhow::Result;
 use serde_json::json;
 
-use super::common::{check_output, peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
+use super::common::{
+    check_distinct, check_output, peak_memory_mb, progress, write_json, LookArgs, SceneArgs,
+};
 
 /// Render the opal (paper figs. 10–11) to a PNG or EXR, and optionally its spectral image.
 ///
@@ -43,6 +45,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let Some(path) = &args.stats {
         check_output("--stats", path, &["json"])?;
+    }
+    if let Some(path) = &args.spectral {
+        check_distinct(&[("--output", &args.output), ("--spectral", path)])?;
     }
     let mut scene = args.scene.load()?;
     if let Some(angle) = args.light_angle {

@@ -7,7 +7,9 @@ use anyhow::Result;
 use rayon::prelude::*;
 use serde_json::json;
 
-use super::common::{check_output, peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
+use super::common::{
+    check_distinct, check_output, peak_memory_mb, progress, write_json, LookArgs, SceneArgs,
+};
 
 /// Render the light sweep of the paper's fig. 11 as a contact sheet and an animation.
 ///
@@ -65,6 +67,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let Some(path) = &args.stats {
         check_output("--stats", path, &["json"])?;
+    }
+    if let Some(path) = &args.animation {
+        check_distinct(&[("--sheet", &args.sheet), ("--animation", path)])?;
     }
     if !(1..=1000).contains(&args.frames) {
         anyhow::bail!("--frames {}: must be 1 to 1000; try 9", args.frames);
