@@ -183,9 +183,7 @@ impl TileSums {
         let base = local as usize * self.stride;
         let sums = &mut self.sums[base..base + self.stride];
         let (spectral, rest) = sums.split_at_mut(self.bins);
-        for (sum, &s) in spectral.iter_mut().zip(spectrum) {
-            *sum += s * weight;
-        }
+        crate::spectrum::add_scaled(spectral, spectrum, weight);
         let tail: &mut [f32; 4] = (&mut rest[..4])
             .try_into()
             .expect("a direction and a power after the spectrum");

@@ -448,7 +448,5 @@ impl View<'_> {
 /// `pixel += k · shape ⊙ spectrum`.
 #[inline(always)]
 fn add_filtered(pixel: &mut [f32], shape: &[f32], spectrum: &[f32], k: f32) {
-    for ((p, s), e) in pixel.iter_mut().zip(shape).zip(spectrum) {
-        *p += k * s * e;
-    }
+    crate::spectrum::add_product(pixel, shape, spectrum, k);
 }
