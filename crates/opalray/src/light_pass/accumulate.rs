@@ -271,6 +271,27 @@ mod tests {
     }
 
     #[test]
+    fn default_bins_sum_as_any_other_count() {
+        // 40 bins (their own copy of the deposit's loop) give exactly the plain f32 sums, like
+        // 3 bins.
+        for bins in [crate::spectrum::DEFAULT_BINS, 3] {
+            let value = |t: usize, i: usize| 0.1 + ((t * 97 + i * 13) as f32 * 0.37).sin();
+            let mut sums = OrderedSums::new(2, bins, 1, 1, 0);
+            for t in 0..3 {
+                let mut tile = TileSums::new(2, bins);
+                let spectrum: Vec<f32> = (0..bins).map(|i| value(t, i)).collect();
+                tile.deposit(1, &spectrum, 0.7, Vec3::Y, 0.5);
+                sums.submit(t as u64, tile);
+            }
+            let f = sums.into_sums();
+            for i in 0..bins {
+                let plain = (0..3).fold(0.0f32, |s, t| s + (0.0 + value(t, i) * 0.7));
+                assert_eq!(f[bins + 4 + i].to_bits(), plain.to_bits(), "{bins}: {i}");
+            }
+        }
+    }
+
+    #[test]
     fn sums_add_up_the_deposits() {
         let mut sums = OrderedSums::new(2, 1, 1, 1, 0);
         let mut tile = sums.take_spare().unwrap_or_else(|| TileSums::new(2, 1));

@@ -23,14 +23,42 @@ use crate::structure::Cell;
 /// Normals closer than this (|cos|) count as the same orientation.
 const SAME_PATCH_COS: f32 = 0.9995;
 
-/// `out = (2 own + lower + upper) / (2 + neighbours)`, over the neighbours present.
+/// `out = (2 own + lower + upper) / (2 + neighbours)`, over the neighbours present. The
+/// default grid's cells (three lobes of 40 bins and 4 direction sums each) take a copy with
+/// the length known when compiling: straight runs of vector instructions (see
+/// [`crate::spectrum::add_product`]), the same bits.
 #[inline(always)]
 fn blend(out: &mut [f32], own: &[f32], lower: Option<&[f32]>, upper: Option<&[f32]>) {
+    const N: usize = LOBES * (crate::spectrum::DEFAULT_BINS + 4);
+    if out.len() == N {
+        let out: &mut [f32; N] = out.try_into().expect("N values");
+        let own: &[f32; N] = own[..N].try_into().expect("N values");
+        let lower = lower.map(|v| -> &[f32; N] { v[..N].try_into().expect("N values") });
+        let upper = upper.map(|v| -> &[f32; N] { v[..N].try_into().expect("N values") });
+        blend_values(out, own, lower, upper);
+    } else {
+        blend_values(out, own, lower, upper);
+    }
+}
+
+/// [`blend`] over slices or arrays (whose length the compiler then knows).
+#[inline(always)]
+fn blend_values<T: AsRef<[f32]> + AsMut<[f32]> + ?Sized>(
+    out: &mut T,
+    own: &T,
+    lower: Option<&T>,
+    upper: Option<&T>,
+) {
+    let out = out.as_mut();
     let mut total = 2.0f32;
-    out.iter_mut().zip(own).for_each(|(d, s)| *d = 2.0 * s);
+    out.iter_mut()
+        .zip(own.as_ref())
+        .for_each(|(d, s)| *d = 2.0 * s);
     for other in [lower, upper].into_iter().flatten() {
         total += 1.0;
-        out.iter_mut().zip(other).for_each(|(d, s)| *d += s);
+        out.iter_mut()
+            .zip(other.as_ref())
+            .for_each(|(d, s)| *d += s);
     }
     let k = 1.0 / total;
     out.iter_mut().for_each(|d| *d *= k);
@@ -184,12 +212,16 @@ mod tests {
                     .filter(|&o| stone.slot_of_cell[o] != NO_SLOT && same_patch(cell, o))
                     .map(|o| &src[stone.slot_of_cell[o] as usize * width..][..width])
                     .collect();
-                blend(
-                    dst,
-                    &src[slot * width..][..width],
-                    others.first().copied(),
-                    others.get(1).copied(),
-                );
+                // The kernel written out plainly: twice the cell, plus each neighbour, over
+                // the weights' sum.
+                let own = &src[slot * width..][..width];
+                for (i, d) in dst.iter_mut().enumerate() {
+                    *d = 2.0 * own[i];
+                    for other in &others {
+                        *d += other[i];
+                    }
+                    *d *= 1.0 / (2.0 + others.len() as f32);
+                }
             }
             src = out;
         }
@@ -198,13 +230,19 @@ mod tests {
 
     #[test]
     fn in_place_passes_give_the_three_plain_passes_bits() {
-        // An odd-sized grid, so that rows and planes hold different numbers of stored cells.
+        // An odd-sized grid, so that rows and planes hold different numbers of stored cells;
+        // the default grid's 40 bins (their own copy of the blend) and another count.
         let mut scene = Scene::default();
         scene.structure.grid = [23, 17, 9];
         let prepared = prepare(&scene).unwrap();
         let stone = StoneCells::new(&prepared.structure);
         let cells = &prepared.structure.cells;
-        let width_per_lobe = 7;
+        for bins in [crate::spectrum::DEFAULT_BINS, 3] {
+            check_against_plain_passes(cells, &stone, bins + 4);
+        }
+    }
+
+    fn check_against_plain_passes(cells: &[Cell], stone: &StoneCells, width_per_lobe: usize) {
         let width = LOBES * width_per_lobe;
         // Values whose sums round differently in every order.
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
@@ -216,9 +254,9 @@ mod tests {
                 (state >> 40) as f32 / (1u64 << 24) as f32 * 3.7 + 0.01
             })
             .collect();
-        let expected = three_passes(&fluence, cells, &stone, width);
+        let expected = three_passes(&fluence, cells, stone, width);
         let mut smoothed = fluence.clone();
-        smooth_sums(&mut smoothed, cells, &stone, width_per_lobe);
+        smooth_sums(&mut smoothed, cells, stone, width_per_lobe);
         assert_ne!(smoothed, fluence, "the kernel changed something");
         assert!(smoothed
             .iter()
