@@ -253,6 +253,16 @@ impl StoneCells {
     pub fn slots(&self) -> usize {
         self.cell_of_slot.len()
     }
+
+    /// The default scene with a `grid` of cells, prepared, and its cells laid out (for tests).
+    #[cfg(test)]
+    pub(crate) fn of_default_scene(grid: [usize; 3]) -> (crate::render::Prepared, Self) {
+        let mut scene = crate::scene::Scene::default();
+        scene.structure.grid = grid;
+        let prepared = crate::render::prepare(&scene).expect("the default scene is valid");
+        let cells = StoneCells::new(&prepared.structure);
+        (prepared, cells)
+    }
 }
 
 impl<'a> Walker<'a> {
@@ -300,11 +310,7 @@ fn heaviest_first(walker: &Walker, side: u64, tiles_per_row: u64) -> Vec<u64> {
                     let index = y * side + x;
                     if walker.is_trapped(index) {
                         w += TRAPPED_WORK;
-                    } else if walker
-                        .shape
-                        .intersect(&walker.lattice.ray_in(index, 0.5, 0.5))
-                        .is_some_and(|h| h.0 > 0.0)
-                    {
+                    } else if walker.meets_stone(index) {
                         w += 1;
                     }
                 }
@@ -408,15 +414,10 @@ pub fn trace_light(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::prepare;
-    use crate::scene::Scene;
 
     #[test]
     fn every_tile_is_traced_once_the_rim_first() {
-        let mut scene = Scene::default();
-        scene.structure.grid = [40, 30, 10];
-        let prepared = prepare(&scene).unwrap();
-        let cells = StoneCells::new(&prepared.structure);
+        let (prepared, cells) = StoneCells::of_default_scene([40, 30, 10]);
         let spectrum = prepared.light_spectrum();
         let (_, source) = prepared.placement(30.0);
         let setup = LightSetup {
@@ -442,8 +443,7 @@ mod tests {
                 for x in x0..(x0 + TILE).min(side) {
                     let index = y * side + x;
                     trapped += u32::from(walker.is_trapped(index));
-                    let ray = walker.lattice.ray_in(index, 0.5, 0.5);
-                    hits += u32::from(walker.shape.intersect(&ray).is_some_and(|h| h.0 > 0.0));
+                    hits += u32::from(walker.meets_stone(index));
                 }
             }
             (trapped, hits)

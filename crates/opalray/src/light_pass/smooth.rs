@@ -180,8 +180,6 @@ pub(crate) fn smooth_sums(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::prepare;
-    use crate::scene::Scene;
 
     /// The kernel as three plain passes, each from one whole array into another.
     fn three_passes(fluence: &[f32], cells: &[Cell], stone: &StoneCells, width: usize) -> Vec<f32> {
@@ -232,10 +230,7 @@ mod tests {
     fn in_place_passes_give_the_three_plain_passes_bits() {
         // An odd-sized grid, so that rows and planes hold different numbers of stored cells;
         // the default grid's 40 bins (their own copy of the blend) and another count.
-        let mut scene = Scene::default();
-        scene.structure.grid = [23, 17, 9];
-        let prepared = prepare(&scene).unwrap();
-        let stone = StoneCells::new(&prepared.structure);
+        let (prepared, stone) = StoneCells::of_default_scene([23, 17, 9]);
         let cells = &prepared.structure.cells;
         for bins in [crate::spectrum::DEFAULT_BINS, 3] {
             check_against_plain_passes(cells, &stone, bins + 4);

@@ -230,6 +230,12 @@ impl Walker<'_> {
         }
     }
 
+    /// Whether the ray through the centre of lattice cell `index` meets the stone.
+    pub fn meets_stone(&self, index: u64) -> bool {
+        let centre = self.lattice.ray_in(index, 0.5, 0.5);
+        self.shape.intersect(&centre).is_some_and(|h| h.0 > 0.0)
+    }
+
     /// Whether the light of lattice cell `index` is (likely to be) trapped: the ray through
     /// the cell's centre, refracted into the stone, meets the far surface beyond the critical
     /// angle; or it misses the stone by less than two cells of the lattice (the silhouette,
