@@ -3,7 +3,7 @@
 //! view pass (§3.3) and a whole frame after `prepare` (what each frame of a sweep costs).
 
 use criterion::Criterion;
-use opalray::light_pass::{trace_light, ClusterOptics, LightSetup, StoneCells};
+use opalray::light_pass::{trace_light, ClusterOptics, LightSetup, StoneCells, Termination};
 use opalray::render::prepare;
 use opalray::scene::{Scene, BODY_EXTINCTION_PER_MM};
 use opalray::view_pass::{trace_view, Shading, ViewSetup};
@@ -21,6 +21,7 @@ fn render(c: &mut Criterion) {
         seed: scene.structure.seed,
         body_albedo: albedo,
         body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
+        termination: Termination::DEFAULT,
     };
     let cells = StoneCells::new(&prepared.structure);
     let mut group = c.benchmark_group("render");

@@ -10,7 +10,7 @@ use crate::color::{illuminant_spectrum, to_rgb, RgbImage};
 use crate::error::Result;
 use crate::geometry::Camera;
 use crate::light_pass::{
-    trace_light, ClusterOptics, EnergyLedger, LightSetup, LightSource, StoneCells,
+    trace_light, ClusterOptics, EnergyLedger, LightSetup, LightSource, StoneCells, Termination,
 };
 use crate::optics::{build_optics, OpticsTables};
 use crate::scene::{LightKind, Scene, BODY_EXTINCTION_PER_MM};
@@ -179,6 +179,7 @@ impl Prepared {
                 seed: s.structure.seed,
                 body_albedo,
                 body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
+                termination: Termination::of(s.light.cutoff, s.light.roulette),
             },
         );
         times.light_pass = seconds(start);

@@ -2,7 +2,7 @@
 //! flashing cluster, the blue shift with angle, a furnace, energy bookkeeping, convergence.
 
 use glam::{Quat, Vec3};
-use opalray::light_pass::{trace_light, LightSetup, LightSource, StoneCells, LOBES};
+use opalray::light_pass::{trace_light, LightSetup, LightSource, StoneCells, Termination, LOBES};
 use opalray::render::{prepare, Prepared};
 use opalray::scene::Scene;
 use opalray::structure::{Cell, Structure, AXIS_111};
@@ -149,6 +149,7 @@ fn furnace_light_passes_unchanged() {
             seed: 3,
             body_albedo: 0.0,
             body_extinction_per_mm: 0.0,
+            termination: Termination::DEFAULT,
         },
     );
     let l = light.ledger;
@@ -191,6 +192,39 @@ fn light_pass_energy_is_accounted_for() {
         );
         assert!(l.truncated < 0.05 * l.emitted, "too much cut: {l:?}");
     }
+}
+
+#[test]
+fn roulette_keeps_on_average_the_light_the_cut_loses() {
+    // Below the cutoff, the cut ends light and books it as truncated; roulette keeps some of
+    // it, raised to the threshold, so that on average nothing is lost: its net truncation
+    // (what it ended less what it added) is near zero, and the light the cut lost is stored,
+    // absorbed or escapes instead. Both books balance exactly.
+    let mut scene = small_scene(32, 24, 40, 16_384);
+    let cut = prepare(&scene).unwrap().render(30.0).ledger;
+    scene.light.roulette = true;
+    let kept = prepare(&scene).unwrap().render(30.0).ledger;
+    for l in [&cut, &kept] {
+        let error = (l.accounted() - l.emitted).abs() / l.emitted;
+        assert!(error < 1e-4, "relative imbalance {error:e} in {l:?}");
+    }
+    assert_eq!(cut.emitted, kept.emitted, "the same rays enter");
+    assert!(
+        cut.truncated > 0.01 * cut.emitted,
+        "the cut loses light: {cut:?}"
+    );
+    assert!(
+        kept.truncated.abs() < 0.05 * cut.truncated,
+        "roulette's net truncation {} against the cut's {}",
+        kept.truncated,
+        cut.truncated
+    );
+    assert!(
+        kept.stored > 1.1 * cut.stored,
+        "the weak light is stored too: {} against {}",
+        kept.stored,
+        cut.stored
+    );
 }
 
 #[test]
@@ -298,6 +332,7 @@ fn direct_light_inside_is_the_refracted_irradiance() {
                 seed: 5,
                 body_albedo: 0.0,
                 body_extinction_per_mm: 0.0,
+                termination: Termination::DEFAULT,
             },
         );
         let theta_t = (theta.sin() / n).asin();

@@ -64,7 +64,9 @@ pub struct EnergyLedger {
     pub stored: f64,
     /// Absorbed by the potch (and by clusters, if their tables absorb).
     pub absorbed: f64,
-    /// Cut: branches too weak to follow, or trapped by total internal reflection.
+    /// Cut: branches too weak to follow, or trapped by total internal reflection. Under
+    /// [`Termination::Roulette`], the power roulette ended less the power it added to the
+    /// survivors: zero on average.
     pub truncated: f64,
     /// Rays traced: one per lattice cell, more where the light is trapped.
     pub rays: u64,
@@ -111,6 +113,34 @@ pub struct LightSetup<'a> {
     pub body_albedo: f32,
     /// Extinction of the potch, per mm.
     pub body_extinction_per_mm: f32,
+    /// How weak light ends.
+    pub termination: Termination,
+}
+
+/// How the light pass ends light too weak to follow: below `fraction` of its ray's entering
+/// power (after the entry's reflection), a branch is cut, or plays Russian roulette.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Termination {
+    /// Cut and booked as truncated: no noise, but the weak light is missing (the default
+    /// render is darker than the unbiased estimate; `docs/model.md` gives the numbers).
+    Cutoff(f32),
+    /// Russian roulette: light below the fraction goes on with probability
+    /// power / threshold, raised to the threshold, else ends. Unbiased, noisier and slower.
+    Roulette(f32),
+}
+
+impl Termination {
+    /// The default: cut at 0.5 %.
+    pub const DEFAULT: Termination = Termination::Cutoff(0.005);
+
+    /// The termination a scene's `light.cutoff` and `light.roulette` ask for.
+    pub fn of(cutoff: f64, roulette: bool) -> Self {
+        if roulette {
+            Termination::Roulette(cutoff as f32)
+        } else {
+            Termination::Cutoff(cutoff as f32)
+        }
+    }
 }
 
 /// The light stored in every inside cell (clusters and voids).
@@ -284,6 +314,7 @@ impl<'a> Walker<'a> {
             body_extinction_per_mm: setup.body_extinction_per_mm,
             inv_volume: &cells.inv_volume,
             seed: setup.seed,
+            termination: setup.termination,
         }
     }
 }
@@ -376,16 +407,34 @@ pub fn trace_light(
                     tile_index % tiles_per_row * TILE,
                     tile_index / tiles_per_row * TILE,
                 );
-                crate::simd::widest(
-                    #[inline(always)]
-                    || {
-                        for y in y0..(y0 + TILE).min(side) {
-                            for x in x0..(x0 + TILE).min(side) {
-                                walker.trace(y * side + x, &mut tile, &mut ledger, &mut scratch);
-                            }
-                        }
-                    },
-                );
+                let (tile_ref, ledger_ref, scratch_ref) = (&mut tile, &mut ledger, &mut scratch);
+                // One copy of the walk per termination, each compiled for the widest vectors.
+                match walker.termination {
+                    Termination::Cutoff(_) => crate::simd::widest(
+                        #[inline(always)]
+                        || {
+                            walker.trace_tile::<false>(
+                                (x0, y0),
+                                side,
+                                tile_ref,
+                                ledger_ref,
+                                scratch_ref,
+                            )
+                        },
+                    ),
+                    Termination::Roulette(_) => crate::simd::widest(
+                        #[inline(always)]
+                        || {
+                            walker.trace_tile::<true>(
+                                (x0, y0),
+                                side,
+                                tile_ref,
+                                ledger_ref,
+                                scratch_ref,
+                            )
+                        },
+                    ),
+                }
                 let mut sums = lock();
                 sums.submit(task, tile);
                 spare = sums.take_spare();
@@ -427,6 +476,7 @@ mod tests {
             seed: 1,
             body_albedo: 0.0,
             body_extinction_per_mm: 0.0,
+            termination: Termination::DEFAULT,
         };
         let walker = Walker::new(&cells, &prepared.optics, &setup);
         let side = walker.lattice.side();

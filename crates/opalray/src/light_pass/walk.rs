@@ -8,17 +8,12 @@ use glam::Vec3;
 use super::accumulate::TileSums;
 use super::interaction::{ClusterOptics, Split};
 use super::source::{LightSource, RayLattice};
-use super::{EnergyLedger, NO_SLOT, SCATTERED_LOBES};
+use super::{EnergyLedger, Termination, NO_SLOT, SCATTERED_LOBES, TILE};
 use crate::geometry::{fresnel_dielectric, reflect, refract, CellGrid, Ellipsoid, Ray};
 use crate::sampling::{stage, Rng};
 use crate::spectrum;
 use crate::structure::Cell;
 
-/// A branch is followed until its power falls below this fraction of its ray's entering
-/// power; new branches (Bragg or internal reflections) start only above it. What is cut is
-/// booked as truncated. Cuts, not Russian roulette: reweighted survivors would carry the
-/// wrong direction or a narrow spectral spike into the cells' stored light.
-const CUTOFF_FRACTION: f32 = 0.005;
 /// Surface interactions after which a branch is ended (light trapped by total internal
 /// reflection); its power is booked as truncated.
 const MAX_SURFACE_BOUNCES: u32 = 24;
@@ -44,6 +39,8 @@ pub(crate) struct Walker<'a> {
     /// Per slot, 1 / (the cell's volume inside the stone), mm⁻³.
     pub inv_volume: &'a [f32],
     pub seed: u64,
+    /// How light too weak to follow ends.
+    pub termination: Termination,
 }
 
 /// What a ray crossing a cell reads about it, in one record (one memory access instead of
@@ -132,6 +129,19 @@ fn lobe_of(kind: usize, direction: Vec3) -> usize {
     }
 }
 
+/// Divide a shape by its maximum and return the factor for its scale (a shape reflected
+/// again and again by Bragg lines grows by the ratio of a line to its background each time).
+fn normalise(shape: &mut [f32]) -> f32 {
+    let max = shape.iter().fold(0.0f32, |m, &v| m.max(v));
+    if max > 0.0 {
+        let inv = 1.0 / max;
+        shape.iter_mut().for_each(|v| *v *= inv);
+        max
+    } else {
+        1.0
+    }
+}
+
 /// Filter the shape of a `scale × shape` spectrum by a fraction that is `background` at every
 /// bin but those of a Bragg line's window, from `lo` on, where it is `window`: returns the
 /// factor for the scale. (Shape and scale keep their product; the shape changes only in the
@@ -202,7 +212,7 @@ impl Walker<'_> {
     /// energy to `ledger`: one ray jittered in the cell, or, where the cell's light would be
     /// trapped, [`TRAPPED_SPLIT`]² rays jittered in its sub-cells.
     #[inline(always)]
-    pub fn trace(
+    fn trace<const ROULETTE: bool>(
         &self,
         index: u64,
         acc: &mut TileSums,
@@ -214,6 +224,8 @@ impl Walker<'_> {
         scratch.t.resize(bins, 0.0);
         scratch.d.resize(bins, 0.0);
         let mut rng = Rng::new(self.seed, stage::LIGHT, index);
+        // Drawn from only under roulette (creating a stream is a few instructions).
+        let mut chance = Rng::new(self.seed, stage::ROULETTE, index);
         let trapped = self.is_trapped(index);
         let m = if trapped { TRAPPED_SPLIT } else { 1 };
         let share = 1.0 / (m * m) as f32;
@@ -226,7 +238,25 @@ impl Walker<'_> {
             } else {
                 self.lattice.ray(index, &mut rng)
             };
-            self.trace_ray(ray, share, acc, ledger, scratch);
+            self.trace_ray::<ROULETTE>(ray, share, acc, ledger, scratch, &mut chance);
+        }
+    }
+
+    /// Trace the lattice cells of the tile whose first cell is `(x0, y0)`, on a lattice of
+    /// `side` cells a side, in row order.
+    #[inline(always)]
+    pub fn trace_tile<const ROULETTE: bool>(
+        &self,
+        (x0, y0): (u64, u64),
+        side: u64,
+        acc: &mut TileSums,
+        ledger: &mut EnergyLedger,
+        scratch: &mut Scratch,
+    ) {
+        for y in y0..(y0 + TILE).min(side) {
+            for x in x0..(x0 + TILE).min(side) {
+                self.trace::<ROULETTE>(y * side + x, acc, ledger, scratch);
+            }
         }
     }
 
@@ -266,15 +296,41 @@ impl Walker<'_> {
         cos_out * cos_out < 1.0 - 1.0 / (self.n_eff * self.n_eff)
     }
 
+    /// Whether light of `power` goes on, and the factor its power is raised by: 1 at or
+    /// above `threshold` (if positive); below it, see [`Walker::roulette`].
+    #[inline(always)]
+    fn carry_on<const ROULETTE: bool>(power: f32, threshold: f32, rng: &mut Rng) -> Option<f32> {
+        if power > 0.0 && power >= threshold {
+            Some(1.0)
+        } else {
+            Self::roulette::<ROULETTE>(power, threshold, rng)
+        }
+    }
+
+    /// Light of `power` below `threshold`: with roulette, the factor taking it to the
+    /// threshold, with probability power / threshold (so that its expected power is
+    /// unchanged), else `None`: it ends. Without (a constant parameter, so that the cut's walk
+    /// has no roulette in it), always `None`.
+    #[inline(always)]
+    fn roulette<const ROULETTE: bool>(power: f32, threshold: f32, rng: &mut Rng) -> Option<f32> {
+        if !ROULETTE {
+            return None;
+        }
+        // Uniform in (0, 1): a draw of zero must not keep light of no power.
+        let u = rng.uniform_f32() + 0.5 / 16_777_216.0;
+        (power > 0.0 && u * threshold < power).then(|| threshold / power)
+    }
+
     /// Trace one ray carrying `share` of its lattice cell's power.
     #[inline(always)]
-    fn trace_ray(
+    fn trace_ray<const ROULETTE: bool>(
         &self,
         ray: Ray,
         share: f32,
         acc: &mut TileSums,
         ledger: &mut EnergyLedger,
         scratch: &mut Scratch,
+        rng: &mut Rng,
     ) {
         ledger.rays += 1;
         let Some((t_hit, _)) = self.shape.intersect(&ray) else {
@@ -297,7 +353,10 @@ impl Walker<'_> {
         let mut shape = scratch.pool.pop().unwrap_or_default();
         shape.clear();
         shape.extend_from_slice(self.spectrum);
-        let threshold = CUTOFF_FRACTION * p_in * (1.0 - fresnel);
+        let fraction = match self.termination {
+            Termination::Cutoff(f) | Termination::Roulette(f) => f,
+        };
+        let threshold = fraction * p_in * (1.0 - fresnel);
         scratch.stack.push(Branch {
             origin: p,
             direction,
@@ -308,19 +367,20 @@ impl Walker<'_> {
             lobe: DIRECT,
         });
         while let Some(branch) = scratch.stack.pop() {
-            self.walk(branch, threshold, acc, ledger, scratch);
+            self.walk::<ROULETTE>(branch, threshold, acc, ledger, scratch, rng);
         }
     }
 
     /// Follow one branch from its origin to where it leaves the stone or fades.
     #[inline(always)]
-    fn walk(
+    fn walk<const ROULETTE: bool>(
         &self,
         branch: Branch,
         threshold: f32,
         acc: &mut TileSums,
         ledger: &mut EnergyLedger,
         scratch: &mut Scratch,
+        rng: &mut Rng,
     ) {
         let Branch {
             origin,
@@ -409,17 +469,18 @@ impl Walker<'_> {
                         // Split into the Bragg-reflected branch (followed only if strong
                         // enough), the diffuse part (stored here) and the transmitted ray.
                         let (p_r, p_d, p_t);
-                        let mut reflected: Option<(Vec<f32>, f32)> = None;
+                        let mut reflected: Option<(Vec<f32>, f32, f32)> = None;
                         match last_split {
                             Split::Flat { r, t, d } => {
                                 p_r = power * r;
                                 p_d = power * d;
                                 p_t = power * t;
-                                if p_r > 0.0 && p_r >= threshold {
+                                if let Some(boost) = Self::carry_on::<ROULETTE>(p_r, threshold, rng)
+                                {
                                     let mut v = pool.pop().unwrap_or_default();
                                     v.clear();
                                     v.extend_from_slice(&shape);
-                                    reflected = Some((v, scale * r));
+                                    reflected = Some((v, scale * r * boost, p_r * boost));
                                 }
                                 scale *= t;
                             }
@@ -439,12 +500,18 @@ impl Walker<'_> {
                                 p_r = rb * p_out + s_r * k;
                                 p_d = db * p_out + s_d * k;
                                 p_t = tb * p_out + s_t * k;
-                                if p_r > 0.0 && p_r >= threshold {
+                                if let Some(boost) = Self::carry_on::<ROULETTE>(p_r, threshold, rng)
+                                {
                                     let mut v = pool.pop().unwrap_or_default();
                                     v.clear();
                                     v.extend_from_slice(&shape);
-                                    let k = filter_window(&mut v, lo, r, rb);
-                                    reflected = Some((v, scale * k));
+                                    let mut k = filter_window(&mut v, lo, r, rb);
+                                    if boost != 1.0 {
+                                        // Chains of Bragg reflections, no longer cut,
+                                        // would grow the shape without bound.
+                                        k *= normalise(&mut v);
+                                    }
+                                    reflected = Some((v, scale * k * boost, p_r * boost));
                                 }
                                 scale *= filter_window(&mut shape, lo, t, tb);
                             }
@@ -453,22 +520,36 @@ impl Walker<'_> {
                         ledger.absorbed += f64::from(power - p_r - p_d - p_t);
                         power = p_t;
                         match reflected {
-                            Some((v, k)) => stack.push(Branch {
-                                origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
-                                direction: reflect(direction, normal),
-                                shape: v,
-                                scale: k,
-                                power: p_r,
-                                bounces,
-                                lobe: SCATTERED,
-                            }),
+                            Some((v, k, p)) => {
+                                if ROULETTE {
+                                    ledger.truncated -= f64::from(p - p_r);
+                                }
+                                stack.push(Branch {
+                                    origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
+                                    direction: reflect(direction, normal),
+                                    shape: v,
+                                    scale: k,
+                                    power: p,
+                                    bounces,
+                                    lobe: SCATTERED,
+                                });
+                            }
                             None => ledger.truncated += f64::from(p_r),
                         }
                     }
                 }
                 if power < threshold {
-                    ledger.truncated += f64::from(power);
-                    alive = false;
+                    match Self::roulette::<ROULETTE>(power, threshold, rng) {
+                        Some(boost) => {
+                            ledger.truncated -= f64::from(power * boost - power);
+                            scale *= boost;
+                            power *= boost;
+                        }
+                        None => {
+                            ledger.truncated += f64::from(power);
+                            alive = false;
+                        }
+                    }
                 }
                 alive
             },
@@ -492,17 +573,20 @@ impl Walker<'_> {
             pool.push(shape);
             return;
         }
-        if inner < threshold {
+        let Some(boost) = Self::carry_on::<ROULETTE>(inner, threshold, rng) else {
             ledger.truncated += f64::from(inner);
             pool.push(shape);
             return;
+        };
+        if ROULETTE {
+            ledger.truncated -= f64::from(inner * boost - inner);
         }
         stack.push(Branch {
             origin: exit,
             direction: reflect(direction, normal),
             shape,
-            scale: scale * fresnel,
-            power: inner,
+            scale: scale * fresnel * boost,
+            power: inner * boost,
             bounces: bounces + 1,
             lobe: SCATTERED,
         });

@@ -15,6 +15,9 @@ pub mod stage {
     pub const LIGHT: u64 = 2;
     /// View pass: one stream per pixel (sub-pixel jitter).
     pub const VIEW: u64 = 3;
+    /// Light pass's roulette (`light.roulette`): one stream per lattice cell, apart from the
+    /// rays' jitter, so that roulette leaves the rays where the cut traces them.
+    pub const ROULETTE: u64 = 4;
 }
 
 /// SplitMix64 finaliser: a bijective 64-bit mix (Steele, Lea, Flood 2014).

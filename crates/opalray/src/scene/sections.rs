@@ -250,6 +250,8 @@ pub enum Illuminant {
 /// | `intensity`    | –    | 1.0           | (0, 1e6]              |
 /// | `distance_mm`  | mm   | 100           | (0, 1e6]              |
 /// | `rays`         | –    | 65536         | 1 ..= 1e9             |
+/// | `cutoff`       | –    | 0.005         | (0, 0.5]              |
+/// | `roulette`     | –    | false         | true, false           |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct LightConfig {
@@ -266,6 +268,10 @@ pub struct LightConfig {
     pub distance_mm: f64,
     /// Cells of the light pass's ray lattice: one ray each, 2 × 2 where the light is trapped.
     pub rays: u64,
+    /// Light below this fraction of its ray's entering power is cut (or plays roulette).
+    pub cutoff: f64,
+    /// Russian roulette below the cutoff instead of a cut: unbiased, noisier, slower.
+    pub roulette: bool,
 }
 
 impl Default for LightConfig {
@@ -277,6 +283,8 @@ impl Default for LightConfig {
             intensity: 1.0,
             distance_mm: 100.0,
             rays: 65_536,
+            cutoff: 0.005,
+            roulette: false,
         }
     }
 }
@@ -287,6 +295,7 @@ impl LightConfig {
         check_range("light.angle_deg", self.angle_deg, -89.0, 89.0, 30.0)?;
         check_positive("light.intensity", self.intensity, 1e6, 1.0)?;
         check_positive("light.distance_mm", self.distance_mm, 1e6, 100.0)?;
+        check_positive("light.cutoff", self.cutoff, 0.5, 0.005)?;
         check_count(
             "light.rays",
             self.rays,
