@@ -130,8 +130,8 @@ pub enum Termination {
 }
 
 impl Termination {
-    /// The default: cut at 0.5 %.
-    pub const DEFAULT: Termination = Termination::Cutoff(0.005);
+    /// The default: cut at 2 %.
+    pub const DEFAULT: Termination = Termination::Cutoff(0.02);
 
     /// The termination a scene's `light.cutoff` and `light.roulette` ask for.
     pub fn of(cutoff: f64, roulette: bool) -> Self {

@@ -250,7 +250,7 @@ pub enum Illuminant {
 /// | `intensity`    | –    | 1.0           | (0, 1e6]              |
 /// | `distance_mm`  | mm   | 100           | (0, 1e6]              |
 /// | `rays`         | –    | 65536         | 1 ..= 1e9             |
-/// | `cutoff`       | –    | 0.005         | (0, 0.5]              |
+/// | `cutoff`       | –    | 0.02          | (0, 0.5]              |
 /// | `roulette`     | –    | false         | true, false           |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -283,7 +283,7 @@ impl Default for LightConfig {
             intensity: 1.0,
             distance_mm: 100.0,
             rays: 65_536,
-            cutoff: 0.005,
+            cutoff: 0.02,
             roulette: false,
         }
     }
@@ -295,7 +295,7 @@ impl LightConfig {
         check_range("light.angle_deg", self.angle_deg, -89.0, 89.0, 30.0)?;
         check_positive("light.intensity", self.intensity, 1e6, 1.0)?;
         check_positive("light.distance_mm", self.distance_mm, 1e6, 100.0)?;
-        check_positive("light.cutoff", self.cutoff, 0.5, 0.005)?;
+        check_positive("light.cutoff", self.cutoff, 0.5, 0.02)?;
         check_count(
             "light.rays",
             self.rays,
