@@ -204,6 +204,11 @@ fn bad_input_is_refused_in_one_line_with_no_file() {
             "light.angle_deg",
         ),
         (&["render", "--rays", "0", "-o", "x.png"], "light.rays"),
+        (&["render", "--cutoff", "0", "-o", "x.png"], "light.cutoff"),
+        (
+            &["render", "--cutoff", "-0.1", "-o", "x.png"],
+            "light.cutoff",
+        ),
         (&["render", "-o", "x.jpg"], "--output"),
         (&["render", "-o", "/nonexistent/dir/x.png"], "x.png"),
         (

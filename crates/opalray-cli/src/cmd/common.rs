@@ -57,6 +57,14 @@ pub struct LookArgs {
     /// near the rim (light.rays).
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub rays: Option<u64>,
+    /// Light weaker than this fraction of its ray's power is cut, or plays roulette
+    /// (light.cutoff, default 0.02): smaller misses a little less light and costs more.
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
+    pub cutoff: Option<f64>,
+    /// Russian roulette for light below the cutoff instead of cutting it (light.roulette):
+    /// the unbiased estimate, slower and noisier; for reference renders.
+    #[arg(long)]
+    pub roulette: bool,
     /// Body tone, 1 (N1, black opal) … 9 (N9, white opal) (render.body_tone).
     #[arg(long, value_name = "N")]
     pub body_tone: Option<u8>,
@@ -82,6 +90,12 @@ impl LookArgs {
         }
         if let Some(v) = self.rays {
             scene.light.rays = v;
+        }
+        if let Some(v) = self.cutoff {
+            scene.light.cutoff = v;
+        }
+        if self.roulette {
+            scene.light.roulette = true;
         }
         if let Some(v) = self.body_tone {
             scene.render.body_tone = v;
