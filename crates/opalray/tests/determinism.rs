@@ -40,15 +40,16 @@ fn render_is_identical_at_one_two_and_three_threads() {
 }
 
 #[test]
-fn roulette_is_identical_at_one_and_two_threads() {
+fn roulette_is_identical_at_one_two_and_three_threads() {
     // Roulette draws from each ray's own stream, so its choices do not depend on the threads.
     let mut scene = small_scene(1);
     scene.light.roulette = true;
-    let runs: Vec<_> = [1, 2]
+    let runs: Vec<_> = [1, 2, 3]
         .into_iter()
         .map(|n| with_threads(n, || bits(&opalray::render(&scene).unwrap())))
         .collect();
     assert_eq!(runs[0], runs[1], "1 vs 2 threads");
+    assert_eq!(runs[0], runs[2], "1 vs 3 threads");
     let cut = bits(&opalray::render(&small_scene(1)).unwrap());
     assert_ne!(runs[0].0, cut.0, "roulette changes the image");
 }

@@ -24,7 +24,7 @@ use crate::structure::Cell;
 /// stone's cells, at the strongly curved rim, use up all of them and keep the last step.
 const ENTRY_ITERATIONS: usize = 24;
 /// The entry-point search has converged when the refracted direction moves by under this
-/// (radians): the path then misses the cell's centre by under 10⁻⁴ × its length, 0.5 µm at
+/// (radians): the path then misses the cell's centre by about 10⁻⁴ × its length, 0.5 µm at
 /// 5 mm, a 400th of a cell. Two steps per cell on average with a neighbour's guess (10⁻⁵ took
 /// three, for an image 0.04 % RMS away and 10 ms more of light pass).
 const ENTRY_TOLERANCE: f32 = 1e-4;

@@ -34,6 +34,7 @@ use serde::Serialize;
 
 use crate::geometry::{CellGrid, Ellipsoid};
 use crate::optics::OpticsTables;
+use crate::scene::LightConfig;
 use crate::spectrum::WavelengthGrid;
 use crate::structure::{Cell, Structure};
 use accumulate::{directions, OrderedSums, TileSums};
@@ -66,7 +67,8 @@ pub struct EnergyLedger {
     pub absorbed: f64,
     /// Cut: branches too weak to follow, or trapped by total internal reflection. Under
     /// [`Termination::Roulette`], the power roulette ended less the power it added to the
-    /// survivors: zero on average.
+    /// survivors (zero on average), plus the light still trapped after the most surface
+    /// reflections followed.
     pub truncated: f64,
     /// Rays traced: one per lattice cell, more where the light is trapped.
     pub rays: u64,
@@ -130,8 +132,8 @@ pub enum Termination {
 }
 
 impl Termination {
-    /// The default: cut at 2 %.
-    pub const DEFAULT: Termination = Termination::Cutoff(0.02);
+    /// The default: cut at [`LightConfig::DEFAULT_CUTOFF`] (2 %).
+    pub const DEFAULT: Termination = Termination::Cutoff(LightConfig::DEFAULT_CUTOFF as f32);
 
     /// The termination a scene's `light.cutoff` and `light.roulette` ask for.
     pub fn of(cutoff: f64, roulette: bool) -> Self {

@@ -522,7 +522,7 @@ impl Walker<'_> {
                         match reflected {
                             Some((v, k, p)) => {
                                 if ROULETTE {
-                                    ledger.truncated -= f64::from(p - p_r);
+                                    ledger.truncated -= f64::from(p) - f64::from(p_r);
                                 }
                                 stack.push(Branch {
                                     origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
@@ -541,7 +541,7 @@ impl Walker<'_> {
                 if power < threshold {
                     match Self::roulette::<ROULETTE>(power, threshold, rng) {
                         Some(boost) => {
-                            ledger.truncated -= f64::from(power * boost - power);
+                            ledger.truncated -= f64::from(power * boost) - f64::from(power);
                             scale *= boost;
                             power *= boost;
                         }
@@ -579,7 +579,7 @@ impl Walker<'_> {
             return;
         };
         if ROULETTE {
-            ledger.truncated -= f64::from(inner * boost - inner);
+            ledger.truncated -= f64::from(inner * boost) - f64::from(inner);
         }
         stack.push(Branch {
             origin: exit,

@@ -81,6 +81,7 @@ pub fn write_apng(
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        encoder.set_compression(super::COMPRESSION);
         encoder
             .set_animated(frames.len() as u32, 0)
             .map_err(encode_error)?;

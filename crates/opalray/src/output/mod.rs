@@ -89,6 +89,10 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
     )
 }
 
+/// The PNG encoders' DEFLATE level: `Fast` writes the default render in 1.6 ms where the
+/// `png` crate's default (`Balanced`) takes 20 ms, for a file 4 % larger (66 → 68 kB).
+pub(crate) const COMPRESSION: png::Compression = png::Compression::Fast;
+
 /// Encode raw samples (big-endian for 16-bit) as a PNG with an sRGB chunk.
 pub(crate) fn encode_png(
     path: &Path,
@@ -104,6 +108,7 @@ pub(crate) fn encode_png(
         encoder.set_color(color);
         encoder.set_depth(depth);
         encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        encoder.set_compression(COMPRESSION);
         let mut writer = encoder.write_header().map_err(encode_error)?;
         writer.write_image_data(data).map_err(encode_error)?;
         writer.finish().map_err(encode_error)

@@ -248,6 +248,7 @@ mod tests {
             ("[render]\nbody_tone = 12", "render.body_tone"),
             ("[light]\nangle_deg = 120.0", "light.angle_deg"),
             ("[light]\ncutoff = 0.0", "light.cutoff"),
+            ("[light]\ncutoff = 1e-7", "light.cutoff"),
             ("[light]\ncutoff = 0.8", "light.cutoff"),
             ("[light]\ncutoff = nan", "light.cutoff"),
             ("[render]\nwidth = 16384\nheight = 16384", "render.width"),
