@@ -1,6 +1,6 @@
 //! The opal's shape: an axis-aligned ellipsoid centred at the origin.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use super::Ray;
 
@@ -8,13 +8,24 @@ use super::Ray;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ellipsoid {
     /// Semi-axes `(a, b, c)`, mm, all positive.
-    pub semi_axes: Vec3,
+    semi_axes: Vec3,
+    /// `1 / semi_axes`, the scale to the unit sphere (formed once: a ray is intersected
+    /// millions of times per render).
+    inv: DVec3,
 }
 
 impl Ellipsoid {
     /// Ellipsoid with semi-axes `(a, b, c)` in mm.
     pub fn new(semi_axes: Vec3) -> Self {
-        Ellipsoid { semi_axes }
+        Ellipsoid {
+            semi_axes,
+            inv: semi_axes.recip().as_dvec3(),
+        }
+    }
+
+    /// Semi-axes `(a, b, c)`, mm.
+    pub fn semi_axes(&self) -> Vec3 {
+        self.semi_axes
     }
 
     /// Whether `p` is inside (or on) the surface.
@@ -26,7 +37,7 @@ impl Ellipsoid {
     /// `None` if it misses. Solved in the frame scaled to the unit sphere, in f64 for
     /// accuracy at grazing incidence.
     pub fn intersect(&self, ray: &Ray) -> Option<(f32, f32)> {
-        let inv = self.semi_axes.recip().as_dvec3();
+        let inv = self.inv;
         let o = ray.origin.as_dvec3() * inv;
         let d = ray.direction.as_dvec3() * inv;
         let a = d.length_squared();

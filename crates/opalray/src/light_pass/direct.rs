@@ -248,7 +248,7 @@ mod tests {
                 (k / 50 % 40) as f32 / 39.0 * 2.0 - 1.0,
                 (k / 2000) as f32 / 19.0 * 2.0 - 1.0,
             );
-            let target = u * shape.semi_axes * 0.999;
+            let target = u * shape.semi_axes() * 0.999;
             if !shape.contains(target) {
                 continue;
             }

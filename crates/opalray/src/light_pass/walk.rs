@@ -278,7 +278,7 @@ impl Walker<'_> {
         let centre = self.lattice.ray_in(index, 0.5, 0.5);
         let Some((t, _)) = self.shape.intersect(&centre).filter(|h| h.0 > 0.0) else {
             let margin = 2.0 * self.lattice.spacing();
-            let halo = Ellipsoid::new(self.shape.semi_axes + Vec3::splat(margin));
+            let halo = Ellipsoid::new(self.shape.semi_axes() + Vec3::splat(margin));
             return halo.intersect(&centre).is_some_and(|h| h.0 > 0.0);
         };
         let p = centre.at(t);
