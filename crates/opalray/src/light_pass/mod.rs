@@ -405,37 +405,18 @@ pub fn trace_light(
                     .take()
                     .unwrap_or_else(|| TileSums::new(slots * SCATTERED_LOBES, bins));
                 let tile_index = order[task as usize];
-                let (x0, y0) = (
+                let at = (
                     tile_index % tiles_per_row * TILE,
                     tile_index / tiles_per_row * TILE,
                 );
-                let (tile_ref, ledger_ref, scratch_ref) = (&mut tile, &mut ledger, &mut scratch);
-                // One copy of the walk per termination, each compiled for the widest vectors.
+                // One copy of the walk per termination.
                 match walker.termination {
-                    Termination::Cutoff(_) => crate::simd::widest(
-                        #[inline(always)]
-                        || {
-                            walker.trace_tile::<false>(
-                                (x0, y0),
-                                side,
-                                tile_ref,
-                                ledger_ref,
-                                scratch_ref,
-                            )
-                        },
-                    ),
-                    Termination::Roulette(_) => crate::simd::widest(
-                        #[inline(always)]
-                        || {
-                            walker.trace_tile::<true>(
-                                (x0, y0),
-                                side,
-                                tile_ref,
-                                ledger_ref,
-                                scratch_ref,
-                            )
-                        },
-                    ),
+                    Termination::Cutoff(_) => {
+                        walker.trace_tile::<false>(at, side, &mut tile, &mut ledger, &mut scratch)
+                    }
+                    Termination::Roulette(_) => {
+                        walker.trace_tile::<true>(at, side, &mut tile, &mut ledger, &mut scratch)
+                    }
                 }
                 let mut sums = lock();
                 sums.submit(task, tile);

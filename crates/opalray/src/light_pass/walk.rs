@@ -224,8 +224,12 @@ impl Walker<'_> {
         scratch.t.resize(bins, 0.0);
         scratch.d.resize(bins, 0.0);
         let mut rng = Rng::new(self.seed, stage::LIGHT, index);
-        // Drawn from only under roulette (creating a stream is a few instructions).
-        let mut chance = Rng::new(self.seed, stage::ROULETTE, index);
+        // Roulette's own stream; the cut never draws from it, so it takes a copy.
+        let mut chance = if ROULETTE {
+            Rng::new(self.seed, stage::ROULETTE, index)
+        } else {
+            rng.clone()
+        };
         let trapped = self.is_trapped(index);
         let m = if trapped { TRAPPED_SPLIT } else { 1 };
         let share = 1.0 / (m * m) as f32;
@@ -243,7 +247,8 @@ impl Walker<'_> {
     }
 
     /// Trace the lattice cells of the tile whose first cell is `(x0, y0)`, on a lattice of
-    /// `side` cells a side, in row order.
+    /// `side` cells a side, in row order, in the copy compiled for the processor's widest
+    /// vectors (`simd`).
     #[inline(always)]
     pub fn trace_tile<const ROULETTE: bool>(
         &self,
@@ -253,11 +258,16 @@ impl Walker<'_> {
         ledger: &mut EnergyLedger,
         scratch: &mut Scratch,
     ) {
-        for y in y0..(y0 + TILE).min(side) {
-            for x in x0..(x0 + TILE).min(side) {
-                self.trace::<ROULETTE>(y * side + x, acc, ledger, scratch);
-            }
-        }
+        crate::simd::widest(
+            #[inline(always)]
+            || {
+                for y in y0..(y0 + TILE).min(side) {
+                    for x in x0..(x0 + TILE).min(side) {
+                        self.trace::<ROULETTE>(y * side + x, acc, ledger, scratch);
+                    }
+                }
+            },
+        )
     }
 
     /// Whether the ray through the centre of lattice cell `index` meets the stone.
