@@ -102,7 +102,14 @@ impl CellGrid {
             } else {
                 2
             };
-            let t_next = t_max[axis].min(t_end).max(t);
+            // Comparisons rather than `f32::min` / `max`, whose care for NaN (none arises
+            // here) costs instructions at every step.
+            let bound = if t_max[axis] < t_end {
+                t_max[axis]
+            } else {
+                t_end
+            };
+            let t_next = if bound > t { bound } else { t };
             if !visit(Segment {
                 index: index as usize,
                 t_enter: t,
