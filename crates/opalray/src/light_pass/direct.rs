@@ -59,6 +59,7 @@ impl UnitSpectrum {
 /// where the surface facing the light does not see `target`. `guess` is a refracted
 /// direction to start from (a neighbouring cell's); without one the unrefracted line to
 /// the light.
+#[inline(always)]
 pub(crate) fn refracted_entry(
     shape: &Ellipsoid,
     source: &LightSource,
@@ -110,6 +111,7 @@ pub(crate) fn refracted_entry(
 
 impl Walker<'_> {
     /// [`refracted_entry`] for this walker's stone and light.
+    #[inline(always)]
     fn entry(&self, target: Vec3, guess: Option<Vec3>) -> Option<(Vec3, Vec3, f32)> {
         refracted_entry(&self.shape, &self.source, self.n_eff, target, guess)
     }
@@ -118,6 +120,7 @@ impl Walker<'_> {
     /// into `out` (power per mm² per nm) and its direction of travel returned; both zero where
     /// no direct light arrives. `guess` as for [`Walker::entry`]; `light` is the light's
     /// spectrum, formed once for all cells.
+    #[inline(always)]
     fn direct_at(
         &self,
         cell: usize,
@@ -142,40 +145,46 @@ impl Walker<'_> {
         let ray = Ray::new(p, d);
         let mut last_normal = Vec3::NAN;
         let reach = (centre - p).length() + self.grid.cell.length();
-        self.grid.traverse(&ray, 0.0, reach, |seg| {
-            let length = seg.t_exit - seg.t_enter;
-            let own = seg.index == cell;
-            let site = self.sites[seg.index];
-            match site.cell() {
-                Cell::Outside => {}
-                Cell::Void => {
-                    let sigma = self.body_extinction_per_mm;
-                    let kept = (-sigma * length).exp();
-                    // In its own cell, the mean over the chord, ∫₀ˡ e^(−σs) ds / ℓ; before
-                    // it, what passes the whole chord.
-                    let factor = if !own {
-                        kept
-                    } else if sigma * length > 1e-4 {
-                        (1.0 - kept) / (sigma * length)
-                    } else {
-                        1.0
-                    };
-                    scale *= factor;
-                }
-                // The light crossing a cluster is what reaches it; it is split only on leaving.
-                Cell::Cluster if own => {}
-                Cell::Cluster => {
-                    // Cells of one patch, met one after another, share the transmittance.
-                    let normal = site.normal;
-                    if normal != last_normal {
-                        self.optics.transmission(d.dot(normal).abs(), transmission);
-                        last_normal = normal;
+        self.grid.traverse(
+            &ray,
+            0.0,
+            reach,
+            #[inline(always)]
+            |seg| {
+                let length = seg.t_exit - seg.t_enter;
+                let own = seg.index == cell;
+                let site = self.sites[seg.index];
+                match site.cell() {
+                    Cell::Outside => {}
+                    Cell::Void => {
+                        let sigma = self.body_extinction_per_mm;
+                        let kept = (-sigma * length).exp();
+                        // In its own cell, the mean over the chord, ∫₀ˡ e^(−σs) ds / ℓ; before
+                        // it, what passes the whole chord.
+                        let factor = if !own {
+                            kept
+                        } else if sigma * length > 1e-4 {
+                            (1.0 - kept) / (sigma * length)
+                        } else {
+                            1.0
+                        };
+                        scale *= factor;
                     }
-                    scale *= transmission.apply(out, &mut peak);
+                    // The light crossing a cluster is what reaches it; it is split only on leaving.
+                    Cell::Cluster if own => {}
+                    Cell::Cluster => {
+                        // Cells of one patch, met one after another, share the transmittance.
+                        let normal = site.normal;
+                        if normal != last_normal {
+                            self.optics.transmission(d.dot(normal).abs(), transmission);
+                            last_normal = normal;
+                        }
+                        scale *= transmission.apply(out, &mut peak);
+                    }
                 }
-            }
-            !own
-        });
+                !own
+            },
+        );
         out.iter_mut().for_each(|s| *s *= scale);
         d
     }
@@ -195,34 +204,46 @@ impl Walker<'_> {
         sums.par_chunks_mut(stride * lobes * RUN)
             .zip(cells.par_chunks(RUN))
             .for_each(|(entries, cells)| {
-                // The directions found for the last two cells, with those cells.
-                let mut last: [Option<(usize, Vec3)>; 2] = [None, None];
-                let mut transmission = Transmission::default();
-                for (entry, &cell) in entries.chunks_exact_mut(stride * lobes).zip(cells) {
-                    let centre = self
-                        .grid
-                        .cell_center(cell % nx, cell / nx % ny, cell / (nx * ny));
-                    let (spectrum, rest) = entry[..stride].split_at_mut(bins);
-                    let guess = match last {
-                        // Two cells just before this one in its row: extrapolate.
-                        [Some((c0, d0)), Some((c1, d1))]
-                            if c1 + 1 == cell && c0 + 2 == cell && cell % nx >= 2 =>
-                        {
-                            Some((2.0 * d1 - d0).normalize())
+                // The run in the copy compiled for the processor's vector level (`simd`).
+                crate::simd::widest(
+                    #[inline(always)]
+                    || {
+                        // The directions found for the last two cells, with those cells.
+                        let mut last: [Option<(usize, Vec3)>; 2] = [None, None];
+                        let mut transmission = Transmission::default();
+                        for (entry, &cell) in entries.chunks_exact_mut(stride * lobes).zip(cells) {
+                            let centre =
+                                self.grid
+                                    .cell_center(cell % nx, cell / nx % ny, cell / (nx * ny));
+                            let (spectrum, rest) = entry[..stride].split_at_mut(bins);
+                            let guess = match last {
+                                // Two cells just before this one in its row: extrapolate.
+                                [Some((c0, d0)), Some((c1, d1))]
+                                    if c1 + 1 == cell && c0 + 2 == cell && cell % nx >= 2 =>
+                                {
+                                    Some((2.0 * d1 - d0).normalize())
+                                }
+                                [_, Some((_, d1))] => Some(d1),
+                                _ => None,
+                            };
+                            let direction = self.direct_at(
+                                cell,
+                                centre,
+                                spectrum,
+                                guess,
+                                &light,
+                                &mut transmission,
+                            );
+                            last = [
+                                last[1],
+                                (direction != Vec3::ZERO).then_some((cell, direction)),
+                            ];
+                            // Direction sums with a unit weight: one exact direction (ρ = 1).
+                            rest[..3].copy_from_slice(&direction.to_array());
+                            rest[3] = direction.length();
                         }
-                        [_, Some((_, d1))] => Some(d1),
-                        _ => None,
-                    };
-                    let direction =
-                        self.direct_at(cell, centre, spectrum, guess, &light, &mut transmission);
-                    last = [
-                        last[1],
-                        (direction != Vec3::ZERO).then_some((cell, direction)),
-                    ];
-                    // Direction sums with a unit weight: one exact direction (ρ = 1).
-                    rest[..3].copy_from_slice(&direction.to_array());
-                    rest[3] = direction.length();
-                }
+                    },
+                )
             });
     }
 }
