@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
-"""Compare two opalray binaries in alternating pairs.
+"""Compare opalray binaries in alternating rounds.
 
-    scripts/bench-pair.py OLD_BINARY NEW_BINARY [--pairs 12] [--runs 3] [-- BENCH ARGS...]
+    scripts/bench-pair.py OLD_BINARY NEW_BINARY [MORE_BINARIES...] [--pairs 12] [--runs 3]
+        [-- BENCH ARGS...]
 
-Runs `BINARY bench --runs R --json` for the old and then the new binary, PAIRS times, and
-prints per stage the median and fastest of each, and the median of the per-pair differences
-(new − old) with how many pairs the new one was faster. On a shared machine whose speed
-drifts over minutes, a difference within one pair is measured under the same conditions; two
-medians taken minutes apart are not. A measuring aid, not part of the tests; needs only
-Python 3.
+Runs `BINARY bench --runs R --json` for the old and then each new binary, PAIRS times, and
+prints per stage the median and fastest of each, and for each new binary the median of its
+per-round differences (new − old) with how many rounds it was faster. On a shared machine
+whose speed drifts over minutes, a difference within one round is measured under the same
+conditions; two medians taken minutes apart are not. With `--runs 1` and more pairs the
+rounds are shorter, and closer to the same conditions. A measuring aid, not part of the
+tests; needs only Python 3.
 """
 import json
 import statistics
@@ -44,24 +46,28 @@ def main(argv):
                 pairs = value
             else:
                 runs = value
-    if len(args) != 2 or pairs < 1 or runs < 1:
+    if len(args) < 2 or pairs < 1 or runs < 1:
         sys.exit(__doc__.strip().splitlines()[2].strip())
-    old_bin, new_bin = args
-    old, new = [], []
+    results = {b: [] for b in args}
     for k in range(pairs):
-        old.append(bench(old_bin, runs, extra))
-        new.append(bench(new_bin, runs, extra))
-        print(f"pair {k + 1}/{pairs}", file=sys.stderr)
-    for s in STAGES:
-        diffs = [n[s] - o[s] for o, n in zip(old, new)]
-        faster = sum(1 for d in diffs if d < 0)
-        print(
-            f"{s:10}  old {statistics.median(o[s] for o in old):6.0f} ms"
-            f" (fastest {min(o[s] for o in old):4.0f})"
-            f"  new {statistics.median(n[s] for n in new):6.0f} ms"
-            f" (fastest {min(n[s] for n in new):4.0f})"
-            f"  pairs: {statistics.median(diffs):+5.0f} ms, new faster in {faster}/{pairs}"
-        )
+        for b in args:
+            results[b].append(bench(b, runs, extra))
+        print(f"round {k + 1}/{pairs}", file=sys.stderr)
+    old_bin, old = args[0], results[args[0]]
+    for new_bin in args[1:]:
+        new = results[new_bin]
+        if len(args) > 2:
+            print(f"{new_bin} against {old_bin}:")
+        for s in STAGES:
+            diffs = [n[s] - o[s] for o, n in zip(old, new)]
+            faster = sum(1 for d in diffs if d < 0)
+            print(
+                f"{s:10}  old {statistics.median(o[s] for o in old):6.0f} ms"
+                f" (fastest {min(o[s] for o in old):4.0f})"
+                f"  new {statistics.median(n[s] for n in new):6.0f} ms"
+                f" (fastest {min(n[s] for n in new):4.0f})"
+                f"  pairs: {statistics.median(diffs):+5.0f} ms, new faster in {faster}/{pairs}"
+            )
 
 
 if __name__ == "__main__":
