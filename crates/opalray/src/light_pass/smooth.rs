@@ -13,7 +13,9 @@
 //! the neighbour before a cell along the pass's axis has already been replaced, so its
 //! original values are read from a copy kept for that (of the previous cell, of the previous
 //! row of the plane, or of the previous plane). Every value is read once and written back
-//! while still in the cache, and no second array of the whole field is needed.
+//! while still in the cache, and no second array of the whole field is needed. The x and y
+//! passes share one sweep of each plane (a row along x, then the row before it along y), so
+//! the field is swept twice, not three times.
 
 use rayon::prelude::*;
 
@@ -96,15 +98,17 @@ pub(crate) fn smooth_sums(
     let first_slot = |cell: usize| cell_of_slot.partition_point(|&c| c < cell);
     let plane_start: Vec<usize> = (0..=nz).map(|z| first_slot(z * plane)).collect();
 
-    // x, then y, within each plane; the planes in parallel.
+    // x, then y, within each plane, in one sweep: each row is blended along x, and then the
+    // row before it along y (whose neighbour after it is that row, blended along x already);
+    // the planes in parallel.
     let mut planes = Vec::with_capacity(nz);
     let mut rest = &mut *fluence;
     for z in 0..nz {
         let (values, after) = rest.split_at_mut((plane_start[z + 1] - plane_start[z]) * width);
-        planes.push((plane_start[z], values));
+        planes.push((z, plane_start[z], values));
         rest = after;
     }
-    planes.into_par_iter().for_each(|(first, values)| {
+    planes.into_par_iter().for_each(|(z, first, values)| {
         crate::simd::widest(
             #[inline(always)]
             || {
@@ -112,26 +116,38 @@ pub(crate) fn smooth_sums(
                 // Original values of the previous cell (x), and of the previous row by x (y).
                 let mut previous = vec![0.0f32; width];
                 let mut row = vec![0.0f32; nx * width];
-                for axis in 0..2 {
-                    for (k, slot) in (first..first + values.len() / width).enumerate() {
-                        let cell = cell_of_slot[slot];
-                        let x = cell % nx;
-                        let (coord, n, step) = match axis {
-                            0 => (x, nx, 1),
-                            _ => (cell / nx % ny, ny, nx),
-                        };
-                        let kept = match axis {
-                            0 => &mut previous[..],
-                            _ => &mut row[x * width..(x + 1) * width],
-                        };
-                        let lower = neighbour(cell, coord, n, step, false).map(|_| &*kept);
-                        let upper = neighbour(cell, coord, n, step, true)
-                            .map(|s| &values[(s - first) * width..][..width]);
-                        let own = &values[k * width..][..width];
-                        blend(&mut out, own, lower, upper);
-                        kept.copy_from_slice(own);
-                        values[k * width..][..width].copy_from_slice(&out);
+                // Rows of slots: blend each along x, then the one before it along y.
+                let mut before = first..first;
+                for y in 0..=ny {
+                    let start = before.end;
+                    let end = if y < ny {
+                        first_slot(z * plane + (y + 1) * nx)
+                    } else {
+                        start
+                    };
+                    for (axis, range) in [(0, start..end), (1, before)] {
+                        for slot in range {
+                            let k = slot - first;
+                            let cell = cell_of_slot[slot];
+                            let x = cell % nx;
+                            let (coord, n, step) = match axis {
+                                0 => (x, nx, 1),
+                                _ => (cell / nx % ny, ny, nx),
+                            };
+                            let kept = match axis {
+                                0 => &mut previous[..],
+                                _ => &mut row[x * width..(x + 1) * width],
+                            };
+                            let lower = neighbour(cell, coord, n, step, false).map(|_| &*kept);
+                            let upper = neighbour(cell, coord, n, step, true)
+                                .map(|s| &values[(s - first) * width..][..width]);
+                            let own = &values[k * width..][..width];
+                            blend(&mut out, own, lower, upper);
+                            kept.copy_from_slice(own);
+                            values[k * width..][..width].copy_from_slice(&out);
+                        }
                     }
+                    before = start..end;
                 }
             },
         )
