@@ -193,58 +193,62 @@ impl Walker<'_> {
     /// lobe 0; each entry's spectrum, then its direction and weight), replacing what was
     /// there.
     pub(crate) fn fill_direct(&self, sums: &mut [f32], stride: usize, lobes: usize) {
-        let bins = self.spectrum.len();
-        let [nx, ny, _] = self.grid.n;
-        let cells = self.cell_of_slot;
         let light = UnitSpectrum::new(self.spectrum);
         // Runs of consecutive cells (mostly along x): each cell's entry search starts from
         // the direction found for the one before, or, after two neighbours in its row, from
         // the line through their directions: a few iterations fewer.
         const RUN: usize = 64;
         sums.par_chunks_mut(stride * lobes * RUN)
-            .zip(cells.par_chunks(RUN))
+            .zip(self.cell_of_slot.par_chunks(RUN))
             .for_each(|(entries, cells)| {
-                // The run in the copy compiled for the processor's vector level (`simd`).
+                // Each run in the copy compiled for the processor's vector level (`simd`).
                 crate::simd::widest(
                     #[inline(always)]
-                    || {
-                        // The directions found for the last two cells, with those cells.
-                        let mut last: [Option<(usize, Vec3)>; 2] = [None, None];
-                        let mut transmission = Transmission::default();
-                        for (entry, &cell) in entries.chunks_exact_mut(stride * lobes).zip(cells) {
-                            let centre =
-                                self.grid
-                                    .cell_center(cell % nx, cell / nx % ny, cell / (nx * ny));
-                            let (spectrum, rest) = entry[..stride].split_at_mut(bins);
-                            let guess = match last {
-                                // Two cells just before this one in its row: extrapolate.
-                                [Some((c0, d0)), Some((c1, d1))]
-                                    if c1 + 1 == cell && c0 + 2 == cell && cell % nx >= 2 =>
-                                {
-                                    Some((2.0 * d1 - d0).normalize())
-                                }
-                                [_, Some((_, d1))] => Some(d1),
-                                _ => None,
-                            };
-                            let direction = self.direct_at(
-                                cell,
-                                centre,
-                                spectrum,
-                                guess,
-                                &light,
-                                &mut transmission,
-                            );
-                            last = [
-                                last[1],
-                                (direction != Vec3::ZERO).then_some((cell, direction)),
-                            ];
-                            // Direction sums with a unit weight: one exact direction (ρ = 1).
-                            rest[..3].copy_from_slice(&direction.to_array());
-                            rest[3] = direction.length();
-                        }
-                    },
+                    || self.direct_run(entries, cells, stride, lobes, &light),
                 )
             });
+    }
+
+    /// [`Walker::fill_direct`] for one run of consecutive `cells`, whose entries are
+    /// `entries` (`lobes × stride` values each).
+    #[inline(always)]
+    fn direct_run(
+        &self,
+        entries: &mut [f32],
+        cells: &[usize],
+        stride: usize,
+        lobes: usize,
+        light: &UnitSpectrum,
+    ) {
+        let bins = self.spectrum.len();
+        let [nx, ny, _] = self.grid.n;
+        // The directions found for the last two cells, with those cells.
+        let mut last: [Option<(usize, Vec3)>; 2] = [None, None];
+        let mut transmission = Transmission::default();
+        for (values, &cell) in entries.chunks_exact_mut(stride * lobes).zip(cells) {
+            let centre = self
+                .grid
+                .cell_center(cell % nx, cell / nx % ny, cell / (nx * ny));
+            let (spectrum, rest) = values[..stride].split_at_mut(bins);
+            let guess = match last {
+                // Two cells just before this one in its row: extrapolate.
+                [Some((c0, d0)), Some((c1, d1))]
+                    if c1 + 1 == cell && c0 + 2 == cell && cell % nx >= 2 =>
+                {
+                    Some((2.0 * d1 - d0).normalize())
+                }
+                [_, Some((_, d1))] => Some(d1),
+                _ => None,
+            };
+            let direction = self.direct_at(cell, centre, spectrum, guess, light, &mut transmission);
+            last = [
+                last[1],
+                (direction != Vec3::ZERO).then_some((cell, direction)),
+            ];
+            // Direction sums with a unit weight: one exact direction (ρ = 1).
+            rest[..3].copy_from_slice(&direction.to_array());
+            rest[3] = direction.length();
+        }
     }
 }
 
