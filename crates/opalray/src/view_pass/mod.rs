@@ -16,9 +16,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, CellGrid, Ellipsoid, Ray};
-use crate::light_pass::{
-    stone_geometry, ClusterOptics, LightField, LightSource, Transmission, LOBES,
-};
+use crate::light_pass::{stone_geometry, ClusterOptics, LightField, LightSource, Transmission};
 use crate::optics::OpticsTables;
 use crate::spectrum::SpectralImage;
 use crate::structure::{Cell, Structure};
@@ -397,21 +395,24 @@ impl View<'_> {
                                 }
                                 Cell::Cluster => {
                                     let shade = &self.shading.clusters[slot];
-                                    for (lobe, l) in shade.lobes.iter().enumerate() {
+                                    // The packed spectrum of the next lobe that has one.
+                                    let mut entry = shade.first as usize;
+                                    for l in &shade.lobes {
                                         let c = l.mirror.dot(to_eye);
-                                        if c <= l.cos_min {
-                                            continue;
+                                        if c > l.cos_min {
+                                            // Eq. (2)'s specular term: E · R(θ) · peak ·
+                                            // cosⁿ' θ'.
+                                            let at = entry * self.bins;
+                                            let spectrum =
+                                                &self.shading.specular[at..at + self.bins];
+                                            add_filtered(
+                                                pixel,
+                                                shape_thr,
+                                                spectrum,
+                                                scale * c.powf(l.exponent),
+                                            );
                                         }
-                                        // Eq. (2)'s specular term: E · R(θ) · peak · cosⁿ' θ'.
-                                        let entry = (slot * LOBES + lobe) * self.bins;
-                                        let spectrum =
-                                            &self.shading.specular[entry..entry + self.bins];
-                                        add_filtered(
-                                            pixel,
-                                            shape_thr,
-                                            spectrum,
-                                            scale * c.powf(l.exponent),
-                                        );
+                                        entry += usize::from(l.has_spectrum());
                                     }
                                     if tag.glows() {
                                         let glow = &self.shading.diffuse

@@ -35,6 +35,14 @@ pub struct Lobe {
     pub exponent: f32,
 }
 
+impl Lobe {
+    /// Whether the lobe has a specular term (and a packed spectrum in [`Shading::specular`]).
+    #[inline(always)]
+    pub fn has_spectrum(&self) -> bool {
+        self.cos_min <= 1.0
+    }
+}
+
 const NO_LOBE: Lobe = Lobe {
     mirror: Vec3::ZERO,
     cos_min: 2.0,
@@ -97,11 +105,15 @@ pub struct ClusterShade {
     pub normal: Vec3,
     /// The specular lobe of each stored light.
     pub lobes: [Lobe; LOBES],
+    /// Index in [`Shading::specular`] of the spectrum of its first lobe that has one; the
+    /// others that have one follow, in lobe order.
+    pub first: u32,
 }
 
 const NO_SHADE: ClusterShade = ClusterShade {
     normal: Vec3::ZERO,
     lobes: [NO_LOBE; LOBES],
+    first: 0,
 };
 
 /// Per-slot shading terms, in units where a white Lambertian diffuser under unit irradiance
@@ -116,8 +128,10 @@ pub struct Shading {
     pub tags: Vec<CellTag>,
     /// Per slot, the cluster's normal and specular lobes.
     pub clusters: Vec<ClusterShade>,
-    /// Specular spectra `E · R(θ) · peak`, `slots × LOBES × bins`, the peak of the normalised
-    /// Phong lobe times π being `(n' + 2) / 2` (zero where the lobe has no specular term).
+    /// Specular spectra `E · R(θ) · peak` of the lobes that have a specular term (61 % of the
+    /// default render's), packed: `bins` values each, in slot and lobe order (see
+    /// [`ClusterShade::first`]); the peak of the normalised Phong lobe times π is
+    /// `(n' + 2) / 2`.
     pub specular: Vec<f32>,
     /// Diffuse spectra `slots × bins`: clusters Σ E · D(θ) · cos θ (eq. 2's first sum);
     /// voids the potch's single scattering a · Σ E / 4, to be weighted by the fraction of
@@ -138,91 +152,80 @@ impl Shading {
         let bins = light.grid.bins;
         let slots = light.directions.len() / LOBES;
         let cell_of_slot = &cells.cell_of_slot;
+        // Where each cluster's stored light reflects, and how wide: no spectra yet.
         let mut clusters = vec![NO_SHADE; slots];
-        let mut specular = crate::spectrum::zeroed(slots * LOBES * bins);
-        let mut diffuse = crate::spectrum::zeroed(slots * bins);
         clusters
             .par_iter_mut()
-            .zip(specular.par_chunks_mut(LOBES * bins))
-            .zip(diffuse.par_chunks_mut(bins))
+            .enumerate()
+            .for_each(|(slot, shade)| {
+                let cell = cell_of_slot[slot];
+                if structure.cells[cell] != Cell::Cluster {
+                    return;
+                }
+                let normal = cells.normals[cell];
+                shade.normal = normal;
+                for (lobe, out) in shade.lobes.iter_mut().enumerate() {
+                    let w = light.directions[slot * LOBES + lobe];
+                    if w == Vec3::ZERO || w.dot(normal).abs() < MIN_SPECULAR_COS {
+                        continue;
+                    }
+                    let rho = light.concentration[slot * LOBES + lobe];
+                    let n = phong_exponent;
+                    let exponent =
+                        (rho * n / (rho + n * (1.0 - rho)).max(f32::MIN_POSITIVE)).max(1e-3);
+                    *out = Lobe {
+                        mirror: crate::geometry::reflect(w, normal),
+                        cos_min: LOBE_CUTOFF.powf(1.0 / exponent),
+                        exponent,
+                    };
+                }
+            });
+        // The specular spectra of the lobes that have one, packed in slot and lobe order.
+        let mut packed = 0u32;
+        for shade in &mut clusters {
+            shade.first = packed;
+            packed += shade.lobes.iter().filter(|l| l.has_spectrum()).count() as u32;
+        }
+        let mut specular = crate::spectrum::zeroed(packed as usize * bins);
+        let mut diffuse = crate::spectrum::zeroed(slots * bins);
+        // Runs of `RUN` slots, each with its share of the packed spectra.
+        const RUN: usize = 256;
+        let mut runs = Vec::with_capacity(slots.div_ceil(RUN));
+        let mut rest = specular.as_mut_slice();
+        for (k, run) in clusters.chunks(RUN).enumerate() {
+            let end = clusters
+                .get((k + 1) * RUN)
+                .map_or(packed, |next| next.first);
+            let (head, tail) = rest.split_at_mut((end - run[0].first) as usize * bins);
+            runs.push(head);
+            rest = tail;
+        }
+        runs.into_par_iter()
+            .zip(diffuse.par_chunks_mut(RUN * bins))
             .enumerate()
             .for_each_init(
                 || vec![0.0f32; bins],
-                // Each slot's spectral loops in the copy compiled for the processor's
-                // vector level (`simd`).
-                |d, (slot, ((shade, spec), glow))| {
+                // Each run's spectral loops in the copy compiled for the processor's vector
+                // level (`simd`).
+                |d, (k, (spec, glows))| {
                     crate::simd::widest(
                         #[inline(always)]
                         || {
-                            let cell = cell_of_slot[slot];
-                            match structure.cells[cell] {
-                                Cell::Cluster => {
-                                    let normal = cells.normals[cell];
-                                    shade.normal = normal;
-                                    for (lobe, out) in shade.lobes.iter_mut().enumerate() {
-                                        let w = light.directions[slot * LOBES + lobe];
-                                        if w == Vec3::ZERO {
-                                            continue;
-                                        }
-                                        let e = light.fluence(slot, lobe);
-                                        let cos = w.dot(normal).abs();
-                                        match optics.diffuse(cos, d) {
-                                            // Flat rows: away from the stop band D is about 10⁻⁵.
-                                            Some(d) if d * cos < GLOW_FLOOR => {}
-                                            Some(d) => {
-                                                for (g, &e) in glow.iter_mut().zip(e) {
-                                                    *g += e * d * cos;
-                                                }
-                                            }
-                                            None => {
-                                                for ((g, &e), &d) in
-                                                    glow.iter_mut().zip(e).zip(d.iter())
-                                                {
-                                                    *g += e * d * cos;
-                                                }
-                                            }
-                                        }
-                                        if cos < MIN_SPECULAR_COS {
-                                            continue;
-                                        }
-                                        let rho = light.concentration[slot * LOBES + lobe];
-                                        let n = phong_exponent;
-                                        let exponent = (rho * n
-                                            / (rho + n * (1.0 - rho)).max(f32::MIN_POSITIVE))
-                                        .max(1e-3);
-                                        *out = Lobe {
-                                            mirror: crate::geometry::reflect(w, normal),
-                                            cos_min: LOBE_CUTOFF.powf(1.0 / exponent),
-                                            exponent,
-                                        };
-                                        let peak = 0.5 * (exponent + 2.0);
-                                        let spec = &mut spec[lobe * bins..(lobe + 1) * bins];
-                                        // `d` is free again: it takes the reflectance.
-                                        match optics.reflectance(cos, d) {
-                                            Some(r) => {
-                                                for (s, &e) in spec.iter_mut().zip(e) {
-                                                    *s = e * r * peak;
-                                                }
-                                            }
-                                            None => {
-                                                for ((s, &e), &r) in
-                                                    spec.iter_mut().zip(e).zip(d.iter())
-                                                {
-                                                    *s = e * r * peak;
-                                                }
-                                            }
-                                        }
-                                    }
-                                }
-                                Cell::Void => {
-                                    for lobe in 0..LOBES {
-                                        let e = light.fluence(slot, lobe);
-                                        for (g, &e) in glow.iter_mut().zip(e) {
-                                            *g += 0.25 * body_albedo * e;
-                                        }
-                                    }
-                                }
-                                Cell::Outside => {}
+                            let mut spec = spec.chunks_exact_mut(bins);
+                            for (j, glow) in glows.chunks_exact_mut(bins).enumerate() {
+                                let slot = k * RUN + j;
+                                let shade = &clusters[slot];
+                                shade_slot(
+                                    structure.cells[cell_of_slot[slot]],
+                                    shade,
+                                    optics,
+                                    light,
+                                    slot,
+                                    body_albedo,
+                                    glow,
+                                    &mut spec,
+                                    d,
+                                );
                             }
                         },
                     )
@@ -247,5 +250,78 @@ impl Shading {
             specular,
             diffuse,
         }
+    }
+}
+
+/// The glow of one slot into `glow`, and the specular spectra of its lobes that have one,
+/// each into the next chunk of `spec`; `d` is scratch space of `bins` values.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn shade_slot<'s>(
+    cell: Cell,
+    shade: &ClusterShade,
+    optics: &ClusterOptics,
+    light: &LightField,
+    slot: usize,
+    body_albedo: f32,
+    glow: &mut [f32],
+    spec: &mut impl Iterator<Item = &'s mut [f32]>,
+    d: &mut [f32],
+) {
+    match cell {
+        Cell::Cluster => {
+            let normal = shade.normal;
+            for (lobe, l) in shade.lobes.iter().enumerate() {
+                let w = light.directions[slot * LOBES + lobe];
+                if w == Vec3::ZERO {
+                    continue;
+                }
+                let e = light.fluence(slot, lobe);
+                let cos = w.dot(normal).abs();
+                match optics.diffuse(cos, d) {
+                    // Flat rows: away from the stop band D is about 10⁻⁵.
+                    Some(d) if d * cos < GLOW_FLOOR => {}
+                    Some(d) => {
+                        for (g, &e) in glow.iter_mut().zip(e) {
+                            *g += e * d * cos;
+                        }
+                    }
+                    None => {
+                        for ((g, &e), &d) in glow.iter_mut().zip(e).zip(d.iter()) {
+                            *g += e * d * cos;
+                        }
+                    }
+                }
+                if !l.has_spectrum() {
+                    continue;
+                }
+                let peak = 0.5 * (l.exponent + 2.0);
+                let spec = spec
+                    .next()
+                    .expect("a packed spectrum per lobe that has one");
+                // `d` is free again: it takes the reflectance.
+                match optics.reflectance(cos, d) {
+                    Some(r) => {
+                        for (s, &e) in spec.iter_mut().zip(e) {
+                            *s = e * r * peak;
+                        }
+                    }
+                    None => {
+                        for ((s, &e), &r) in spec.iter_mut().zip(e).zip(d.iter()) {
+                            *s = e * r * peak;
+                        }
+                    }
+                }
+            }
+        }
+        Cell::Void => {
+            for lobe in 0..LOBES {
+                let e = light.fluence(slot, lobe);
+                for (g, &e) in glow.iter_mut().zip(e) {
+                    *g += 0.25 * body_albedo * e;
+                }
+            }
+        }
+        Cell::Outside => {}
     }
 }
