@@ -117,14 +117,14 @@ impl ColorMatcher {
 const LANES: usize = 8;
 
 /// Three dot products of `s` with `a`, `b`, `c` (over the shortest length).
-#[inline]
+#[inline(always)]
 pub(crate) fn dot3(s: &[f32], a: &[f32], b: &[f32], c: &[f32]) -> [f32; 3] {
     [dot(s, a), dot(s, b), dot(s, c)]
 }
 
 /// The dot product of `s` and `w` over the shorter length, summed in [`LANES`] independent
 /// partial sums that the compiler keeps in vector registers.
-#[inline]
+#[inline(always)]
 fn dot(s: &[f32], w: &[f32]) -> f32 {
     let n = s.len().min(w.len());
     let (s, w) = (&s[..n], &w[..n]);

@@ -56,7 +56,7 @@ impl SpectrumToRgb {
     }
 
     /// Linear RGB of one bin-averaged spectrum.
-    #[inline]
+    #[inline(always)]
     pub fn apply(&self, spectrum: &[f32]) -> [f32; 3] {
         let [r, g, b] = &self.rows;
         dot3(spectrum, r, g, b)
@@ -76,9 +76,16 @@ pub fn to_rgb(image: &SpectralImage, color: &ColorConfig, light_white: Illuminan
         data.par_chunks_mut(width)
             .zip(image.data.par_chunks(width * bins))
             .for_each(|(out, spectra)| {
-                for (px, s) in out.iter_mut().zip(spectra.chunks_exact(bins)) {
-                    *px = op.apply(s);
-                }
+                // In the copy compiled for the processor's vector level (`simd`): the same
+                // sums, in eight lanes at once.
+                crate::simd::widest(
+                    #[inline(always)]
+                    || {
+                        for (px, s) in out.iter_mut().zip(spectra.chunks_exact(bins)) {
+                            *px = op.apply(s);
+                        }
+                    },
+                )
             });
     }
     RgbImage {
