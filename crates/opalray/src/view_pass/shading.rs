@@ -325,3 +325,70 @@ fn shade_slot<'s>(
         Cell::Outside => {}
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::light_pass::{trace_light, LightSetup, Termination};
+
+    #[test]
+    fn packed_specular_spectra_belong_to_their_lobes() {
+        // A small stone lit by the default light: every lobe with a specular term has its own
+        // spectrum, in slot and lobe order, equal to E · R(θ) · (n' + 2) / 2 formed here
+        // lobe by lobe; lobes without one are never seen.
+        let (prepared, cells) = StoneCells::of_default_scene([40, 30, 10]);
+        let spectrum = prepared.light_spectrum();
+        let (_, source) = prepared.placement(30.0);
+        let light = trace_light(
+            &prepared.structure,
+            &cells,
+            &prepared.optics,
+            &LightSetup {
+                source,
+                spectrum: &spectrum,
+                rays: 4096,
+                seed: 1,
+                body_albedo: 0.5,
+                body_extinction_per_mm: 3.0,
+                termination: Termination::DEFAULT,
+            },
+        );
+        let optics = ClusterOptics::new(&prepared.optics);
+        let shading = Shading::new(&prepared.structure, &cells, &optics, &light, 40.0, 0.5);
+        let bins = shading.bins;
+        let mut r = vec![0.0f32; bins];
+        let (mut packed, mut with_light) = (0usize, 0usize);
+        for (slot, shade) in shading.clusters.iter().enumerate() {
+            assert_eq!(shade.first as usize, packed, "slot {slot}");
+            for (lobe, l) in shade.lobes.iter().enumerate() {
+                if !l.has_spectrum() {
+                    assert!(l.cos_min > 1.0, "a lobe without a spectrum is never seen");
+                    continue;
+                }
+                let w = light.directions[slot * LOBES + lobe];
+                let cos = w.dot(shade.normal).abs();
+                let reflectance: Vec<f32> = match optics.reflectance(cos, &mut r) {
+                    Some(flat) => vec![flat; bins],
+                    None => r.clone(),
+                };
+                let peak = 0.5 * (l.exponent + 2.0);
+                let expected: Vec<f32> = light
+                    .fluence(slot, lobe)
+                    .iter()
+                    .zip(&reflectance)
+                    .map(|(&e, &r)| e * r * peak)
+                    .collect();
+                let got = &shading.specular[packed * bins..(packed + 1) * bins];
+                assert_eq!(got, &expected[..], "slot {slot}, lobe {lobe}");
+                with_light += usize::from(got.iter().any(|&v| v > 0.0));
+                packed += 1;
+            }
+        }
+        assert_eq!(shading.specular.len(), packed * bins);
+        assert!(
+            with_light > shading.clusters.len() / 4,
+            "{with_light} lit lobes of {} slots",
+            shading.clusters.len()
+        );
+    }
+}
