@@ -15,7 +15,7 @@ use rayon::prelude::*;
 
 use super::interaction::Transmission;
 use super::source::LightSource;
-use super::walk::Walker;
+use super::walk::{Site, Walker};
 use crate::geometry::{fresnel_dielectric, refract, Ellipsoid, Ray};
 use crate::structure::Cell;
 
@@ -143,7 +143,7 @@ impl Walker<'_> {
         let mut peak = light.peak;
         let mut scale = irradiance * light.top;
         let ray = Ray::new(p, d);
-        let mut last_normal = Vec3::NAN;
+        let mut last_patch = Site::NO_PATCH;
         let reach = (centre - p).length() + self.grid.cell.length();
         self.grid.traverse(
             &ray,
@@ -174,10 +174,10 @@ impl Walker<'_> {
                     Cell::Cluster if own => {}
                     Cell::Cluster => {
                         // Cells of one patch, met one after another, share the transmittance.
-                        let normal = site.normal;
-                        if normal != last_normal {
+                        if site.patch() != last_patch {
+                            last_patch = site.patch();
+                            let normal = self.patch_normals[last_patch as usize];
                             self.optics.transmission(d.dot(normal).abs(), transmission);
-                            last_normal = normal;
                         }
                         scale *= transmission.apply(out, &mut peak);
                     }

@@ -220,6 +220,12 @@ fn inverse_inside_volumes(grid: &CellGrid, shape: &Ellipsoid, cell_of_slot: &[us
         .collect()
 }
 
+/// [`inverse_inside_volumes`] of a cell wholly inside: the same arithmetic, the same bits.
+fn whole_inverse_volume(grid: &CellGrid) -> f32 {
+    let fraction = 1.0f32;
+    1.0 / (fraction * grid.cell_volume())
+}
+
 /// The stone's cells as the passes read them, whatever the light: computed once per stone
 /// (the frames of a sweep share it).
 #[derive(Clone, Debug)]
@@ -236,8 +242,13 @@ pub struct StoneCells {
     pub normals: Vec<Vec3>,
     /// Per cell, what a light ray crossing it reads.
     pub(crate) sites: Vec<Site>,
+    /// The (111) normal of each patch: every distinct normal of the clusters, in the order of
+    /// the first cell that has it.
+    pub patch_normals: Vec<Vec3>,
     /// Per slot, 1 / (the cell's volume inside the stone), mm⁻³.
     pub inv_volume: Vec<f32>,
+    /// 1 / (the volume of a cell wholly inside the stone), mm⁻³.
+    pub whole_inv_volume: f32,
 }
 
 impl StoneCells {
@@ -262,14 +273,36 @@ impl StoneCells {
                 _ => Vec3::ZERO,
             })
             .collect();
+        let inv_volume = inverse_inside_volumes(&grid, &shape, &cell_of_slot);
+        let whole_inv_volume = whole_inverse_volume(&grid);
+        // Patches: the distinct normals (a growth step gives all the cells of its ball one
+        // orientation), found mostly by comparing with the cell before.
+        let mut patch_normals = Vec::new();
+        let mut patch_of = std::collections::HashMap::new();
+        let mut last = (Vec3::NAN, Site::NO_PATCH);
         let sites = structure
             .cells
             .iter()
             .zip(&normals)
             .zip(&slot_of_cell)
-            .map(|((&cell, &normal), &slot)| Site::new(cell, normal, slot))
+            .map(|((&cell, &normal), &slot)| {
+                let mut patch = Site::NO_PATCH;
+                if cell == Cell::Cluster {
+                    if normal != last.0 {
+                        let id = *patch_of
+                            .entry(normal.to_array().map(f32::to_bits))
+                            .or_insert_with(|| {
+                                patch_normals.push(normal);
+                                (patch_normals.len() - 1) as u32
+                            });
+                        last = (normal, id);
+                    }
+                    patch = last.1;
+                }
+                let whole = slot != NO_SLOT && inv_volume[slot as usize] == whole_inv_volume;
+                Site::new(cell, patch, slot, whole)
+            })
             .collect();
-        let inv_volume = inverse_inside_volumes(&grid, &shape, &cell_of_slot);
         StoneCells {
             shape,
             grid,
@@ -277,7 +310,9 @@ impl StoneCells {
             cell_of_slot,
             normals,
             sites,
+            patch_normals,
             inv_volume,
+            whole_inv_volume,
         }
     }
 
@@ -303,6 +338,7 @@ impl<'a> Walker<'a> {
         let StoneCells { shape, grid, .. } = *cells;
         Walker {
             sites: &cells.sites,
+            patch_normals: &cells.patch_normals,
             cell_of_slot: &cells.cell_of_slot,
             optics: ClusterOptics::new(optics),
             shape,
@@ -315,6 +351,7 @@ impl<'a> Walker<'a> {
             body_albedo: setup.body_albedo,
             body_extinction_per_mm: setup.body_extinction_per_mm,
             inv_volume: &cells.inv_volume,
+            whole_inv_volume: cells.whole_inv_volume,
             seed: setup.seed,
             termination: setup.termination,
         }
@@ -446,6 +483,54 @@ pub fn trace_light(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn each_site_holds_its_cells_slot_kind_volume_and_normal() {
+        // The paper's grid: a stone of many patches.
+        let (prepared, cells) = StoneCells::of_default_scene([100, 75, 25]);
+        let structure = &prepared.structure;
+        let (mut whole, mut cut) = (0, 0);
+        for (cell, site) in cells.sites.iter().enumerate() {
+            assert_eq!(site.cell(), structure.cells[cell], "cell {cell}");
+            let slot = cells.slot_of_cell[cell];
+            if slot == NO_SLOT {
+                continue;
+            }
+            assert_eq!(site.slot(), slot as usize, "cell {cell}");
+            let inv_volume = cells.inv_volume[slot as usize];
+            if site.whole() {
+                whole += 1;
+                assert_eq!(inv_volume.to_bits(), cells.whole_inv_volume.to_bits());
+            } else {
+                cut += 1;
+                assert!(
+                    inv_volume > cells.whole_inv_volume,
+                    "cell {cell}: {inv_volume}"
+                );
+            }
+            match site.cell() {
+                Cell::Cluster => {
+                    let normal = cells.patch_normals[site.patch() as usize];
+                    assert_eq!(normal.to_array(), cells.normals[cell].to_array());
+                }
+                _ => assert_eq!(site.patch(), walk::Site::NO_PATCH),
+            }
+        }
+        assert!(
+            whole > 1000 && cut > 100,
+            "{whole} whole cells, {cut} cut by the surface"
+        );
+        // One patch per distinct normal.
+        let mut bits: Vec<[u32; 3]> = cells
+            .patch_normals
+            .iter()
+            .map(|n| n.to_array().map(f32::to_bits))
+            .collect();
+        bits.sort_unstable();
+        bits.dedup();
+        assert_eq!(bits.len(), cells.patch_normals.len());
+        assert!(cells.patch_normals.len() > 20, "{}", cells.patch_normals.len());
+    }
 
     #[test]
     fn every_tile_is_traced_once_the_rim_first() {

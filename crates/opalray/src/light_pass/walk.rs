@@ -23,8 +23,10 @@ const TRAPPED_SPLIT: u64 = 2;
 
 /// Everything a light ray needs to know, shared by all threads.
 pub(crate) struct Walker<'a> {
-    /// Per cell, what a crossing ray reads: the (111) normal and the storage slot.
+    /// Per cell, what a crossing ray reads: its slot, kind and patch.
     pub sites: &'a [Site],
+    /// The (111) normal of each patch.
+    pub patch_normals: &'a [Vec3],
     pub cell_of_slot: &'a [usize],
     pub optics: ClusterOptics<'a>,
     pub shape: Ellipsoid,
@@ -38,39 +40,53 @@ pub(crate) struct Walker<'a> {
     pub body_extinction_per_mm: f32,
     /// Per slot, 1 / (the cell's volume inside the stone), mm⁻³.
     pub inv_volume: &'a [f32],
+    /// The same for a cell wholly inside (no memory access for most cells).
+    pub whole_inv_volume: f32,
     pub seed: u64,
     /// How light too weak to follow ends.
     pub termination: Termination,
 }
 
-/// What a ray crossing a cell reads about it, in one record (one memory access instead of
-/// one per array): the cluster's (111) normal (zero elsewhere), the cell's storage slot and
-/// its kind.
-#[derive(Clone, Copy, Debug)]
+/// What a ray crossing a cell reads about it, in one 8-byte record (one memory access instead
+/// of one per array, eight records to a cache line): the cell's storage slot, its kind,
+/// whether it lies wholly inside the stone, and for a cluster its patch, the index of its
+/// (111) normal in [`StoneCells::patch_normals`](super::StoneCells::patch_normals).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Site {
-    pub normal: Vec3,
-    /// The slot, with [`Site::CLUSTER`] set for a cluster; [`NO_SLOT`] outside.
+    /// The slot, with [`Site::CLUSTER`] set for a cluster and [`Site::WHOLE`] for a cell with
+    /// all eight corners inside the stone; [`NO_SLOT`] outside.
     tag: u32,
+    /// A cluster's patch ([`Site::NO_PATCH`] for voids and outside).
+    patch: u32,
 }
 
 impl Site {
-    /// Marks a cluster's slot (slots stay below it: one per cell).
+    /// Marks a cluster's slot.
     const CLUSTER: u32 = 1 << 31;
+    /// Marks a cell wholly inside the stone (slots stay below it: the grid's size is checked).
+    const WHOLE: u32 = 1 << 30;
+    /// The patch of cells that are not clusters: never equal to a cluster's.
+    pub const NO_PATCH: u32 = u32::MAX;
 
-    /// The site of a cell.
-    pub fn new(cell: Cell, normal: Vec3, slot: u32) -> Self {
+    /// The site of a cell stored at `slot`, in `patch` if a cluster.
+    pub fn new(cell: Cell, patch: u32, slot: u32, whole: bool) -> Self {
+        assert!(
+            cell == Cell::Outside || slot < Site::WHOLE,
+            "slots stay below 2³⁰ (the grid's size is checked)"
+        );
+        let whole = if whole { Site::WHOLE } else { 0 };
         match cell {
             Cell::Cluster => Site {
-                normal,
-                tag: slot | Site::CLUSTER,
+                tag: slot | whole | Site::CLUSTER,
+                patch,
             },
             Cell::Void => Site {
-                normal: Vec3::ZERO,
-                tag: slot,
+                tag: slot | whole,
+                patch: Site::NO_PATCH,
             },
             Cell::Outside => Site {
-                normal: Vec3::ZERO,
                 tag: NO_SLOT,
+                patch: Site::NO_PATCH,
             },
         }
     }
@@ -90,7 +106,19 @@ impl Site {
     /// The cell's storage slot (meaningless outside).
     #[inline(always)]
     pub fn slot(&self) -> usize {
-        (self.tag & !Site::CLUSTER) as usize
+        (self.tag & !(Site::CLUSTER | Site::WHOLE)) as usize
+    }
+
+    /// Whether the cell lies wholly inside the stone (meaningless outside).
+    #[inline(always)]
+    pub fn whole(&self) -> bool {
+        self.tag & Site::WHOLE != 0
+    }
+
+    /// A cluster's patch: the index of its normal.
+    #[inline(always)]
+    pub fn patch(&self) -> u32 {
+        self.patch
     }
 }
 
@@ -410,7 +438,8 @@ impl Walker<'_> {
         };
         ledger.branches += 1;
         let mut alive = true;
-        let mut last_normal = Vec3::NAN;
+        let mut last_patch = Site::NO_PATCH;
+        let mut normal = Vec3::ZERO;
         let mut last_split = Split::Flat {
             r: 0.0,
             t: 1.0,
@@ -451,12 +480,17 @@ impl Walker<'_> {
                 };
                 // The direct light is computed per cell (`direct.rs`), not stored.
                 if kind != DIRECT {
+                    let inv_volume = if site.whole() {
+                        self.whole_inv_volume
+                    } else {
+                        self.inv_volume[slot]
+                    };
                     acc.deposit(
                         slot * SCATTERED_LOBES + lobe - 1,
                         &shape,
-                        scale * track * self.inv_volume[slot],
+                        scale * track * inv_volume,
                         direction,
-                        power * track * self.inv_volume[slot],
+                        power * track * inv_volume,
                     );
                 }
                 match cell {
@@ -469,12 +503,12 @@ impl Walker<'_> {
                         power *= kept;
                     }
                     Cell::Cluster => {
-                        let normal = site.normal;
                         // Cells of one patch, met one after another, split the light alike:
                         // `r`, `t`, `d` still hold the last split's window.
-                        if normal != last_normal {
+                        if site.patch() != last_patch {
+                            last_patch = site.patch();
+                            normal = self.patch_normals[last_patch as usize];
                             last_split = self.optics.split(direction.dot(normal).abs(), r, t, d);
-                            last_normal = normal;
                         }
                         // Split into the Bragg-reflected branch (followed only if strong
                         // enough), the diffuse part (stored here) and the transmitted ray.
