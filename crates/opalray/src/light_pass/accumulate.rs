@@ -133,10 +133,9 @@ pub fn directions(sums: &[f32], bins: usize) -> (Vec<Vec3>, Vec<f32>) {
 pub struct TileSums {
     stride: usize,
     bins: usize,
-    /// For each global entry, the tile generation that last touched it and, if that is
-    /// this generation, its local index (one record: one memory access per deposit).
-    stamp: Vec<(u32, u32)>,
-    generation: u32,
+    /// For each global entry, one more than its local index if this tile touched it, else 0
+    /// (four bytes an entry: the array stays small enough for the core's cache).
+    stamp: Vec<u32>,
     entries: Vec<u32>,
     sums: Vec<f32>,
 }
@@ -147,20 +146,19 @@ impl TileSums {
         TileSums {
             stride: bins + 4,
             bins,
-            stamp: vec![(0, 0); entries],
-            generation: 1,
+            stamp: vec![0; entries],
             entries: Vec::new(),
             sums: Vec::new(),
         }
     }
 
     fn clear(&mut self) {
+        // Only the entries touched were marked.
+        for &entry in &self.entries {
+            self.stamp[entry as usize] = 0;
+        }
         self.entries.clear();
         self.sums.clear();
-        self.generation = self.generation.wrapping_add(1).max(1);
-        if self.generation == 1 {
-            self.stamp.fill((0, 0));
-        }
     }
 
     /// Add `weight × spectrum` to `entry`, and its direction weighted by `power`.
@@ -173,10 +171,10 @@ impl TileSums {
         direction: Vec3,
         power: f32,
     ) {
-        let (stamp, mut local) = self.stamp[entry];
-        if stamp != self.generation {
+        let mut local = self.stamp[entry].wrapping_sub(1);
+        if local == u32::MAX {
             local = self.entries.len() as u32;
-            self.stamp[entry] = (self.generation, local);
+            self.stamp[entry] = local + 1;
             self.entries.push(entry as u32);
             self.sums.resize(self.sums.len() + self.stride, 0.0);
         }

@@ -529,7 +529,11 @@ mod tests {
         bits.sort_unstable();
         bits.dedup();
         assert_eq!(bits.len(), cells.patch_normals.len());
-        assert!(cells.patch_normals.len() > 20, "{}", cells.patch_normals.len());
+        assert!(
+            cells.patch_normals.len() > 20,
+            "{}",
+            cells.patch_normals.len()
+        );
     }
 
     #[test]
