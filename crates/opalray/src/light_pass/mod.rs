@@ -47,6 +47,8 @@ pub const LOBES: usize = 3;
 const SCATTERED_LOBES: usize = 2;
 /// Marks a cell with no storage (outside the stone).
 pub const NO_SLOT: u32 = u32::MAX;
+/// The patch of a cell that is not a cluster (see [`StoneCells::patch_normals`]).
+pub const NO_PATCH: u32 = u32::MAX;
 /// Work items are square tiles of the ray lattice, this many rays on a side: neighbouring
 /// rays cross the same cells, so a tile's deposits stay in cache.
 const TILE: u64 = 32;
@@ -314,6 +316,12 @@ impl StoneCells {
             inv_volume,
             whole_inv_volume,
         }
+    }
+
+    /// The patch of cell `cell`: the index of its normal in [`StoneCells::patch_normals`], or
+    /// [`NO_PATCH`] if it is not a cluster.
+    pub fn patch(&self, cell: usize) -> u32 {
+        self.sites[cell].patch()
     }
 
     /// Storage slots: inside cells.

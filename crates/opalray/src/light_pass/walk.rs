@@ -66,7 +66,7 @@ impl Site {
     /// Marks a cell wholly inside the stone (slots stay below it: the grid's size is checked).
     const WHOLE: u32 = 1 << 30;
     /// The patch of cells that are not clusters: never equal to a cluster's.
-    pub const NO_PATCH: u32 = u32::MAX;
+    pub const NO_PATCH: u32 = super::NO_PATCH;
 
     /// The site of a cell stored at `slot`, in `patch` if a cluster.
     pub fn new(cell: Cell, patch: u32, slot: u32, whole: bool) -> Self {

@@ -16,7 +16,9 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, CellGrid, Ellipsoid, Ray};
-use crate::light_pass::{stone_geometry, ClusterOptics, LightField, LightSource, Transmission};
+use crate::light_pass::{
+    stone_geometry, ClusterOptics, LightField, LightSource, Transmission, NO_PATCH,
+};
 use crate::optics::OpticsTables;
 use crate::spectrum::SpectralImage;
 use crate::structure::{Cell, Structure};
@@ -373,7 +375,7 @@ impl View<'_> {
                     let to_eye = -dir;
                     // Along one segment, cells of one patch meet the ray at the same angle and
                     // share their transmittance.
-                    let mut last_normal = Vec3::NAN;
+                    let mut last_patch = NO_PATCH;
                     self.grid.traverse(
                         &inner,
                         t0.max(0.0),
@@ -419,11 +421,12 @@ impl View<'_> {
                                             [slot * self.bins..(slot + 1) * self.bins];
                                         add_filtered(pixel, shape_thr, glow, scale);
                                     }
-                                    let normal = shade.normal;
-                                    if normal != last_normal {
+                                    if shade.patch != last_patch {
+                                        last_patch = shade.patch;
+                                        let normal =
+                                            self.shading.patch_normals[last_patch as usize];
                                         self.optics
                                             .transmission(dir.dot(normal).abs(), transmission);
-                                        last_normal = normal;
                                     }
                                     scale *= transmission.apply(shape_thr, peak);
                                 }

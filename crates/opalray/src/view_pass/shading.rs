@@ -5,7 +5,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::light_pass::{ClusterOptics, LightField, StoneCells, LOBES, NO_SLOT};
+use crate::light_pass::{ClusterOptics, LightField, StoneCells, LOBES, NO_PATCH, NO_SLOT};
 use crate::structure::{Cell, Structure};
 
 /// Phong lobes below this fraction of their peak are skipped.
@@ -98,11 +98,12 @@ impl CellTag {
 }
 
 /// What a camera ray reads about a cluster it crosses, in one record (one or two cache lines
-/// instead of one per array): its (111) normal and the specular lobe of each stored light.
+/// instead of one per array): its patch (whose (111) normal is in [`Shading::patch_normals`])
+/// and the specular lobe of each stored light.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ClusterShade {
-    /// The (111) normal (zero for voids).
-    pub normal: Vec3,
+    /// The cluster's patch ([`NO_PATCH`] for voids).
+    pub patch: u32,
     /// The specular lobe of each stored light.
     pub lobes: [Lobe; LOBES],
     /// Index in [`Shading::specular`] of the spectrum of its first lobe that has one; the
@@ -111,7 +112,7 @@ pub struct ClusterShade {
 }
 
 const NO_SHADE: ClusterShade = ClusterShade {
-    normal: Vec3::ZERO,
+    patch: NO_PATCH,
     lobes: [NO_LOBE; LOBES],
     first: 0,
 };
@@ -126,8 +127,10 @@ pub struct Shading {
     pub bins: usize,
     /// Per cell of the grid, its slot, kind and whether it glows.
     pub tags: Vec<CellTag>,
-    /// Per slot, the cluster's normal and specular lobes.
+    /// Per slot, the cluster's patch and specular lobes.
     pub clusters: Vec<ClusterShade>,
+    /// The (111) normal of each patch (see [`StoneCells::patch_normals`]).
+    pub patch_normals: Vec<Vec3>,
     /// Specular spectra `E · R(θ) · peak` of the lobes that have a specular term (61 % of the
     /// default render's), packed: `bins` values each, in slot and lobe order (see
     /// [`ClusterShade::first`]); the peak of the normalised Phong lobe times π is
@@ -163,7 +166,7 @@ impl Shading {
                     return;
                 }
                 let normal = cells.normals[cell];
-                shade.normal = normal;
+                shade.patch = cells.patch(cell);
                 for (lobe, out) in shade.lobes.iter_mut().enumerate() {
                     let w = light.directions[slot * LOBES + lobe];
                     if w == Vec3::ZERO || w.dot(normal).abs() < MIN_SPECULAR_COS {
@@ -215,9 +218,11 @@ impl Shading {
                             for (j, glow) in glows.chunks_exact_mut(bins).enumerate() {
                                 let slot = k * RUN + j;
                                 let shade = &clusters[slot];
+                                let cell = cell_of_slot[slot];
                                 shade_slot(
-                                    structure.cells[cell_of_slot[slot]],
+                                    structure.cells[cell],
                                     shade,
+                                    cells.normals[cell],
                                     optics,
                                     light,
                                     slot,
@@ -247,19 +252,21 @@ impl Shading {
             bins,
             tags,
             clusters,
+            patch_normals: cells.patch_normals.clone(),
             specular,
             diffuse,
         }
     }
 }
 
-/// The glow of one slot into `glow`, and the specular spectra of its lobes that have one,
+/// The glow of one slot (a cluster's of normal `normal`) into `glow`, and the specular spectra of its lobes that have one,
 /// each into the next chunk of `spec`; `d` is scratch space of `bins` values.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn shade_slot<'s>(
     cell: Cell,
     shade: &ClusterShade,
+    normal: Vec3,
     optics: &ClusterOptics,
     light: &LightField,
     slot: usize,
@@ -270,7 +277,6 @@ fn shade_slot<'s>(
 ) {
     match cell {
         Cell::Cluster => {
-            let normal = shade.normal;
             for (lobe, l) in shade.lobes.iter().enumerate() {
                 let w = light.directions[slot * LOBES + lobe];
                 if w == Vec3::ZERO {
@@ -366,7 +372,7 @@ mod tests {
                     continue;
                 }
                 let w = light.directions[slot * LOBES + lobe];
-                let cos = w.dot(shade.normal).abs();
+                let cos = w.dot(shading.patch_normals[shade.patch as usize]).abs();
                 let reflectance: Vec<f32> = match optics.reflectance(cos, &mut r) {
                     Some(flat) => vec![flat; bins],
                     None => r.clone(),
