@@ -19,7 +19,8 @@
 
 use rayon::prelude::*;
 
-use super::{StoneCells, LOBES, NO_SLOT};
+use super::walk::Site;
+use super::{StoneCells, LOBES};
 use crate::structure::Cell;
 
 /// Normals closer than this (|cos|) count as the same orientation.
@@ -75,11 +76,20 @@ pub(crate) fn smooth_sums(
 ) {
     let [nx, ny, nz] = stone.grid.n;
     let plane = nx * ny;
-    let (cell_of_slot, slot_of_cell, normals) =
-        (&stone.cell_of_slot, &stone.slot_of_cell, &stone.normals);
-    let same_patch = |a: usize, b: usize| match (cells[a], cells[b]) {
+    let (cell_of_slot, sites, patch_normals) =
+        (&stone.cell_of_slot, &stone.sites, &stone.patch_normals);
+    debug_assert!(cells.iter().zip(sites).all(|(&c, s)| c == s.cell()));
+    // One 8-byte site per cell tells its kind, slot and patch; two clusters of different
+    // patches may still share a patch here if their normals are that close.
+    let same_patch = |a: Site, b: Site| match (a.cell(), b.cell()) {
         (Cell::Void, Cell::Void) => true,
-        (Cell::Cluster, Cell::Cluster) => normals[a].dot(normals[b]).abs() >= SAME_PATCH_COS,
+        (Cell::Cluster, Cell::Cluster) => {
+            a.patch() == b.patch()
+                || patch_normals[a.patch() as usize]
+                    .dot(patch_normals[b.patch() as usize])
+                    .abs()
+                    >= SAME_PATCH_COS
+        }
         _ => false,
     };
     // The slot of the neighbour `cell ± step` along an axis (on which `cell` has coordinate
@@ -90,8 +100,8 @@ pub(crate) fn smooth_sums(
         } else {
             (coord > 0).then(|| cell - step)
         }?;
-        let slot = slot_of_cell[other];
-        (slot != NO_SLOT && same_patch(cell, other)).then_some(slot as usize)
+        let site = sites[other];
+        (site.cell() != Cell::Outside && same_patch(sites[cell], site)).then(|| site.slot())
     };
     let width = LOBES * width_per_lobe;
     // Slots are numbered in cell order, so each plane's and each row's are consecutive.
@@ -196,6 +206,7 @@ pub(crate) fn smooth_sums(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::light_pass::NO_SLOT;
 
     /// The kernel as three plain passes, each from one whole array into another.
     fn three_passes(fluence: &[f32], cells: &[Cell], stone: &StoneCells, width: usize) -> Vec<f32> {
