@@ -240,12 +240,12 @@ pub struct StoneCells {
     pub slot_of_cell: Vec<u32>,
     /// The cell of each slot.
     pub cell_of_slot: Vec<usize>,
-    /// Per cell, the cluster's (111) normal (zero for voids and outside).
-    pub normals: Vec<Vec3>,
     /// Per cell, what a light ray crossing it reads.
     pub(crate) sites: Vec<Site>,
-    /// The (111) normal of each patch: every distinct normal of the clusters, in the order of
-    /// the first cell that has it.
+    /// The (111) normal of each patch: a patch is every cluster cell of one orientation (one
+    /// growth step's ball, less what later balls overwrote), numbered in the order of its
+    /// first cell. (Two patches may share a normal: the planes of a close-packed stack keep
+    /// their normal under turns about it.)
     pub patch_normals: Vec<Vec3>,
     /// Per slot, 1 / (the cell's volume inside the stone), mm⁻³.
     pub inv_volume: Vec<f32>,
@@ -266,38 +266,29 @@ impl StoneCells {
                 cell_of_slot.push(cell);
             }
         }
-        let normals: Vec<Vec3> = structure
-            .cells
-            .par_iter()
-            .enumerate()
-            .map(|(i, c)| match c {
-                Cell::Cluster => structure.normal(i),
-                _ => Vec3::ZERO,
-            })
-            .collect();
         let inv_volume = inverse_inside_volumes(&grid, &shape, &cell_of_slot);
         let whole_inv_volume = whole_inverse_volume(&grid);
-        // Patches: the distinct normals (a growth step gives all the cells of its ball one
-        // orientation), found mostly by comparing with the cell before.
+        // Patches: the distinct orientations (a growth step gives all the cells of its ball
+        // one), found mostly by comparing with the cell before; their normals are formed once
+        // each.
         let mut patch_normals = Vec::new();
         let mut patch_of = std::collections::HashMap::new();
-        let mut last = (Vec3::NAN, Site::NO_PATCH);
+        let mut last = ([u32::MAX; 4], NO_PATCH);
         let sites = structure
             .cells
             .iter()
-            .zip(&normals)
+            .enumerate()
             .zip(&slot_of_cell)
-            .map(|((&cell, &normal), &slot)| {
-                let mut patch = Site::NO_PATCH;
+            .map(|((index, &cell), &slot)| {
+                let mut patch = NO_PATCH;
                 if cell == Cell::Cluster {
-                    if normal != last.0 {
-                        let id = *patch_of
-                            .entry(normal.to_array().map(f32::to_bits))
-                            .or_insert_with(|| {
-                                patch_normals.push(normal);
-                                (patch_normals.len() - 1) as u32
-                            });
-                        last = (normal, id);
+                    let key = structure.orientations[index].to_array().map(f32::to_bits);
+                    if key != last.0 {
+                        let id = *patch_of.entry(key).or_insert_with(|| {
+                            patch_normals.push(structure.normal(index));
+                            (patch_normals.len() - 1) as u32
+                        });
+                        last = (key, id);
                     }
                     patch = last.1;
                 }
@@ -310,11 +301,18 @@ impl StoneCells {
             grid,
             slot_of_cell,
             cell_of_slot,
-            normals,
             sites,
             patch_normals,
             inv_volume,
             whole_inv_volume,
+        }
+    }
+
+    /// The (111) normal of cell `cell` if it is a cluster, else zero.
+    pub fn normal(&self, cell: usize) -> Vec3 {
+        match self.sites[cell].patch() {
+            NO_PATCH => Vec3::ZERO,
+            patch => self.patch_normals[patch as usize],
         }
     }
 
@@ -519,29 +517,36 @@ mod tests {
             match site.cell() {
                 Cell::Cluster => {
                     let normal = cells.patch_normals[site.patch() as usize];
-                    assert_eq!(normal.to_array(), cells.normals[cell].to_array());
+                    assert_eq!(normal.to_array(), structure.normal(cell).to_array());
+                    assert_eq!(cells.normal(cell), normal);
                 }
-                _ => assert_eq!(site.patch(), walk::Site::NO_PATCH),
+                _ => {
+                    assert_eq!(site.patch(), NO_PATCH);
+                    assert_eq!(cells.normal(cell), Vec3::ZERO);
+                }
             }
         }
         assert!(
             whole > 1000 && cut > 100,
             "{whole} whole cells, {cut} cut by the surface"
         );
-        // One patch per distinct normal.
-        let mut bits: Vec<[u32; 3]> = cells
-            .patch_normals
-            .iter()
-            .map(|n| n.to_array().map(f32::to_bits))
+        // One patch per orientation: its cells share one, and no two patches have the same.
+        let mut orientation_of = vec![None; cells.patch_normals.len()];
+        for (cell, site) in cells.sites.iter().enumerate() {
+            if site.cell() == Cell::Cluster {
+                let key = structure.orientations[cell].to_array().map(f32::to_bits);
+                let seen = orientation_of[site.patch() as usize].get_or_insert(key);
+                assert_eq!(*seen, key, "cell {cell}");
+            }
+        }
+        let mut keys: Vec<[u32; 4]> = orientation_of
+            .into_iter()
+            .map(|k| k.expect("every patch has a cell"))
             .collect();
-        bits.sort_unstable();
-        bits.dedup();
-        assert_eq!(bits.len(), cells.patch_normals.len());
-        assert!(
-            cells.patch_normals.len() > 20,
-            "{}",
-            cells.patch_normals.len()
-        );
+        keys.sort_unstable();
+        keys.dedup();
+        assert_eq!(keys.len(), cells.patch_normals.len());
+        assert!(keys.len() > 20, "{} patches", keys.len());
     }
 
     #[test]

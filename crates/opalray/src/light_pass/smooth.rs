@@ -215,7 +215,7 @@ mod tests {
         let same_patch = |a: usize, b: usize| match (cells[a], cells[b]) {
             (Cell::Void, Cell::Void) => true,
             (Cell::Cluster, Cell::Cluster) => {
-                stone.normals[a].dot(stone.normals[b]).abs() >= SAME_PATCH_COS
+                stone.normal(a).dot(stone.normal(b)).abs() >= SAME_PATCH_COS
             }
             _ => false,
         };

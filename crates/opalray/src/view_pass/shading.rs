@@ -165,7 +165,7 @@ impl Shading {
                 if structure.cells[cell] != Cell::Cluster {
                     return;
                 }
-                let normal = cells.normals[cell];
+                let normal = cells.normal(cell);
                 shade.patch = cells.patch(cell);
                 for (lobe, out) in shade.lobes.iter_mut().enumerate() {
                     let w = light.directions[slot * LOBES + lobe];
@@ -222,7 +222,7 @@ impl Shading {
                                 shade_slot(
                                     structure.cells[cell],
                                     shade,
-                                    cells.normals[cell],
+                                    cells.normal(cell),
                                     optics,
                                     light,
                                     slot,
