@@ -15,7 +15,8 @@ use rayon::prelude::*;
 
 use super::interaction::Transmission;
 use super::source::LightSource;
-use super::walk::{Site, Walker};
+use super::walk::Walker;
+use super::NO_PATCH;
 use crate::geometry::{fresnel_dielectric, refract, Ellipsoid, Ray};
 use crate::structure::Cell;
 
@@ -143,7 +144,7 @@ impl Walker<'_> {
         let mut peak = light.peak;
         let mut scale = irradiance * light.top;
         let ray = Ray::new(p, d);
-        let mut last_patch = Site::NO_PATCH;
+        let mut last_patch = NO_PATCH;
         let reach = (centre - p).length() + self.grid.cell.length();
         self.grid.traverse(
             &ray,

@@ -205,27 +205,26 @@ fn inverse_inside_volumes(grid: &CellGrid, shape: &Ellipsoid, cell_of_slot: &[us
                     Vec3::new((k & 1) as f32, ((k >> 1) & 1) as f32, ((k >> 2) & 1) as f32);
                 shape.contains(corner + offset * grid.cell)
             });
-            let fraction = if whole {
-                1.0
-            } else {
-                let n = VOLUME_SAMPLES;
-                let inside = (0..n * n * n)
-                    .filter(|&k| {
-                        let u = Vec3::new((k % n) as f32, (k / n % n) as f32, (k / (n * n)) as f32);
-                        shape.contains(corner + (u + 0.5) / n as f32 * grid.cell)
-                    })
-                    .count();
-                (inside.max(1) as f32) / (n * n * n) as f32
-            };
+            if whole {
+                return whole_inverse_volume(grid);
+            }
+            let n = VOLUME_SAMPLES;
+            let inside = (0..n * n * n)
+                .filter(|&k| {
+                    let u = Vec3::new((k % n) as f32, (k / n % n) as f32, (k / (n * n)) as f32);
+                    shape.contains(corner + (u + 0.5) / n as f32 * grid.cell)
+                })
+                .count();
+            let fraction = (inside.max(1) as f32) / (n * n * n) as f32;
             1.0 / (fraction * grid.cell_volume())
         })
         .collect()
 }
 
-/// [`inverse_inside_volumes`] of a cell wholly inside: the same arithmetic, the same bits.
+/// 1 / (the volume of a cell wholly inside the stone), as [`inverse_inside_volumes`] gives
+/// it for such a cell.
 fn whole_inverse_volume(grid: &CellGrid) -> f32 {
-    let fraction = 1.0f32;
-    1.0 / (fraction * grid.cell_volume())
+    1.0 / grid.cell_volume()
 }
 
 /// The stone's cells as the passes read them, whatever the light: computed once per stone
@@ -474,7 +473,7 @@ pub fn trace_light(
     let stride = sums.stride();
     let mut sums = sums.into_sums();
     walker.fill_direct(&mut sums, stride, LOBES);
-    smooth::smooth_sums(&mut sums, &structure.cells, cells, stride);
+    smooth::smooth_sums(&mut sums, cells, stride);
     let (directions, concentration) = directions(&sums, bins);
     LightField {
         grid: optics.grid,

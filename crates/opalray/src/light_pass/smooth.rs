@@ -68,17 +68,11 @@ fn blend_values<T: AsRef<[f32]> + AsMut<[f32]> + ?Sized>(
 }
 
 /// Smooth `fluence` (`slots × LOBES × width_per_lobe` values) in place.
-pub(crate) fn smooth_sums(
-    fluence: &mut [f32],
-    cells: &[Cell],
-    stone: &StoneCells,
-    width_per_lobe: usize,
-) {
+pub(crate) fn smooth_sums(fluence: &mut [f32], stone: &StoneCells, width_per_lobe: usize) {
     let [nx, ny, nz] = stone.grid.n;
     let plane = nx * ny;
     let (cell_of_slot, sites, patch_normals) =
         (&stone.cell_of_slot, &stone.sites, &stone.patch_normals);
-    debug_assert!(cells.iter().zip(sites).all(|(&c, s)| c == s.cell()));
     // One 8-byte site per cell tells its kind, slot and patch; two clusters of different
     // patches may still share a patch here if their normals are that close.
     let same_patch = |a: Site, b: Site| match (a.cell(), b.cell()) {
@@ -278,7 +272,7 @@ mod tests {
             .collect();
         let expected = three_passes(&fluence, cells, stone, width);
         let mut smoothed = fluence.clone();
-        smooth_sums(&mut smoothed, cells, stone, width_per_lobe);
+        smooth_sums(&mut smoothed, stone, width_per_lobe);
         assert_ne!(smoothed, fluence, "the kernel changed something");
         assert!(smoothed
             .iter()

@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::accumulate::TileSums;
 use super::interaction::{ClusterOptics, Split};
 use super::source::{LightSource, RayLattice};
-use super::{EnergyLedger, Termination, NO_SLOT, SCATTERED_LOBES, TILE};
+use super::{EnergyLedger, Termination, NO_PATCH, NO_SLOT, SCATTERED_LOBES, TILE};
 use crate::geometry::{fresnel_dielectric, reflect, refract, CellGrid, Ellipsoid, Ray};
 use crate::sampling::{stage, Rng};
 use crate::spectrum;
@@ -53,10 +53,10 @@ pub(crate) struct Walker<'a> {
 /// (111) normal in [`StoneCells::patch_normals`](super::StoneCells::patch_normals).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Site {
-    /// The slot, with [`Site::CLUSTER`] set for a cluster and [`Site::WHOLE`] for a cell with
-    /// all eight corners inside the stone; [`NO_SLOT`] outside.
+    /// The slot, with [`Site::CLUSTER`] set for a cluster and [`Site::WHOLE`] for a cell whose
+    /// inside volume is a whole cell's; [`NO_SLOT`] outside.
     tag: u32,
-    /// A cluster's patch ([`Site::NO_PATCH`] for voids and outside).
+    /// A cluster's patch ([`NO_PATCH`] for voids and outside).
     patch: u32,
 }
 
@@ -65,8 +65,6 @@ impl Site {
     const CLUSTER: u32 = 1 << 31;
     /// Marks a cell wholly inside the stone (slots stay below it: the grid's size is checked).
     const WHOLE: u32 = 1 << 30;
-    /// The patch of cells that are not clusters: never equal to a cluster's.
-    pub const NO_PATCH: u32 = super::NO_PATCH;
 
     /// The site of a cell stored at `slot`, in `patch` if a cluster.
     pub fn new(cell: Cell, patch: u32, slot: u32, whole: bool) -> Self {
@@ -82,11 +80,11 @@ impl Site {
             },
             Cell::Void => Site {
                 tag: slot | whole,
-                patch: Site::NO_PATCH,
+                patch: NO_PATCH,
             },
             Cell::Outside => Site {
                 tag: NO_SLOT,
-                patch: Site::NO_PATCH,
+                patch: NO_PATCH,
             },
         }
     }
@@ -438,7 +436,7 @@ impl Walker<'_> {
         };
         ledger.branches += 1;
         let mut alive = true;
-        let mut last_patch = Site::NO_PATCH;
+        let mut last_patch = NO_PATCH;
         let mut normal = Vec3::ZERO;
         let mut last_split = Split::Flat {
             r: 0.0,

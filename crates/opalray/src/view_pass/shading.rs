@@ -259,8 +259,9 @@ impl Shading {
     }
 }
 
-/// The glow of one slot (a cluster's of normal `normal`) into `glow`, and the specular spectra of its lobes that have one,
-/// each into the next chunk of `spec`; `d` is scratch space of `bins` values.
+/// The glow of one slot into `glow` (for a cluster, of (111) normal `normal`), and the
+/// specular spectra of its lobes that have one, each into the next chunk of `spec`; `d` is
+/// scratch space of `bins` values.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn shade_slot<'s>(
