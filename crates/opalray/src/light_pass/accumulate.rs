@@ -9,7 +9,6 @@
 //! so the result, and the image bytes, are identical at any thread count.
 
 use glam::Vec3;
-use rayon::prelude::*;
 
 /// Sums of the light crossing each stored cell, in their final layout: the accumulated entries
 /// (slot and scattered lobe), taken `per_group` at a time, fill entries `first ..` of groups of
@@ -102,30 +101,36 @@ impl OrderedSums {
     }
 }
 
-/// The mean directions of float sums (`entries × (bins + 4)`, see
-/// [`OrderedSums::into_sums`]): per entry its unit mean direction (zero where nothing
-/// arrived) and the mean resultant length of the directions (|Σ P·w| / Σ P: 1 for light from
-/// one direction, towards 0 for light from many). The spectra stay where they are.
+/// The mean direction of an entry's direction sums `[Σ P·w (3 values), Σ P]` (see
+/// [`OrderedSums`]): its unit mean direction (zero where nothing arrived) and the mean
+/// resultant length of the directions (|Σ P·w| / Σ P: 1 for light from one direction, towards
+/// 0 for light from many).
+#[inline(always)]
+pub fn mean_direction(sums: [f32; 4]) -> (Vec3, f32) {
+    let d = Vec3::new(sums[0], sums[1], sums[2]);
+    let total = sums[3];
+    let concentration = if total > 0.0 {
+        (d.length() / total).min(1.0)
+    } else {
+        0.0
+    };
+    (d.normalize_or_zero(), concentration)
+}
+
+/// [`mean_direction`] of every entry of float sums (`entries × (bins + 4)`, see
+/// [`OrderedSums::into_sums`]).
+#[cfg(test)]
 pub fn directions(sums: &[f32], bins: usize) -> (Vec<Vec3>, Vec<f32>) {
-    let stride = bins + 4;
-    let entries = sums.len() / stride;
-    let mut directions = vec![Vec3::ZERO; entries];
-    let mut concentration = vec![0.0f32; entries];
-    directions
-        .par_iter_mut()
-        .zip(concentration.par_iter_mut())
-        .zip(sums.par_chunks(stride))
-        .for_each(|((dir, conc), chunk)| {
-            let d = Vec3::new(chunk[bins], chunk[bins + 1], chunk[bins + 2]);
-            let total = chunk[bins + 3];
-            *conc = if total > 0.0 {
-                (d.length() / total).min(1.0)
-            } else {
-                0.0
-            };
-            *dir = d.normalize_or_zero();
-        });
-    (directions, concentration)
+    sums.chunks_exact(bins + 4)
+        .map(|chunk| {
+            mean_direction([
+                chunk[bins],
+                chunk[bins + 1],
+                chunk[bins + 2],
+                chunk[bins + 3],
+            ])
+        })
+        .unzip()
 }
 
 /// The deposits of one tile of rays, in `f32`, for the entries the tile touches.

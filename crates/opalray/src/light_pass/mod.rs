@@ -37,7 +37,7 @@ use crate::optics::OpticsTables;
 use crate::scene::LightConfig;
 use crate::spectrum::WavelengthGrid;
 use crate::structure::{Cell, Structure};
-use accumulate::{directions, OrderedSums, TileSums};
+use accumulate::{OrderedSums, TileSums};
 use walk::{Scratch, Site, Walker};
 
 /// Lobes stored per cell: 0 = direct light; light reflected inside at least once,
@@ -473,8 +473,7 @@ pub fn trace_light(
     let stride = sums.stride();
     let mut sums = sums.into_sums();
     walker.fill_direct(&mut sums, stride, LOBES);
-    smooth::smooth_sums(&mut sums, cells, stride);
-    let (directions, concentration) = directions(&sums, bins);
+    let (directions, concentration) = smooth::smooth_sums(&mut sums, cells, stride);
     LightField {
         grid: optics.grid,
         slot_of_cell: cells.slot_of_cell.clone(),

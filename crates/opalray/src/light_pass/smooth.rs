@@ -17,8 +17,10 @@
 //! passes share one sweep of each plane (a row along x, then the row before it along y), so
 //! the field is swept twice, not three times.
 
+use glam::Vec3;
 use rayon::prelude::*;
 
+use super::accumulate::mean_direction;
 use super::walk::Site;
 use super::{StoneCells, LOBES};
 use crate::structure::Cell;
@@ -67,8 +69,16 @@ fn blend_values<T: AsRef<[f32]> + AsMut<[f32]> + ?Sized>(
     out.iter_mut().for_each(|d| *d *= k);
 }
 
-/// Smooth `fluence` (`slots × LOBES × width_per_lobe` values) in place.
-pub(crate) fn smooth_sums(fluence: &mut [f32], stone: &StoneCells, width_per_lobe: usize) {
+/// Smooth `fluence` (`slots × LOBES × width_per_lobe` values: per slot and lobe a spectrum and
+/// its four direction sums, see [`mean_direction`]) in place, and return the mean direction and
+/// mean resultant length of every slot and lobe of the smoothed sums, formed as the last pass
+/// writes each cell (while its values are still in the cache: a pass of its own would read
+/// the whole field again).
+pub(crate) fn smooth_sums(
+    fluence: &mut [f32],
+    stone: &StoneCells,
+    width_per_lobe: usize,
+) -> (Vec<Vec3>, Vec<f32>) {
     let [nx, ny, nz] = stone.grid.n;
     let plane = nx * ny;
     let (cell_of_slot, sites, patch_normals) =
@@ -158,24 +168,34 @@ pub(crate) fn smooth_sums(fluence: &mut [f32], stone: &StoneCells, width_per_lob
     });
 
     // z: the planes in order, the rows of each in parallel, with the original values of the
-    // previous plane by row and x.
+    // previous plane by row and x; each cell's directions are formed from its final values.
+    let slots = stone.slots();
+    let mut directions = vec![Vec3::ZERO; slots * LOBES];
+    let mut concentration = vec![0.0f32; slots * LOBES];
     let mut below = vec![0.0f32; plane * width];
     for z in 0..nz {
         let (before, after) = fluence.split_at_mut(plane_start[z + 1] * width);
         let next: &[f32] = after;
         let mut rows = Vec::with_capacity(ny);
         let mut rest = &mut before[plane_start[z] * width..];
+        let mut found = (
+            &mut directions[plane_start[z] * LOBES..],
+            &mut concentration[plane_start[z] * LOBES..],
+        );
         let mut start = plane_start[z];
         for y in 0..ny {
             let end = first_slot(z * plane + (y + 1) * nx);
             let (values, after) = rest.split_at_mut((end - start) * width);
-            rows.push((start, values));
+            let (dirs, dirs_after) = found.0.split_at_mut((end - start) * LOBES);
+            let (concs, concs_after) = found.1.split_at_mut((end - start) * LOBES);
+            rows.push((start, values, dirs, concs));
             rest = after;
+            found = (dirs_after, concs_after);
             start = end;
         }
         rows.into_par_iter()
             .zip(below.par_chunks_mut(nx * width))
-            .for_each(|((first, values), below)| {
+            .for_each(|((first, values, dirs, concs), below)| {
                 crate::simd::widest(
                     #[inline(always)]
                     || {
@@ -190,11 +210,17 @@ pub(crate) fn smooth_sums(fluence: &mut [f32], stone: &StoneCells, width_per_lob
                             blend(&mut out, own, lower, upper);
                             kept.copy_from_slice(own);
                             values[k * width..][..width].copy_from_slice(&out);
+                            for (lobe, sums) in out.chunks_exact(width_per_lobe).enumerate() {
+                                let tail = &sums[width_per_lobe - 4..];
+                                (dirs[k * LOBES + lobe], concs[k * LOBES + lobe]) =
+                                    mean_direction([tail[0], tail[1], tail[2], tail[3]]);
+                            }
                         }
                     },
                 )
             });
     }
+    (directions, concentration)
 }
 
 #[cfg(test)]
@@ -272,8 +298,14 @@ mod tests {
             .collect();
         let expected = three_passes(&fluence, cells, stone, width);
         let mut smoothed = fluence.clone();
-        smooth_sums(&mut smoothed, stone, width_per_lobe);
+        let (directions, concentration) = smooth_sums(&mut smoothed, stone, width_per_lobe);
         assert_ne!(smoothed, fluence, "the kernel changed something");
+        let bins = width_per_lobe - 4;
+        assert_eq!(
+            (directions, concentration),
+            crate::light_pass::accumulate::directions(&smoothed, bins),
+            "the directions are those of the smoothed sums"
+        );
         assert!(smoothed
             .iter()
             .zip(&expected)
