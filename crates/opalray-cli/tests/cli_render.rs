@@ -186,6 +186,15 @@ fn bench_prints_json_medians() {
             "{stage}: {fastest} > {median}"
         );
     }
+    // Linux reports the processor time stolen by a hypervisor: a share, or null elsewhere.
+    let stolen = &v["cpu_stolen_fraction"];
+    match stolen.as_f64() {
+        Some(share) => assert!((0.0..=1.0).contains(&share), "{share}"),
+        None => assert!(
+            stolen.is_null() && !cfg!(target_os = "linux"),
+            "cpu_stolen_fraction: {stolen}"
+        ),
+    }
 }
 
 #[test]
