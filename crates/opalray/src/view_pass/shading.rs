@@ -155,22 +155,18 @@ impl Shading {
         let bins = light.grid.bins;
         let slots = light.directions.len() / LOBES;
         let cell_of_slot = &cells.cell_of_slot;
-        // Where each cluster's stored light reflects, and how wide: no spectra yet. (Collected
-        // by all threads, each record written once: filled first with a default by one thread,
-        // the array took a millisecond or two of the others' time.)
-        let mut clusters: Vec<ClusterShade> = (0..slots)
-            .into_par_iter()
-            .with_min_len(RUN)
-            .map(|slot| {
+        // Where each cluster's stored light reflects, and how wide: no spectra yet.
+        let mut clusters = vec![NO_SHADE; slots];
+        clusters
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(slot, shade)| {
                 let cell = cell_of_slot[slot];
                 if structure.cells[cell] != Cell::Cluster {
-                    return NO_SHADE;
+                    return;
                 }
                 let normal = cells.normal(cell);
-                let mut shade = ClusterShade {
-                    patch: cells.patch(cell),
-                    ..NO_SHADE
-                };
+                shade.patch = cells.patch(cell);
                 for (lobe, out) in shade.lobes.iter_mut().enumerate() {
                     let w = light.directions[slot * LOBES + lobe];
                     if w == Vec3::ZERO || w.dot(normal).abs() < MIN_SPECULAR_COS {
@@ -186,40 +182,24 @@ impl Shading {
                         exponent,
                     };
                 }
-                shade
-            })
-            .collect();
-        // The specular spectra of the lobes that have one, packed in slot and lobe order: each
-        // run of `RUN` slots counts its own, then numbers them after the runs before.
-        let counts: Vec<u32> = clusters
-            .par_chunks(RUN)
-            .map(|run| run.iter().map(ClusterShade::spectra).sum())
-            .collect();
-        let mut packed = 0u32;
-        let starts: Vec<u32> = counts
-            .iter()
-            .map(|&count| {
-                packed += count;
-                packed - count
-            })
-            .collect();
-        clusters
-            .par_chunks_mut(RUN)
-            .zip(&starts)
-            .for_each(|(run, &start)| {
-                let mut next = start;
-                for shade in run {
-                    shade.first = next;
-                    next += shade.spectra();
-                }
             });
+        // The specular spectra of the lobes that have one, packed in slot and lobe order.
+        let mut packed = 0u32;
+        for shade in &mut clusters {
+            shade.first = packed;
+            packed += shade.lobes.iter().filter(|l| l.has_spectrum()).count() as u32;
+        }
         let mut specular = crate::spectrum::zeroed(packed as usize * bins);
         let mut diffuse = crate::spectrum::zeroed(slots * bins);
         // Runs of `RUN` slots, each with its share of the packed spectra.
-        let mut runs = Vec::with_capacity(counts.len());
+        const RUN: usize = 256;
+        let mut runs = Vec::with_capacity(slots.div_ceil(RUN));
         let mut rest = specular.as_mut_slice();
-        for &count in &counts {
-            let (head, tail) = rest.split_at_mut(count as usize * bins);
+        for (k, run) in clusters.chunks(RUN).enumerate() {
+            let end = clusters
+                .get((k + 1) * RUN)
+                .map_or(packed, |next| next.first);
+            let (head, tail) = rest.split_at_mut((end - run[0].first) as usize * bins);
             runs.push(head);
             rest = tail;
         }
@@ -278,16 +258,6 @@ impl Shading {
         }
     }
 }
-
-impl ClusterShade {
-    /// How many of its lobes have a specular spectrum (in [`Shading::specular`]).
-    fn spectra(&self) -> u32 {
-        self.lobes.iter().filter(|l| l.has_spectrum()).count() as u32
-    }
-}
-
-/// Slots handed to a thread at a time while the shading is formed.
-const RUN: usize = 256;
 
 /// The glow of one slot into `glow` (for a cluster, of (111) normal `normal`), and the
 /// specular spectra of its lobes that have one, each into the next chunk of `spec`; `d` is
