@@ -113,8 +113,16 @@ pub(crate) fn smooth_sums(
     let plane_start: Vec<usize> = (0..=nz).map(|z| first_slot(z * plane)).collect();
 
     // x, then y, within each plane, in one sweep: each row is blended along x, and then the
-    // row before it along y (whose neighbour after it is that row, blended along x already).
-    let blend_xy = |z: usize, first: usize, values: &mut [f32]| {
+    // row before it along y (whose neighbour after it is that row, blended along x already);
+    // the planes in parallel.
+    let mut planes = Vec::with_capacity(nz);
+    let mut rest = &mut *fluence;
+    for z in 0..nz {
+        let (values, after) = rest.split_at_mut((plane_start[z + 1] - plane_start[z]) * width);
+        planes.push((z, plane_start[z], values));
+        rest = after;
+    }
+    planes.into_par_iter().for_each(|(z, first, values)| {
         crate::simd::widest(
             #[inline(always)]
             || {
@@ -157,14 +165,15 @@ pub(crate) fn smooth_sums(
                 }
             },
         )
-    };
+    });
+
+    // z: the planes in order, the rows of each in parallel, with the original values of the
+    // previous plane by row and x; each cell's directions are formed from its final values.
     let slots = stone.slots();
     let mut directions = vec![Vec3::ZERO; slots * LOBES];
     let mut concentration = vec![0.0f32; slots * LOBES];
     let mut below = vec![0.0f32; plane * width];
-    // z, plane by plane, the rows of each in parallel, with the original values of the
-    // previous plane by row and x; each cell's directions are formed from its final values.
-    let mut blend_z = |z: usize, fluence: &mut [f32]| {
+    for z in 0..nz {
         let (before, after) = fluence.split_at_mut(plane_start[z + 1] * width);
         let next: &[f32] = after;
         let mut rows = Vec::with_capacity(ny);
@@ -210,29 +219,6 @@ pub(crate) fn smooth_sums(
                     },
                 )
             });
-    };
-    // The planes are blended along x and y a batch at a time (a plane to a thread), and then
-    // along z as soon as the plane after them is: each plane is read and written twice while
-    // it is still in the cache, not once per pass over the whole field.
-    let batch = rayon::current_num_threads().max(1);
-    let (mut ready, mut finished) = (0, 0);
-    while finished < nz {
-        let upto = (ready + batch).min(nz);
-        let mut planes = Vec::with_capacity(upto - ready);
-        let mut rest = &mut fluence[plane_start[ready] * width..plane_start[upto] * width];
-        for z in ready..upto {
-            let (values, after) = rest.split_at_mut((plane_start[z + 1] - plane_start[z]) * width);
-            planes.push((z, plane_start[z], values));
-            rest = after;
-        }
-        planes
-            .into_par_iter()
-            .for_each(|(z, first, values)| blend_xy(z, first, values));
-        ready = upto;
-        while finished < nz && (finished + 1 < ready || ready == nz) {
-            blend_z(finished, fluence);
-            finished += 1;
-        }
     }
     (directions, concentration)
 }
