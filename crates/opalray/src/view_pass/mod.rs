@@ -80,51 +80,26 @@ pub fn trace_view(
     };
     let block = setup.reflection_block.max(1);
     let mut image = SpectralImage::new(setup.width, setup.height, light.grid);
-    // Square tiles of blocks, a strip of tiles per task (see `TILE_BLOCKS`), handed out
-    // heaviest first.
+    // Square tiles of blocks, a strip of tiles per task (see `TILE_BLOCKS`).
     let side = TILE_BLOCKS * block;
-    let mut strips: Vec<(usize, &mut [f32])> = image
+    image
         .data
-        .chunks_mut(side * setup.width * bins)
+        .par_chunks_mut(side * setup.width * bins)
         .enumerate()
-        .collect();
-    let work = strip_work(&ctx, side);
-    strips.sort_by_key(|&(strip, _)| (std::cmp::Reverse(work[strip]), strip));
-    strips.into_iter().par_bridge().for_each_init(
-        || BlockScratch::new(bins, block),
-        |scratch, (strip, strip_rows)| {
-            for x_tile in (0..setup.width).step_by(side) {
-                let blocks = strip_rows.chunks_mut(block * setup.width * bins);
-                for (k, rows) in blocks.enumerate() {
-                    for x0 in (x_tile..(x_tile + side).min(setup.width)).step_by(block) {
-                        ctx.shade_block(x0, strip * side + k * block, block, rows, scratch);
+        .for_each_init(
+            || BlockScratch::new(bins, block),
+            |scratch, (strip, strip_rows)| {
+                for x_tile in (0..setup.width).step_by(side) {
+                    let blocks = strip_rows.chunks_mut(block * setup.width * bins);
+                    for (k, rows) in blocks.enumerate() {
+                        for x0 in (x_tile..(x_tile + side).min(setup.width)).step_by(block) {
+                            ctx.shade_block(x0, strip * side + k * block, block, rows, scratch);
+                        }
                     }
                 }
-            }
-        },
-    );
+            },
+        );
     image
-}
-
-/// The work of each strip of `side` rows, estimated by how many camera rays of its middle
-/// row, one every `side` pixels, meet the stone: the strips across the stone take many times
-/// the others' time, and one of them left for last would keep a core busy while the other
-/// waits. (The strips are written apart, so the order they are shaded in does not change the
-/// image.)
-fn strip_work(ctx: &View, side: usize) -> Vec<usize> {
-    let (width, height) = (ctx.setup.width, ctx.setup.height);
-    (0..height.div_ceil(side))
-        .map(|strip| {
-            let y = (strip * side + side / 2).min(height - 1);
-            (0..width)
-                .step_by(side)
-                .filter(|&x| {
-                    let ray = ctx.setup.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
-                    ctx.shape.intersect(&ray).is_some_and(|h| h.0 > 0.0)
-                })
-                .count()
-        })
-        .collect()
 }
 
 /// Blocks per side of the square tiles the image is shaded in, tile by tile along a strip.
