@@ -36,18 +36,22 @@ def main(argv):
         extra = argv[argv.index("--") + 1 :]
         argv = argv[: argv.index("--")]
     args = argv[1:]
+    usage = "usage: " + " ".join(line.strip() for line in __doc__.strip().splitlines()[2:4])
     pairs, runs = 12, 3
     for flag in ("--pairs", "--runs"):
         if flag in args:
             k = args.index(flag)
-            value = int(args[k + 1])
+            try:
+                value = int(args[k + 1])
+            except (IndexError, ValueError):
+                sys.exit(f"{flag} needs a whole number\n{usage}")
             del args[k : k + 2]
             if flag == "--pairs":
                 pairs = value
             else:
                 runs = value
     if len(args) < 2 or pairs < 1 or runs < 1:
-        sys.exit(__doc__.strip().splitlines()[2].strip())
+        sys.exit(usage)
     results = {b: [] for b in args}
     for k in range(pairs):
         for b in args:
