@@ -240,9 +240,8 @@ mod tests {
     fn stolen_time_is_the_steal_column_over_the_first_eight() {
         // A line as Linux writes it: user nice system idle iowait irq softirq steal guest
         // guest_nice; the total is the first eight (guest time is inside user time).
-        let stat = "cpu  100 0 20 600 5 0 3 72 9 0\\ncpu0 50 0 10 300 2 0 1 36 4 0\\n";
-        let stat = stat.replace("\\n", "\n");
-        assert_eq!(parse_cpu_ticks(&stat), Some((800, 72)));
+        let stat = "cpu  100 0 20 600 5 0 3 72 9 0\ncpu0 50 0 10 300 2 0 1 36 4 0\n";
+        assert_eq!(parse_cpu_ticks(stat), Some((800, 72)));
         assert_eq!(parse_cpu_ticks("cpu0 1 2 3 4 5 6 7 8\n"), None);
         assert_eq!(parse_cpu_ticks("cpu  1 2 3\n"), None);
         let share = stolen_share(Some((800, 72)), Some((1800, 322))).unwrap();

@@ -101,12 +101,12 @@ impl OrderedSums {
     }
 }
 
-/// The mean direction of an entry's direction sums `[Σ P·w (3 values), Σ P]` (see
-/// [`OrderedSums`]): its unit mean direction (zero where nothing arrived) and the mean
-/// resultant length of the directions (|Σ P·w| / Σ P: 1 for light from one direction, towards
-/// 0 for light from many).
+/// The mean direction of an entry's direction sums `[Σ P·w (3 values), Σ P]` (the first four
+/// values of `sums`; see [`OrderedSums`]): its unit mean direction (zero where nothing
+/// arrived) and the mean resultant length of the directions (|Σ P·w| / Σ P: 1 for light from
+/// one direction, towards 0 for light from many).
 #[inline(always)]
-pub fn mean_direction(sums: [f32; 4]) -> (Vec3, f32) {
+pub fn mean_direction(sums: &[f32]) -> (Vec3, f32) {
     let d = Vec3::new(sums[0], sums[1], sums[2]);
     let total = sums[3];
     let concentration = if total > 0.0 {
@@ -122,14 +122,7 @@ pub fn mean_direction(sums: [f32; 4]) -> (Vec3, f32) {
 #[cfg(test)]
 pub fn directions(sums: &[f32], bins: usize) -> (Vec<Vec3>, Vec<f32>) {
     sums.chunks_exact(bins + 4)
-        .map(|chunk| {
-            mean_direction([
-                chunk[bins],
-                chunk[bins + 1],
-                chunk[bins + 2],
-                chunk[bins + 3],
-            ])
-        })
+        .map(|chunk| mean_direction(&chunk[bins..]))
         .unzip()
 }
 

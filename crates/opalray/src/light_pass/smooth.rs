@@ -211,9 +211,8 @@ pub(crate) fn smooth_sums(
                             kept.copy_from_slice(own);
                             values[k * width..][..width].copy_from_slice(&out);
                             for (lobe, sums) in out.chunks_exact(width_per_lobe).enumerate() {
-                                let tail = &sums[width_per_lobe - 4..];
                                 (dirs[k * LOBES + lobe], concs[k * LOBES + lobe]) =
-                                    mean_direction([tail[0], tail[1], tail[2], tail[3]]);
+                                    mean_direction(&sums[width_per_lobe - 4..]);
                             }
                         }
                     },
