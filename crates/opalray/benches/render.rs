@@ -1,5 +1,5 @@
 //! Criterion benchmarks of the two passes at the paper's default scene (640 × 480, 40 bins,
-//! 196 608 light rays, light at 30°): the light pass (§3.2), shading the stored light, the
+//! 65 536 light rays, light at 30°): the light pass (§3.2), shading the stored light, the
 //! view pass (§3.3) and a whole frame after `prepare` (what each frame of a sweep costs).
 
 use criterion::Criterion;
