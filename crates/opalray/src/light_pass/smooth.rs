@@ -21,7 +21,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::accumulate::mean_direction;
-use super::walk::Site;
+use super::cells::Site;
 use super::{StoneCells, LOBES};
 use crate::structure::Cell;
 

@@ -6,10 +6,13 @@
 use glam::Vec3;
 
 use super::accumulate::TileSums;
+use super::cells::{Site, StoneCells};
 use super::interaction::{ClusterOptics, Split};
+use super::shape::{filter_window, reflected_shape, window_sums};
 use super::source::{LightSource, RayLattice};
-use super::{EnergyLedger, Termination, NO_PATCH, NO_SLOT, SCATTERED_LOBES, TILE};
+use super::{EnergyLedger, LightSetup, Termination, NO_PATCH, SCATTERED_LOBES, TILE};
 use crate::geometry::{fresnel_dielectric, reflect, refract, CellGrid, Ellipsoid, Ray};
+use crate::optics::OpticsTables;
 use crate::sampling::{stage, Rng};
 use crate::spectrum;
 use crate::structure::Cell;
@@ -47,76 +50,29 @@ pub(crate) struct Walker<'a> {
     pub termination: Termination,
 }
 
-/// What a ray crossing a cell reads about it, in one 8-byte record (one memory access instead
-/// of one per array, eight records to a cache line): the cell's storage slot, its kind,
-/// whether it lies wholly inside the stone, and for a cluster its patch, the index of its
-/// (111) normal in [`StoneCells::patch_normals`](super::StoneCells::patch_normals).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Site {
-    /// The slot, with [`Site::CLUSTER`] set for a cluster and [`Site::WHOLE`] for a cell whose
-    /// inside volume is a whole cell's; [`NO_SLOT`] outside.
-    tag: u32,
-    /// A cluster's patch ([`NO_PATCH`] for voids and outside).
-    patch: u32,
-}
-
-impl Site {
-    /// Marks a cluster's slot.
-    const CLUSTER: u32 = 1 << 31;
-    /// Marks a cell wholly inside the stone (slots stay below it: the grid's size is checked).
-    const WHOLE: u32 = 1 << 30;
-
-    /// The site of a cell stored at `slot`, in `patch` if a cluster.
-    pub fn new(cell: Cell, patch: u32, slot: u32, whole: bool) -> Self {
-        assert!(
-            cell == Cell::Outside || slot < Site::WHOLE,
-            "slots stay below 2³⁰ (the grid's size is checked)"
-        );
-        let whole = if whole { Site::WHOLE } else { 0 };
-        match cell {
-            Cell::Cluster => Site {
-                tag: slot | whole | Site::CLUSTER,
-                patch,
-            },
-            Cell::Void => Site {
-                tag: slot | whole,
-                patch: NO_PATCH,
-            },
-            Cell::Outside => Site {
-                tag: NO_SLOT,
-                patch: NO_PATCH,
-            },
+impl<'a> Walker<'a> {
+    /// The light rays' view of `cells`, `optics` and the light `setup`.
+    pub fn new(cells: &'a StoneCells, optics: &'a OpticsTables, setup: &LightSetup<'a>) -> Self {
+        let StoneCells { shape, grid, .. } = *cells;
+        Walker {
+            sites: &cells.sites,
+            patch_normals: &cells.patch_normals,
+            cell_of_slot: &cells.cell_of_slot,
+            optics: ClusterOptics::new(optics),
+            shape,
+            grid,
+            n_eff: optics.n_eff as f32,
+            spectrum: setup.spectrum,
+            bin_width_nm: optics.grid.bin_width_nm() as f32,
+            source: setup.source,
+            lattice: RayLattice::new(setup.source, &shape, setup.rays),
+            body_albedo: setup.body_albedo,
+            body_extinction_per_mm: setup.body_extinction_per_mm,
+            inv_volume: &cells.inv_volume,
+            whole_inv_volume: cells.whole_inv_volume,
+            seed: setup.seed,
+            termination: setup.termination,
         }
-    }
-
-    /// The cell's kind.
-    #[inline(always)]
-    pub fn cell(&self) -> Cell {
-        if self.tag == NO_SLOT {
-            Cell::Outside
-        } else if self.tag & Site::CLUSTER != 0 {
-            Cell::Cluster
-        } else {
-            Cell::Void
-        }
-    }
-
-    /// The cell's storage slot (meaningless outside).
-    #[inline(always)]
-    pub fn slot(&self) -> usize {
-        (self.tag & !(Site::CLUSTER | Site::WHOLE)) as usize
-    }
-
-    /// Whether the cell lies wholly inside the stone (meaningless outside).
-    #[inline(always)]
-    pub fn whole(&self) -> bool {
-        self.tag & Site::WHOLE != 0
-    }
-
-    /// A cluster's patch: the index of its normal.
-    #[inline(always)]
-    pub fn patch(&self) -> u32 {
-        self.patch
     }
 }
 
@@ -153,105 +109,6 @@ fn lobe_of(kind: usize, direction: Vec3) -> usize {
         DIRECT => DIRECT,
         _ => 1 + usize::from(direction.z >= 0.0),
     }
-}
-
-/// Divide a shape by its maximum and return the factor for its scale (a shape reflected
-/// again and again by Bragg lines grows by the ratio of a line to its background each time).
-fn normalise(shape: &mut [f32]) -> f32 {
-    let max = shape.iter().fold(0.0f32, |m, &v| m.max(v));
-    if max > 0.0 {
-        let inv = 1.0 / max;
-        shape.iter_mut().for_each(|v| *v *= inv);
-        max
-    } else {
-        1.0
-    }
-}
-
-/// Filter the shape of a `scale × shape` spectrum by a fraction that is `background` at every
-/// bin but those of a Bragg line's window, from `lo` on, where it is `window`: returns the
-/// factor for the scale. (Shape and scale keep their product; the shape changes only in the
-/// window, unless the background is zero.)
-#[inline(always)]
-fn filter_window(shape: &mut [f32], lo: usize, window: &[f32], background: f32) -> f32 {
-    let hi = lo + window.len();
-    if background > 0.0 {
-        let inv = 1.0 / background;
-        for (s, f) in shape[lo..hi].iter_mut().zip(window) {
-            *s *= f * inv;
-        }
-        background
-    } else {
-        shape[..lo].fill(0.0);
-        shape[hi..].fill(0.0);
-        for (s, f) in shape[lo..hi].iter_mut().zip(window) {
-            *s *= f;
-        }
-        1.0
-    }
-}
-
-/// The shape of a Bragg-reflected branch, in a spectrum from `pool`: a copy of `shape`,
-/// filtered by a Bragg line's window `(lo, fractions, background)` if given (see
-/// [`filter_window`]) and then divided by its maximum if `renormalise`; returns it with the
-/// factor for its scale. Out of line: a branch starts at one cluster crossing in twenty, and
-/// the walk's loop is tighter without this code in it.
-#[cold]
-#[inline(never)]
-fn reflected_shape(
-    pool: &mut Vec<Vec<f32>>,
-    shape: &[f32],
-    window: Option<(usize, &[f32], f32)>,
-    renormalise: bool,
-) -> (Vec<f32>, f32) {
-    let mut v = pool.pop().unwrap_or_default();
-    v.clear();
-    v.extend_from_slice(shape);
-    let mut k = 1.0;
-    if let Some((lo, fractions, background)) = window {
-        k = filter_window(&mut v, lo, fractions, background);
-    }
-    if renormalise {
-        k *= normalise(&mut v);
-    }
-    (v, k)
-}
-
-/// The four sums of a Bragg line's window `s` (the shape's bins) with its fractions `r`, `d`,
-/// `t`: `[Σ s, Σ s·r, Σ s·d, Σ s·t]`. Each sum runs in eight lanes, independent chains that
-/// vectorise, added up at the end (one pass over the window; a sequential sum would wait on
-/// each addition before the next).
-#[inline(always)]
-fn window_sums(s: &[f32], r: &[f32], d: &[f32], t: &[f32]) -> [f32; 4] {
-    const LANES: usize = 8;
-    let mut lanes = [[0.0f32; LANES]; 4];
-    let whole = s.len() / LANES * LANES;
-    for (((s, r), d), t) in s
-        .chunks_exact(LANES)
-        .zip(r.chunks_exact(LANES))
-        .zip(d.chunks_exact(LANES))
-        .zip(t.chunks_exact(LANES))
-    {
-        for j in 0..LANES {
-            lanes[0][j] += s[j];
-            lanes[1][j] += s[j] * r[j];
-            lanes[2][j] += s[j] * d[j];
-            lanes[3][j] += s[j] * t[j];
-        }
-    }
-    let mut sums = lanes.map(|l| l.iter().sum::<f32>());
-    for (((&s, &r), &d), &t) in s[whole..]
-        .iter()
-        .zip(&r[whole..])
-        .zip(&d[whole..])
-        .zip(&t[whole..])
-    {
-        sums[0] += s;
-        sums[1] += s * r;
-        sums[2] += s * d;
-        sums[3] += s * t;
-    }
-    sums
 }
 
 impl Walker<'_> {
@@ -320,42 +177,6 @@ impl Walker<'_> {
                 }
             },
         )
-    }
-
-    /// Whether the ray through the centre of lattice cell `index` meets the stone.
-    pub fn meets_stone(&self, index: u64) -> bool {
-        let centre = self.lattice.ray_in(index, 0.5, 0.5);
-        self.shape.intersect(&centre).is_some_and(|h| h.0 > 0.0)
-    }
-
-    /// Whether the light of lattice cell `index` is (likely to be) trapped: the ray through
-    /// the cell's centre, refracted into the stone, meets the far surface beyond the critical
-    /// angle; or it misses the stone by less than two cells of the lattice (the silhouette,
-    /// where rays enter at grazing incidence). A near-rim ray trapped by total internal
-    /// reflection crosses about three times as many cells as others and makes most of the
-    /// light pass's noise: tracing these cells with more, weaker rays lowers the noise more
-    /// per unit of work than more rays everywhere (`docs/model.md`). Which cells split is fixed
-    /// by the geometry alone, not by the random jitter, so the estimate stays unbiased.
-    pub fn is_trapped(&self, index: u64) -> bool {
-        let centre = self.lattice.ray_in(index, 0.5, 0.5);
-        let Some((t, _)) = self.shape.intersect(&centre).filter(|h| h.0 > 0.0) else {
-            let margin = 2.0 * self.lattice.spacing();
-            let halo = Ellipsoid::new(self.shape.semi_axes() + Vec3::splat(margin));
-            return halo.intersect(&centre).is_some_and(|h| h.0 > 0.0);
-        };
-        let p = centre.at(t);
-        let Some(d) = refract(centre.direction, self.shape.normal(p), 1.0, self.n_eff) else {
-            return false;
-        };
-        let inner = Ray {
-            origin: p,
-            direction: d,
-        };
-        let Some((_, t_far)) = self.shape.intersect(&inner) else {
-            return false;
-        };
-        let cos_out = d.dot(self.shape.normal(inner.at(t_far)));
-        cos_out * cos_out < 1.0 - 1.0 / (self.n_eff * self.n_eff)
     }
 
     /// Whether light of `power` goes on, and the factor its power is raised by: 1 at or

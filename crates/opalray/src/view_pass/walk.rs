@@ -1,0 +1,141 @@
+//! One camera ray through the stone (paper §3.3, fig. 7): cell by cell it adds eq. (2)'s
+//! terms, each filtered by what the ray has crossed, while the clusters' transmittance and
+//! the voids' potch filter its throughput; at the far surface it sees the backdrop and
+//! reflects internally.
+
+use glam::Vec3;
+
+use super::{Deferred, Path, View, SHARED_REFLECTION};
+use crate::geometry::{fresnel_dielectric, reflect, Ray};
+use crate::light_pass::{Transmission, NO_PATCH};
+use crate::structure::Cell;
+
+/// Internal reflections followed per camera ray.
+const MAX_VIEW_BOUNCES: u32 = 4;
+/// The camera ray stops once its throughput falls below this at every wavelength: what lies
+/// behind would change the default image by 0.45 % RMS (measured against 10⁻³).
+const MIN_THROUGHPUT: f32 = 4e-3;
+
+impl View<'_> {
+    /// Walk a ray inside the stone from `origin` (on or inside the surface) with throughput
+    /// `scale × shape_thr`, adding what it sees to `pixel`, through internal reflections until
+    /// [`MAX_VIEW_BOUNCES`] segments (counting from `path.first`) are walked or it fades.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn walk(
+        &self,
+        mut origin: Vec3,
+        mut dir: Vec3,
+        mut scale: f32,
+        peak: &mut usize,
+        path: Path,
+        pixel: &mut [f32],
+        shape_thr: &mut [f32],
+        transmission: &mut Transmission,
+    ) -> Option<Deferred> {
+        // The whole walk runs in the copy compiled for the processor's vector level.
+        crate::simd::widest(
+            #[inline(always)]
+            move || {
+                for bounce in path.first..MAX_VIEW_BOUNCES {
+                    let inner = Ray {
+                        origin,
+                        direction: dir,
+                    };
+                    let (t0, t1) = self.shape.intersect(&inner)?;
+                    let to_eye = -dir;
+                    // Along one segment, cells of one patch meet the ray at the same angle and
+                    // share their transmittance.
+                    let mut last_patch = NO_PATCH;
+                    self.grid.traverse(
+                        &inner,
+                        t0.max(0.0),
+                        t1,
+                        #[inline(always)]
+                        |seg| {
+                            let tag = self.shading.tags[seg.index];
+                            let slot = tag.slot();
+                            match tag.cell() {
+                                Cell::Outside => return true,
+                                Cell::Void => {
+                                    let kept = (-self.setup.body_extinction_per_mm
+                                        * (seg.t_exit - seg.t_enter))
+                                        .exp();
+                                    let glow = &self.shading.diffuse
+                                        [slot * self.bins..(slot + 1) * self.bins];
+                                    add_filtered(pixel, shape_thr, glow, scale * (1.0 - kept));
+                                    scale *= kept;
+                                }
+                                Cell::Cluster => {
+                                    let shade = &self.shading.clusters[slot];
+                                    // The packed spectrum of the next lobe that has one.
+                                    let mut entry = shade.first as usize;
+                                    for l in &shade.lobes {
+                                        let c = l.mirror.dot(to_eye);
+                                        if c > l.cos_min {
+                                            // Eq. (2)'s specular term: E · R(θ) · peak ·
+                                            // cosⁿ' θ'.
+                                            let at = entry * self.bins;
+                                            let spectrum =
+                                                &self.shading.specular[at..at + self.bins];
+                                            add_filtered(
+                                                pixel,
+                                                shape_thr,
+                                                spectrum,
+                                                scale * c.powf(l.exponent),
+                                            );
+                                        }
+                                        entry += usize::from(l.has_spectrum());
+                                    }
+                                    if tag.glows() {
+                                        let glow = &self.shading.diffuse
+                                            [slot * self.bins..(slot + 1) * self.bins];
+                                        add_filtered(pixel, shape_thr, glow, scale);
+                                    }
+                                    if shade.patch != last_patch {
+                                        last_patch = shade.patch;
+                                        let normal =
+                                            self.shading.patch_normals[last_patch as usize];
+                                        self.optics
+                                            .transmission(dir.dot(normal).abs(), transmission);
+                                    }
+                                    scale *= transmission.apply(shape_thr, peak);
+                                }
+                            }
+                            scale > MIN_THROUGHPUT
+                        },
+                    );
+                    if scale <= MIN_THROUGHPUT {
+                        return None;
+                    }
+                    // Far surface: the backdrop through the stone, and internal reflection.
+                    let q = inner.at(t1);
+                    let n_q = self.shape.normal(q);
+                    let f_out = fresnel_dielectric(dir.dot(n_q), self.n_eff, 1.0);
+                    let seen = (1.0 - f_out) * self.n_eff * self.n_eff * self.setup.background;
+                    add_filtered(pixel, shape_thr, self.setup.light_spectrum, scale * seen);
+                    scale *= f_out;
+                    dir = reflect(dir, n_q);
+                    origin = q;
+                    if scale <= MIN_THROUGHPUT {
+                        return None;
+                    }
+                    if path.defer && bounce == 0 && f_out < SHARED_REFLECTION {
+                        return Some(Deferred {
+                            origin,
+                            direction: dir,
+                            scale,
+                            peak: *peak,
+                        });
+                    }
+                }
+                None
+            },
+        )
+    }
+}
+
+/// `pixel += k · shape ⊙ spectrum`.
+#[inline(always)]
+pub(super) fn add_filtered(pixel: &mut [f32], shape: &[f32], spectrum: &[f32], k: f32) {
+    crate::spectrum::add_product(pixel, shape, spectrum, k);
+}
