@@ -4,14 +4,16 @@
 //! errors naming their path; [`Scene::validate`] checks ranges, NaN and the memory a grid
 //! would need before anything is allocated. Field tables: `docs/scene-format.md`.
 
+mod look;
 mod presets;
-mod sections;
+mod stone;
 
-pub use presets::{preset, PRESET_NAMES};
-pub use sections::{
-    CameraConfig, ColorConfig, ColorSpaceChoice, CrystalConfig, GamutMapping, Illuminant,
-    LightConfig, LightKind, RenderConfig, StructureConfig, BODY_EXTINCTION_PER_MM, MAX_CELLS,
+pub use look::{
+    CameraConfig, ColorConfig, ColorSpaceChoice, GamutMapping, Illuminant, LightConfig, LightKind,
+    RenderConfig, BODY_EXTINCTION_PER_MM,
 };
+pub use presets::{preset, PRESET_NAMES};
+pub use stone::{CrystalConfig, StructureConfig, MAX_CELLS};
 
 use std::path::Path;
 
