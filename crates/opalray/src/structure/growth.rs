@@ -4,7 +4,7 @@
 //! the centre (uniform over the inside cells), the radius `r` (continuous exponential with
 //! mean `R`, the density `exp(−r/R)/R` of eq. 1), then, only if the neighbourhood holds no
 //! cluster, a uniformly random orientation (Shoemake), then the jitter. Every inside cell
-//! within `r` (see [`ball`](super::ball)) becomes a cluster and takes the new orientation,
+//! within `r` (see [`ball`]) becomes a cluster and takes the new orientation,
 //! the cells that were already clusters included: the paper sets "the selected cell and its
 //! neighboring cells as cluster" with "the average orientation of neighboring clusters
 //! already set". Growth stops as soon as voids / inside cells < the target void ratio.

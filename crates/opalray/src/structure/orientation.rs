@@ -4,8 +4,8 @@
 //! An orientation is a unit quaternion `q` taking the lattice frame to the stone frame; the
 //! optics use its (111) plane normal `n = q·(1, 1, 1)/√3`. Two quaternions describe the same
 //! planes when they differ by sign (`q` and `−q` are one rotation) or by a symmetry of the
-//! close-packed stack that keeps the [111] axis as a line: the dihedral group D3 (identity,
-//! ±120° about [111], 180° about the in-plane axes [1−10], [01−1], [−101]); the 180° turns
+//! close-packed stack that keeps the \[111\] axis as a line: the dihedral group D3 (identity,
+//! ±120° about \[111\], 180° about the in-plane axes \[1−10\], \[01−1\], \[−101\]); the 180° turns
 //! take `n` to `−n`, the same planes. Before averaging, each quaternion is replaced by its
 //! equivalent (over sign and D3, 12 candidates) closest to a reference, then the aligned
 //! quaternions are summed and normalised: the chordal L2 mean, which for the clustered
@@ -17,7 +17,7 @@ use crate::sampling::Rng;
 
 const H: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
-/// The six rotations of D3 about the lattice's [111] axis, as unit quaternions `(x, y, z, w)`
+/// The six rotations of D3 about the lattice's \[111\] axis, as unit quaternions `(x, y, z, w)`
 /// in the lattice frame.
 pub const STACK_SYMMETRIES: [[f64; 4]; 6] = [
     [0.0, 0.0, 0.0, 1.0],
