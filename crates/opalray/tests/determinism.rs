@@ -40,6 +40,32 @@ fn render_is_identical_at_one_two_and_three_threads() {
 }
 
 #[test]
+fn energy_ledger_is_identical_at_one_two_and_three_threads() {
+    // The `--stats` file's energy figures: each tile's ledger is added in tile order, not per
+    // thread, so not even the last digit depends on the threads.
+    let scene = small_scene(1);
+    let ledgers: Vec<_> = [1, 2, 3]
+        .into_iter()
+        .map(|n| with_threads(n, || opalray::render(&scene).unwrap().ledger))
+        .collect();
+    let bits = |l: &opalray::light_pass::EnergyLedger| {
+        [
+            l.emitted,
+            l.reflected,
+            l.escaped,
+            l.stored,
+            l.absorbed,
+            l.truncated,
+        ]
+        .map(f64::to_bits)
+    };
+    assert!(ledgers[0].stored > 0.0 && ledgers[0].cells_crossed > 0);
+    assert_eq!(bits(&ledgers[0]), bits(&ledgers[1]), "1 vs 2 threads");
+    assert_eq!(bits(&ledgers[0]), bits(&ledgers[2]), "1 vs 3 threads");
+    assert_eq!(ledgers[0], ledgers[2]);
+}
+
+#[test]
 fn roulette_is_identical_at_one_two_and_three_threads() {
     // Roulette draws from each ray's own stream, so its choices do not depend on the threads.
     let mut scene = small_scene(1);

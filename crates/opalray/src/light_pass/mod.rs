@@ -216,11 +216,13 @@ pub fn trace_light(
             .lock()
             .expect("no worker panics while holding the sums")
     };
-    let ledger = (0..rayon::current_num_threads())
+    // Each tile keeps its own ledger, and the ledgers are added in task order: the energy
+    // figures, like the image, are the same at any thread count.
+    let mut ledgers: Vec<(u64, EnergyLedger)> = (0..rayon::current_num_threads())
         .into_par_iter()
         .map(|_| {
             let mut spare = None;
-            let mut ledger = EnergyLedger::default();
+            let mut ledgers = Vec::new();
             let mut scratch = Scratch::default();
             loop {
                 let task = next_task.fetch_add(1, Ordering::Relaxed);
@@ -235,6 +237,7 @@ pub fn trace_light(
                     tile_index % tiles_per_row * TILE,
                     tile_index / tiles_per_row * TILE,
                 );
+                let mut ledger = EnergyLedger::default();
                 // One copy of the walk per termination.
                 match walker.termination {
                     Termination::Cutoff(_) => {
@@ -244,13 +247,19 @@ pub fn trace_light(
                         walker.trace_tile::<true>(at, side, &mut tile, &mut ledger, &mut scratch)
                     }
                 }
+                ledgers.push((task, ledger));
                 let mut sums = lock();
                 sums.submit(task, tile);
                 spare = sums.take_spare();
             }
-            ledger
+            ledgers
         })
-        .reduce(EnergyLedger::default, EnergyLedger::add);
+        .flatten()
+        .collect();
+    ledgers.sort_unstable_by_key(|&(task, _)| task);
+    let ledger = ledgers
+        .into_iter()
+        .fold(EnergyLedger::default(), |sum, (_, l)| sum.add(l));
     let sums = shared
         .into_inner()
         .expect("no worker panicked while holding the sums");
