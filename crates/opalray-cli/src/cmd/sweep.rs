@@ -4,7 +4,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Result;
-use rayon::prelude::*;
 use serde_json::json;
 
 use super::common::{
@@ -50,14 +49,11 @@ pub struct Args {
     /// Time per animation frame, milliseconds.
     #[arg(long, value_name = "MS", default_value_t = 120)]
     pub delay_ms: u32,
-    /// Write timings as JSON: the light and view passes summed over the frames, which
-    /// render two at a time (so the sums can exceed the total), and peak memory.
+    /// Write timings as JSON: the light and view passes summed over the frames, and peak
+    /// memory.
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
 }
-
-/// Frames rendered at once, at most.
-const FRAMES_AT_ONCE: usize = 2;
 
 /// Run `opalray sweep`.
 pub fn run(args: Args) -> Result<()> {
@@ -100,24 +96,13 @@ pub fn run(args: Args) -> Result<()> {
     let (w, h) = (scene.render.width as usize, scene.render.height as usize);
     let mut frames = Vec::with_capacity(angles.len());
     let mut per_frame = Vec::with_capacity(angles.len());
-    // Two frames at a time where there are threads for them: the second keeps a core busy
-    // where the first's stages wait on one another (10 % off a 25-frame sweep on two cores),
-    // for twice the memory. Every frame is the same whichever thread renders it.
-    let at_once = rayon::current_num_threads().clamp(1, FRAMES_AT_ONCE);
-    for batch in angles.chunks(at_once) {
-        let rendered: Vec<_> = batch
-            .par_iter()
-            .map(|&angle| {
-                let frame = prepared.render_in(&cells, angle);
-                let rgb = opalray::color::to_display_rgb8(&frame.rgb, &scene.color);
-                bar.inc(1);
-                (frame.times, rgb)
-            })
-            .collect();
-        for (times, rgb) in rendered {
-            per_frame.push(times);
-            frames.push(rgb);
-        }
+    // One frame at a time, each on all threads. (Two at once kept the cores a little busier,
+    // 3.5 % off a 25-frame sweep on two cores, for a third more memory: `BENCHMARKS.md`.)
+    for &angle in &angles {
+        let frame = prepared.render_in(&cells, angle);
+        per_frame.push(frame.times);
+        frames.push(opalray::color::to_display_rgb8(&frame.rgb, &scene.color));
+        bar.inc(1);
     }
     bar.finish_and_clear();
     let elapsed = start.elapsed().as_secs_f64();
