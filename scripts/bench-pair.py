@@ -4,13 +4,15 @@
     scripts/bench-pair.py OLD_BINARY NEW_BINARY [MORE_BINARIES...] [--pairs 12] [--runs 3]
         [-- BENCH ARGS...]
 
-Runs `BINARY bench --runs R --json` for the old and then each new binary, PAIRS times, and
-prints per stage the median and fastest of each, and for each new binary the median of its
-per-round differences (new − old) with how many rounds it was faster. On a shared machine
-whose speed drifts over minutes, a difference within one round is measured under the same
-conditions; two medians taken minutes apart are not. With `--runs 1` and more pairs the
-rounds are shorter, and closer to the same conditions. A measuring aid, not part of the
-tests; needs only Python 3.
+Runs `BINARY bench --runs R --json` for every binary, PAIRS rounds, and prints per stage the
+median and fastest of each, and for each new binary the median of its per-round differences
+(new − old) with how many rounds it was faster. On a shared machine whose speed drifts over
+minutes, a difference within one round is measured under the same conditions; two medians
+taken minutes apart are not. With `--runs 1` and more pairs the rounds are shorter, and
+closer to the same conditions. The binaries run in the given order in odd rounds and in the
+reverse order in even ones: the one run second in a round has an edge (the same binary run
+twice, 20 rounds, one order: the second 6 ms faster in the view pass), which an even number
+of rounds cancels. A measuring aid, not part of the tests; needs only Python 3.
 """
 import json
 import statistics
@@ -54,7 +56,7 @@ def main(argv):
         sys.exit(usage)
     results = {b: [] for b in args}
     for k in range(pairs):
-        for b in args:
+        for b in args if k % 2 == 0 else reversed(args):
             results[b].append(bench(b, runs, extra))
         print(f"round {k + 1}/{pairs}", file=sys.stderr)
     old_bin, old = args[0], results[args[0]]
