@@ -12,9 +12,10 @@
 //! - **Potch** (between domains): free flights of extinction σ; at a scattering event the
 //!   weight takes the albedo and the direction is drawn isotropically.
 //! - **Domain crossing**: the families whose line can fall in the range at the ray's angle
-//!   ([`Stone::lines`], the layers set by the chord) reflect or pass it. One is chosen to
-//!   reflect with probability ½ (split evenly), else the ray passes all of them (weight
-//!   `1/(1 − ½)`), carrying `1 − R` of each. A reflection draws the lobe's normal `h` about the
+//!   ([`Stone::lines`], the layers set by the chord) reflect or pass it. The ray always goes
+//!   on through, carrying `1 − R` of each line; the reflections are branches: at the camera
+//!   ray's first two crossings every one, later one drawn with twice the lines' share of white
+//!   light (at most ¼), its weight divided by that probability. A reflection draws the lobe's normal `h` about the
 //!   family normal (Gaussian, the rocking width and the mosaic spread,
 //!   [`Stone::lobe_sigma`]) and mirrors the ray about `h`; its line is evaluated at the angle to
 //!   `h` — the half-vector law `λ = 2 d n̄ cos θ_h`. The reflection happens at the domain's
@@ -52,8 +53,8 @@ pub use spectral::{Lines, SpectralSampler};
 const ROULETTE_BELOW: f32 = 0.02;
 /// Offset of a new ray's origin along its direction, mm (0.1 µm).
 const EPSILON_MM: f32 = 1e-4;
-/// Domain crossings of a camera path at which every reflection is followed.
-const FIRST_SPLITS: u32 = 1;
+/// Domain crossings of a camera ray's first segment at which every reflection is followed.
+const FIRST_SPLITS: u32 = 2;
 /// Most probability of a reflection branch at a domain crossing after the first segment.
 const MAX_BRANCH_PROBABILITY: f64 = 0.25;
 /// The lobe is treated as zero beyond this many standard deviations.
@@ -226,8 +227,9 @@ impl<'a> Tracer<'a> {
     }
 
     /// The path from `pos` along `dir` inside the stone with weight `weight`, having met
-    /// `lines`. At its first `splits` domain crossings every reflection is followed (a branch
-    /// each) and the ray goes on through as well; after that one is chosen at random.
+    /// `lines`. At the first `splits` domain crossings of its first segment every reflection is
+    /// followed (a branch each) and the ray goes on through as well; after that a reflection
+    /// branch is drawn at random.
     #[allow(clippy::too_many_arguments)]
     fn inside(
         &mut self,

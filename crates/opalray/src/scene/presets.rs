@@ -25,7 +25,7 @@ pub const PRESET_NAMES: &[&str] = &[
 ///   law, a 3 % spread of sphere sizes).
 /// - `harlequin`: a black opal (body tone N1) of angular grains 3 mm across, each its own
 ///   orientation, under the studio environment.
-/// - `pinfire`: a black opal of grains 0.6 mm across: pin-points of colour.
+/// - `pinfire`: a black opal of grains 0.8 mm across: pin-points of colour.
 /// - `broad-flash`: grains 4 mm across whose orientations follow parents 12 mm across: broad
 ///   sheets of colour that flash together.
 /// - `ribbon`: grains stretched six times along y: ribbons of colour.
@@ -40,6 +40,7 @@ pub fn preset(name: &str) -> Result<Scene> {
             ..Scene::default()
         };
         scene.environment.kind = EnvironmentKind::Studio;
+        scene.environment.intensity = 2.5;
         scene.light.kind = LightKind::None;
         scene.render.body_tone = 1;
         scene.crystal.diffuse_fraction = 0.0;
@@ -57,10 +58,13 @@ pub fn preset(name: &str) -> Result<Scene> {
             let mut scene = Scene::default();
             scene.integrator.method = Method::Path;
             scene.crystal.diffuse_fraction = 0.0;
+            // The paper's balls are large, single domains: an imperfect one tilts its planes
+            // by a few degrees across its width.
+            scene.domains.mosaic_spread_deg = 4.0;
             Ok(scene)
         }
         "harlequin" => Ok(studio(grains(3.0))),
-        "pinfire" => Ok(studio(grains(0.6))),
+        "pinfire" => Ok(studio(grains(0.8))),
         "broad-flash" => Ok(studio(DomainsConfig {
             orientation: OrientationLaw::Correlated,
             correlation_mm: 12.0,

@@ -9,6 +9,7 @@
 //! among the grain's neighbours).
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::Span;
 use crate::sampling::Rng;
@@ -170,8 +171,9 @@ impl Grains {
         // along one of many rays from the seed (a face no ray meets is under a few % of the
         // cell's surface, and a walk that misses it only moves that corner to a neighbour).
         let directions = fibonacci_sphere(RAYS_PER_CELL);
-        let limit = (reach as f32 * self.bucket).powi(2) * 2.25;
+        let limit = (reach as f32 * self.bucket).powi(2) * 1.6;
         let neighbours: Vec<Vec<u32>> = (0..self.seeds.len() as u32)
+            .into_par_iter()
             .map(|i| {
                 let s = self.seeds[i as usize];
                 let mut candidates = Vec::new();
@@ -329,7 +331,7 @@ impl Grains {
 }
 
 /// Rays per grain that find its faces.
-const RAYS_PER_CELL: usize = 192;
+const RAYS_PER_CELL: usize = 96;
 
 /// `n` unit vectors spread evenly over the sphere (a Fibonacci lattice).
 fn fibonacci_sphere(n: usize) -> Vec<Vec3> {
