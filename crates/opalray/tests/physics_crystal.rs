@@ -195,3 +195,74 @@ fn path_tracer_is_identical_at_one_two_and_three_threads() {
     assert_eq!(runs[0], runs[1], "1 vs 2 threads");
     assert_eq!(runs[0], runs[2], "1 vs 3 threads");
 }
+
+#[test]
+fn flashing_colour_follows_the_half_vector_law() {
+    // DESIGN §4: a flat face, the eye on its normal, the light at 0° / 30° / 45° / 60° in air:
+    // a D = 250 nm domain whose (111) planes face the half vector shows λ = 2 d₁₁₁ n_eff cos θ_h
+    // = 588.8 / 579.6 / 569.5 / 558.5 nm, θ_h half the angle between the refracted light and
+    // the eye inside. Rendered: a single crystal, a narrow view of the stone's flat centre,
+    // the light's spectrum flat (E), 1 nm bins; the spectrum's centroid over the line.
+    use opalray::geometry::Camera;
+    use opalray::light_pass::LightSource;
+    use opalray::path::{trace_paths, Environment, PathLight, PathSetup};
+    let mut scene = Scene::default();
+    scene.domains.sphere_diameter_spread = 0.0;
+    scene.domains.mosaic_spread_deg = 0.0;
+    scene.domains.families = FamilyChoice::Only111;
+    scene.light.illuminant = Illuminant::E;
+    scene.spectrum.bins = 400;
+    let grid = scene.spectrum;
+    let sampler = SpectralSampler::new(Illuminant::E, &grid, 16);
+    let n_eff = opalray::optics::Families::new(&scene.crystal, true).n_eff;
+    for (theta_deg, expected) in [(0.0f64, 588.8), (30.0, 579.6), (45.0, 569.5), (60.0, 558.5)] {
+        let theta_t = (theta_deg.to_radians().sin() / n_eff).asin();
+        // Planes facing the half vector of the refracted light (towards +x) and the eye (+z).
+        let h = Vec3::new(
+            (0.5 * theta_t).sin() as f32,
+            0.0,
+            (0.5 * theta_t).cos() as f32,
+        );
+        let q = glam::Quat::from_rotation_arc(Vec3::splat(1.0).normalize(), h);
+        let stone = Stone::single_crystal(&scene, q).unwrap();
+        let t = (theta_deg as f32).to_radians();
+        let image = trace_paths(
+            &stone,
+            &PathSetup {
+                camera: Camera::look_at(Vec3::new(0.0, 0.0, 100.0), Vec3::ZERO, Vec3::Y, 0.2, 8, 8),
+                width: 8,
+                height: 8,
+                spp: 4,
+                max_depth: 2,
+                light: Some(PathLight {
+                    source: LightSource::Directional {
+                        direction: Vec3::new(-t.sin(), 0.0, -t.cos()),
+                    },
+                    intensity: 1.0,
+                    disc_radius_rad: 0.0,
+                }),
+                environment: Environment::new(&Default::default(), 0.0),
+                gloss: 0.0,
+                seed: 1,
+                spectral: &sampler,
+            },
+        );
+        let (mut sum, mut weight) = (0.0f64, 0.0f64);
+        for px in image.spectral.data.chunks(grid.bins) {
+            for (b, v) in px.iter().enumerate() {
+                let w = grid.center_nm(b);
+                if (w - expected).abs() < 15.0 {
+                    sum += w * f64::from(*v);
+                    weight += f64::from(*v);
+                }
+            }
+        }
+        let total: f64 = image.xyz.iter().map(|v| f64::from(v[1])).sum();
+        assert!(weight > 0.0, "{theta_deg}°: no flash (Y sum {total})");
+        let centroid = sum / weight;
+        assert!(
+            (centroid - expected).abs() < 1.5,
+            "light at {theta_deg}°: {centroid:.2} nm, expected {expected} nm"
+        );
+    }
+}

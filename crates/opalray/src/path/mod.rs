@@ -67,7 +67,7 @@ pub struct PathLight {
     pub source: LightSource,
     /// Irradiance scale (`light.intensity`).
     pub intensity: f32,
-    /// Angular radius of its disc as seen in the gloss, radians.
+    /// Angular radius of its disc as seen in the gloss, radians (0: no disc).
     pub disc_radius_rad: f32,
 }
 
@@ -108,7 +108,7 @@ pub fn trace_paths(stone: &Stone, setup: &PathSetup) -> PathImage {
     let (w, h) = (setup.width, setup.height);
     let bins = setup.spectral.grid.bins;
     let mut xyz = vec![[0.0f32; 3]; w * h];
-    let mut spectral = SpectralImage::new(w, h, setup.spectral.grid.clone());
+    let mut spectral = SpectralImage::new(w, h, setup.spectral.grid);
     xyz.par_chunks_mut(w)
         .zip(spectral.data.par_chunks_mut(w * bins))
         .enumerate()
@@ -218,7 +218,7 @@ impl<'a> Tracer<'a> {
         };
         let to_light = light.source.direction_to_light(Vec3::ZERO);
         let r = light.disc_radius_rad;
-        if dir.dot(to_light) >= r.cos() {
+        if r > 0.0 && dir.dot(to_light) >= r.cos() {
             // Irradiance E over the disc's solid angle π r², times π for image units.
             light.intensity / (r * r)
         } else {
@@ -481,7 +481,7 @@ impl<'a> Tracer<'a> {
         if count == 0 {
             return;
         }
-        let Some((transmitted, notches)) = self.to_light(x, to_light, distance, Some(domain))
+        let Some((transmitted, notches)) = self.towards_light(x, to_light, distance, Some(domain))
         else {
             return;
         };
@@ -510,7 +510,7 @@ impl<'a> Tracer<'a> {
         let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
             return;
         };
-        let Some((transmitted, notches)) = self.to_light(x, to_light, distance, None) else {
+        let Some((transmitted, notches)) = self.towards_light(x, to_light, distance, None) else {
             return;
         };
         let mut lines = *path;
@@ -529,7 +529,7 @@ impl<'a> Tracer<'a> {
 
     /// What lies between `x` and the light's entry point: the potch's transmittance and the
     /// lines of the domains crossed (except `skip`).
-    fn to_light(
+    fn towards_light(
         &mut self,
         x: Vec3,
         to_light: Vec3,

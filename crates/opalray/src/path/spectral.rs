@@ -167,7 +167,7 @@ impl SpectralSampler {
             table: raw.iter().map(|v| v.map(|c| c as f32)).collect(),
             white_xyz,
             white_bins,
-            grid: grid.clone(),
+            grid: *grid,
             draws,
         }
     }
@@ -187,8 +187,8 @@ impl SpectralSampler {
             return;
         }
         let Some(first) = lines.first_reflection else {
-            for c in 0..3 {
-                xyz[c] += weight * self.white_xyz[c];
+            for (v, w) in xyz.iter_mut().zip(&self.white_xyz) {
+                *v += weight * w;
             }
             for (b, w) in bins.iter_mut().zip(&self.white_bins) {
                 *b += (weight * f64::from(*w)) as f32;
@@ -223,8 +223,8 @@ impl SpectralSampler {
                 continue;
             }
             let s = self.at(w);
-            for c in 0..3 {
-                xyz[c] += f * f64::from(s[c]);
+            for (v, c) in xyz.iter_mut().zip(&s) {
+                *v += f * f64::from(*c);
             }
             if let Some(b) = self.grid.bin_of(w) {
                 bins[b] += (f * f64::from(s[3]) / bin_width) as f32;

@@ -72,6 +72,8 @@ pub struct ActiveLine {
 
 #[derive(Debug)]
 enum Layout {
+    /// One domain fills the stone.
+    Single,
     Balls(Balls),
     Grains {
         grains: Grains,
@@ -178,7 +180,7 @@ impl Stone {
             .kinds
             .iter()
             .enumerate()
-            .flat_map(|(k, f)| std::iter::repeat_n(k as u8, f.normals.len()))
+            .flat_map(|(k, f)| std::iter::repeat(k as u8).take(f.normals.len()))
             .collect();
         let lattice: Vec<Vec3> = families
             .kinds
@@ -233,6 +235,29 @@ impl Stone {
         })
     }
 
+    /// The stone of `scene` made of one domain of orientation `orientation` and the crystal's
+    /// sphere diameter: a single crystal (for teaching and for tests of the optics).
+    pub fn single_crystal(scene: &Scene, orientation: Quat) -> Result<Stone> {
+        let mut stone = Stone::new(scene)?;
+        let domain = Domain {
+            orientation,
+            sphere_diameter_nm: scene.crystal.sphere_diameter_nm as f32,
+        };
+        let lattice: Vec<Vec3> = stone
+            .families
+            .kinds
+            .iter()
+            .flat_map(|f| f.normals.clone())
+            .collect();
+        stone.normals = lattice
+            .iter()
+            .map(|&n| (orientation * n).normalize())
+            .collect();
+        stone.domains = vec![domain];
+        stone.layout = Layout::Single;
+        Ok(stone)
+    }
+
     /// Family slots per domain.
     pub fn slots(&self) -> usize {
         self.slot_kind.len()
@@ -244,6 +269,7 @@ impl Stone {
             return None;
         }
         match &self.layout {
+            Layout::Single => Some(0),
             Layout::Balls(b) => b.at(p),
             Layout::Grains { grains, domain_of } => domain_of[grains.at(p) as usize],
         }
@@ -264,6 +290,14 @@ impl Stone {
         visit: &mut dyn FnMut(Span),
     ) -> Option<u32> {
         match &self.layout {
+            Layout::Single => {
+                visit(Span {
+                    t0,
+                    t1,
+                    domain: Some(0),
+                });
+                None
+            }
             Layout::Balls(b) => {
                 b.walk(origin, dir, t0, t1, visit);
                 None
