@@ -1,0 +1,16 @@
+"""The code blocks of docs/python.md run, in order, in a temporary folder."""
+
+import re
+from pathlib import Path
+
+DOC = Path(__file__).resolve().parents[2] / "docs" / "python.md"
+
+
+def test_docs_python_examples_run(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("DASK_TEMPORARY_DIRECTORY", str(tmp_path / "dask"))
+    blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), re.S)
+    assert len(blocks) >= 5
+    namespace: dict = {}
+    for k, block in enumerate(blocks):
+        exec(compile(block, f"{DOC.name} block {k + 1}", "exec"), namespace)
