@@ -61,7 +61,7 @@ def main(argv=None) -> list[dict]:
     if args.dask:
         from dask.distributed import Client, LocalCluster
 
-        with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster, \
+        with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=":0") as cluster, \
                 Client(cluster) as client:
             rows = opalray.map(study, scenes, client=client)
     else:

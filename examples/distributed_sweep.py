@@ -35,7 +35,7 @@ def main(argv=None) -> opalray.Sweep:
         cluster, client = None, Client(args.scheduler)
     else:
         cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1,
-                               processes=not args.threads, dashboard_address=None)
+                               processes=not args.threads, dashboard_address=":0")
         client = Client(cluster)
     try:
         result = opalray.sweep(scene, angles, client=client, out_dir=args.out,

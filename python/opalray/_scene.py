@@ -45,7 +45,11 @@ class Scene:
     def __init__(self, data: Mapping | Scene | None = None):
         if isinstance(data, Scene):
             data = data._data
-        self._data = _opalray.normalize(dict(data) if data is not None else {})
+        if data is None:
+            data = {}
+        elif isinstance(data, Mapping):
+            data = dict(data)
+        self._data = _opalray.normalize(data)
 
     @classmethod
     def preset(cls, name: str = "paper") -> Scene:

@@ -48,7 +48,7 @@ def dask_client(tmp_path_factory):
     scratch = tmp_path_factory.mktemp("dask")
     with dask.config.set({"temporary-directory": str(scratch)}):
         cluster = distributed.LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+            n_workers=2, threads_per_worker=1, processes=False, dashboard_address=":0"
         )
         client = distributed.Client(cluster)
         yield client

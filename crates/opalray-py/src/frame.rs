@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use numpy::ndarray::{Array1, Array3};
-use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray3};
+use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray3, PyUntypedArrayMethods};
 use opalray::scene::ColorConfig;
 use opalray::{RgbImage, Scene, SpectralImage};
 use pyo3::exceptions::PyValueError;
@@ -66,8 +66,8 @@ impl Frame {
         stats_json: String,
     ) -> PyResult<Frame> {
         let scene = scene_of(scene)?;
-        let (h, w, bins) = spectral.dims();
-        if bins != scene.spectrum.bins || rgb.dims() != (h, w, 3) {
+        let (h, w, bins) = (spectral.shape()[0], spectral.shape()[1], spectral.shape()[2]);
+        if bins != scene.spectrum.bins || rgb.shape() != [h, w, 3] {
             return Err(PyValueError::new_err(
                 "spectral must be H × W × spectrum.bins and rgb H × W × 3",
             ));

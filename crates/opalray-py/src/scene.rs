@@ -160,7 +160,7 @@ pub fn normalize<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
 
 /// `preset(name) -> dict`: a named preset scene (`paper`).
 #[pyfunction]
-pub fn preset(py: Python<'_>, name: &str) -> PyResult<Bound<'_, PyAny>> {
+pub fn preset<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
     dict_of(py, &opalray::scene::preset(name).map_err(to_py_err)?)
 }
 

@@ -31,8 +31,12 @@ fn run_detached<T: Send + 'static>(
         // The receiver is gone only if the caller was interrupted: nothing to report to.
         let _ = tx.send(job());
     });
+    let mut rx = rx;
     loop {
-        match py.detach(|| rx.recv_timeout(SIGNAL_POLL)) {
+        // The receiver moves into the GIL-free closure and back (it is `Send`, not `Sync`).
+        let (received, back) = py.detach(move || (rx.recv_timeout(SIGNAL_POLL), rx));
+        rx = back;
+        match received {
             Ok(value) => return Ok(value),
             Err(RecvTimeoutError::Timeout) => py.check_signals()?,
             Err(RecvTimeoutError::Disconnected) => {

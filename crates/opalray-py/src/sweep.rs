@@ -9,6 +9,11 @@ use pyo3::types::PyBytes;
 
 use crate::scene::to_py_err;
 
+/// The frames' bytes, copied out of their Python objects (to be used without the GIL).
+fn owned(frames: &[Bound<'_, PyBytes>]) -> Vec<Vec<u8>> {
+    frames.iter().map(|f| f.as_bytes().to_vec()).collect()
+}
+
 /// Check that every frame holds `width × height × 3` bytes.
 fn check_frames(frames: &[Vec<u8>], width: usize, height: usize) -> PyResult<()> {
     match frames.iter().position(|f| f.len() != width * height * 3) {
@@ -26,12 +31,13 @@ fn check_frames(frames: &[Vec<u8>], width: usize, height: usize) -> PyResult<()>
 pub fn write_sheet(
     py: Python<'_>,
     path: PathBuf,
-    frames: Vec<Vec<u8>>,
+    frames: Vec<Bound<'_, PyBytes>>,
     angles_deg: Vec<f64>,
     width: usize,
     height: usize,
     columns: usize,
 ) -> PyResult<()> {
+    let frames = owned(&frames);
     check_frames(&frames, width, height)?;
     if frames.len() != angles_deg.len() || frames.is_empty() || columns == 0 {
         return Err(PyValueError::new_err(
@@ -61,11 +67,12 @@ pub fn write_sheet(
 pub fn write_animation(
     py: Python<'_>,
     path: PathBuf,
-    frames: Vec<Vec<u8>>,
+    frames: Vec<Bound<'_, PyBytes>>,
     width: u32,
     height: u32,
     delay_ms: u32,
 ) -> PyResult<()> {
+    let frames = owned(&frames);
     check_frames(&frames, width as usize, height as usize)?;
     let is_png = path
         .extension()
@@ -87,10 +94,15 @@ pub fn write_png_rgb8(
     path: PathBuf,
     width: u32,
     height: u32,
-    codes: Vec<u8>,
+    codes: &[u8],
 ) -> PyResult<()> {
-    check_frames(std::slice::from_ref(&codes), width as usize, height as usize)?;
-    py.detach(|| opalray::output::write_png_rgb8(&path, width, height, &codes))
+    if codes.len() != width as usize * height as usize * 3 {
+        return Err(PyValueError::new_err(format!(
+            "{} bytes, expected {width} × {height} × 3",
+            codes.len()
+        )));
+    }
+    py.detach(|| opalray::output::write_png_rgb8(&path, width, height, codes))
         .map_err(to_py_err)
 }
 
