@@ -143,3 +143,20 @@ def test_the_gil_is_released_while_rendering():
     # Ticks kept coming every few ms throughout the render: no gap near its length.
     gaps = np.diff([start] + during + [end])
     assert len(during) >= 5 and gaps.max() < 0.5 * (end - start), (len(during), gaps.max(), end - start)
+
+
+def test_ctrl_c_interrupts_a_render_at_once():
+    # A render of several seconds; Ctrl-C (SIGINT's flag, as the terminal sets it) 0.2 s in.
+    import _thread
+
+    scene = small_scene(render={"width": 640, "height": 480}, light={"rays": 262144})
+    timer = threading.Timer(0.2, _thread.interrupt_main)
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        opalray.render(scene)
+    waited = time.perf_counter() - start
+    timer.join()
+    assert waited < 1.0, waited
+    # The package still works afterwards.
+    assert opalray.render(small_scene()).srgb8.shape == (48, 64, 3)

@@ -66,7 +66,11 @@ impl Frame {
         stats_json: String,
     ) -> PyResult<Frame> {
         let scene = scene_of(scene)?;
-        let (h, w, bins) = (spectral.shape()[0], spectral.shape()[1], spectral.shape()[2]);
+        let (h, w, bins) = (
+            spectral.shape()[0],
+            spectral.shape()[1],
+            spectral.shape()[2],
+        );
         if bins != scene.spectrum.bins || rgb.shape() != [h, w, 3] {
             return Err(PyValueError::new_err(
                 "spectral must be H × W × spectrum.bins and rgb H × W × 3",

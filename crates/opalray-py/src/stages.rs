@@ -56,7 +56,6 @@ pub struct Stages {
 }
 
 impl Stages {
-
     fn frame(&self, py: Python<'_>, light_angle_deg: Option<f64>) -> PyResult<Frame> {
         let angle = light_angle_deg.unwrap_or(self.prepared.scene.light.angle_deg);
         if !(angle.is_finite() && (-89.0..=89.0).contains(&angle)) {
@@ -170,7 +169,11 @@ impl Stages {
     }
 
     /// One optics table, `angles × bins` float32: `which` is `R`, `T` or `D`.
-    fn optics_table<'py>(&self, py: Python<'py>, which: &str) -> PyResult<Bound<'py, PyArray2<f32>>> {
+    fn optics_table<'py>(
+        &self,
+        py: Python<'py>,
+        which: &str,
+    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
         let o = &self.prepared.optics;
         let data = match which {
             "R" => &o.reflectance,
@@ -182,9 +185,11 @@ impl Stages {
                 )))
             }
         };
-        Ok(Array2::from_shape_vec((o.angles, o.grid.bins), data.clone())
-            .expect("angles × bins")
-            .into_pyarray(py))
+        Ok(
+            Array2::from_shape_vec((o.angles, o.grid.bins), data.clone())
+                .expect("angles × bins")
+                .into_pyarray(py),
+        )
     }
 
     /// `cos θ` inside the stone of every optics row (float64, `angles` long).

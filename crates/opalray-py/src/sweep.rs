@@ -51,12 +51,7 @@ pub fn write_sheet(
             .map(|(f, a)| (f, format!("{a:.0}°")))
             .collect();
         let sheet = opalray::output::contact_sheet(&labelled, width, height, columns);
-        opalray::output::write_png_rgb8(
-            &path,
-            sheet.width as u32,
-            sheet.height as u32,
-            &sheet.rgb,
-        )
+        opalray::output::write_png_rgb8(&path, sheet.width as u32, sheet.height as u32, &sheet.rgb)
     })
     .map_err(to_py_err)
 }
