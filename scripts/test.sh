@@ -14,7 +14,6 @@ python="${PYTHON:-python3}"
 if [ ! -x "$venv/bin/python" ]; then
     "$python" -m venv "$venv"
 fi
-"$venv/bin/python" -m pip install --quiet --upgrade pip
 "$venv/bin/python" -m pip install --quiet "maturin>=1.7,<2"
 # The extension module, built in release mode (as the CLI's binary the tests compare with).
 "$venv/bin/python" -m pip install --quiet ".[test]"

@@ -221,16 +221,17 @@ class Stages:
             )
         return self._optics
 
-    def render(self, light_angle_deg: float | None = None) -> Image:
-        """Render one frame at ``light_angle_deg`` (default: the scene's ``light.angle_deg``);
-        the same bytes as a fresh ``render`` of the scene at that angle."""
+    def render(self, light_angle_deg: float | None = None, *, threads: int | None = None) -> Image:
+        """Render one frame at ``light_angle_deg`` (default: the scene's ``light.angle_deg``),
+        on ``threads`` threads (default: every core); the same bytes as a fresh ``render`` of
+        the scene at that angle, on any number of threads."""
         angle = self.scene["light"]["angle_deg"] if light_angle_deg is None else light_angle_deg
         scene = self.scene if angle == self.scene["light"]["angle_deg"] else self.scene.replace(light={"angle_deg": angle})
-        return Image(self._stages.render(float(angle)), scene)
+        return Image(self._stages.render(float(angle), threads), scene)
 
-    def render_rgb8(self, light_angle_deg: float) -> bytes:
+    def render_rgb8(self, light_angle_deg: float, *, threads: int | None = None) -> bytes:
         """One frame's display codes only (H × W × 3 bytes, row-major): a sweep's frame."""
-        return self._stages.render_rgb8(float(light_angle_deg))
+        return self._stages.render_rgb8(float(light_angle_deg), threads)
 
 
 def prepare(scene: Scene | dict | str | os.PathLike | None = None, **overrides: Any) -> Stages:

@@ -41,9 +41,21 @@ def _stages_for(scene: Scene) -> Stages:
     return stages
 
 
+def _worker_threads() -> int | None:
+    """The threads of the Dask worker running this task (None outside a worker)."""
+    try:
+        from distributed import get_worker
+
+        return get_worker().state.nthreads
+    except (ImportError, ValueError, AttributeError):
+        return None
+
+
 def _render_frame(scene: Scene, angle: float) -> bytes:
-    """One sweep frame's display codes: a Dask task."""
-    return _stages_for(scene).render_rgb8(angle)
+    """One sweep frame's display codes: a Dask task. It renders on as many threads as its
+    worker has, so that single-threaded workers run one frame per core instead of each
+    spreading its frame over every core of the machine."""
+    return _stages_for(scene).render_rgb8(angle, threads=_worker_threads())
 
 
 def sweep_angles(frames: int = 9, start_deg: float = -60.0, stop_deg: float = 60.0) -> list[float]:

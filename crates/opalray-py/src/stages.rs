@@ -56,15 +56,31 @@ pub struct Stages {
 }
 
 impl Stages {
-    fn frame(&self, py: Python<'_>, light_angle_deg: Option<f64>) -> PyResult<Frame> {
+    /// Render at `light_angle_deg` (default: the scene's), on `threads` threads (default:
+    /// rayon's global pool, every core).
+    fn frame(
+        &self,
+        py: Python<'_>,
+        light_angle_deg: Option<f64>,
+        threads: Option<usize>,
+    ) -> PyResult<Frame> {
         let angle = light_angle_deg.unwrap_or(self.prepared.scene.light.angle_deg);
         if !(angle.is_finite() && (-89.0..=89.0).contains(&angle)) {
             return Err(PyValueError::new_err(format!(
                 "light_angle_deg {angle}: the light angle must be within −89° … 89°; try 30"
             )));
         }
+        let pool = match threads {
+            None => None,
+            Some(n) => Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(n.max(1))
+                    .build()
+                    .map_err(|e| PyRuntimeError::new_err(format!("threads {n}: {e}")))?,
+            ),
+        };
         let (prepared, cells) = (self.prepared.clone(), self.cells.clone());
-        run_detached(py, move || {
+        let job = move || {
             // As `Prepared::render`, the light pass's time includes laying out the cells
             // (only the first frame of a prepared scene does).
             let start = Instant::now();
@@ -75,7 +91,12 @@ impl Stages {
             let mut scene = prepared.scene.clone();
             scene.light.angle_deg = angle;
             Frame::new(&scene, frame, angle)
-        })
+        };
+        // The same bytes on any number of threads (the core's determinism).
+        match pool {
+            None => run_detached(py, job),
+            Some(pool) => run_detached(py, move || pool.install(job)),
+        }
     }
 }
 
@@ -109,20 +130,28 @@ impl Stages {
         dict_of(py, &self.prepared.scene)
     }
 
-    /// Render one frame at `light_angle_deg` (default: the scene's `light.angle_deg`).
-    #[pyo3(signature = (light_angle_deg=None))]
-    fn render(&self, py: Python<'_>, light_angle_deg: Option<f64>) -> PyResult<Frame> {
-        self.frame(py, light_angle_deg)
+    /// Render one frame at `light_angle_deg` (default: the scene's `light.angle_deg`) on
+    /// `threads` threads (default: every core).
+    #[pyo3(signature = (light_angle_deg=None, threads=None))]
+    fn render(
+        &self,
+        py: Python<'_>,
+        light_angle_deg: Option<f64>,
+        threads: Option<usize>,
+    ) -> PyResult<Frame> {
+        self.frame(py, light_angle_deg, threads)
     }
 
     /// Render one frame and return only its display codes (H × W × 3 bytes, row-major), as
     /// a sweep's frames are.
+    #[pyo3(signature = (light_angle_deg, threads=None))]
     fn render_rgb8<'py>(
         &self,
         py: Python<'py>,
         light_angle_deg: f64,
+        threads: Option<usize>,
     ) -> PyResult<Bound<'py, PyBytes>> {
-        let frame = self.frame(py, Some(light_angle_deg))?;
+        let frame = self.frame(py, Some(light_angle_deg), threads)?;
         let codes = opalray::to_display_rgb8(&frame.rgb, &frame.color);
         Ok(PyBytes::new(py, &codes))
     }
