@@ -40,8 +40,8 @@ def cli() -> str:
 @pytest.fixture(scope="session")
 def dask_client(tmp_path_factory):
     """A LocalCluster of two single-threaded workers, its scratch files in the test's temp
-    folder. Threads in this process (processes=False): no worker start-up per test run and
-    the same code path as processes; `bench_python.py` times real worker processes."""
+    folder. Threads in this process (processes=False): it starts in a fraction of a second,
+    and the tasks are the same; `test_dask_sweep_on_worker_processes` runs worker processes."""
     distributed = pytest.importorskip("dask.distributed")
     import dask
 

@@ -89,3 +89,21 @@ def test_map_runs_locally_and_on_dask(dask_client, small):
     images = opalray.map(opalray.render, scenes, client=dask_client)
     for image, scene in zip(images, scenes):
         np.testing.assert_array_equal(image.srgb8, opalray.render(scene).srgb8)
+
+
+def test_dask_sweep_on_worker_processes(tmp_path, small):
+    # Real worker processes: the scene and the frames cross process boundaries (pickled).
+    distributed = pytest.importorskip("dask.distributed")
+    import dask
+
+    with dask.config.set({"temporary-directory": str(tmp_path / "dask")}):
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                      dashboard_address=":0") as cluster, \
+                distributed.Client(cluster) as client:
+            remote = opalray.sweep(small, ANGLES, client=client)
+            images = opalray.map(opalray.render, [small], client=client)
+    local = opalray.sweep(small, ANGLES)
+    for a, b in zip(local.frames, remote.frames):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(images[0].srgb8, opalray.render(small).srgb8)
+    assert images[0].stats["energy"] == opalray.render(small).stats["energy"]
