@@ -1,0 +1,239 @@
+//! The light-independent stages (structure, optics) of a scene as numpy arrays, and renders
+//! of it at any light angle. The render runs on its own thread while the calling thread waits
+//! without the GIL, so other Python threads run and Ctrl-C returns at once.
+
+use std::sync::mpsc::{channel, RecvTimeoutError};
+use std::sync::{Arc, OnceLock};
+use std::time::{Duration, Instant};
+
+use numpy::ndarray::{Array1, Array2};
+use numpy::{IntoPyArray, PyArray1, PyArray2};
+use opalray::light_pass::StoneCells;
+use opalray::Prepared;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+
+use crate::frame::Frame;
+use crate::scene::{dict_of, scene_of, to_py_err};
+
+/// How often a waiting call looks for Ctrl-C (and other signals).
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// Run `job` on a new thread and wait for it without the GIL, checking for signals: a
+/// `KeyboardInterrupt` returns at once (the job finishes in the background and is dropped).
+fn run_detached<T: Send + 'static>(
+    py: Python<'_>,
+    job: impl FnOnce() -> T + Send + 'static,
+) -> PyResult<T> {
+    let (tx, rx) = channel();
+    std::thread::spawn(move || {
+        // The receiver is gone only if the caller was interrupted: nothing to report to.
+        let _ = tx.send(job());
+    });
+    let mut rx = rx;
+    loop {
+        // The receiver moves into the GIL-free closure and back (it is `Send`, not `Sync`).
+        let (received, back) = py.detach(move || (rx.recv_timeout(SIGNAL_POLL), rx));
+        rx = back;
+        match received {
+            Ok(value) => return Ok(value),
+            Err(RecvTimeoutError::Timeout) => py.check_signals()?,
+            Err(RecvTimeoutError::Disconnected) => {
+                return Err(PyRuntimeError::new_err("the render thread panicked"))
+            }
+        }
+    }
+}
+
+/// A prepared scene: the grown structure and the optics tables, computed once; renders at
+/// any light angle reuse them (and the stone's cell layout).
+#[pyclass(module = "opalray._opalray", frozen)]
+pub struct Stages {
+    prepared: Arc<Prepared>,
+    /// The stone's cells laid out for the passes, built by the first render.
+    cells: Arc<OnceLock<StoneCells>>,
+}
+
+impl Stages {
+    /// Render at `light_angle_deg` (default: the scene's), on `threads` threads (default:
+    /// rayon's global pool, every core).
+    fn frame(
+        &self,
+        py: Python<'_>,
+        light_angle_deg: Option<f64>,
+        threads: Option<usize>,
+    ) -> PyResult<Frame> {
+        let angle = light_angle_deg.unwrap_or(self.prepared.scene.light.angle_deg);
+        if !(angle.is_finite() && (-89.0..=89.0).contains(&angle)) {
+            return Err(PyValueError::new_err(format!(
+                "light_angle_deg {angle}: the light angle must be within −89° … 89°; try 30"
+            )));
+        }
+        let pool = match threads {
+            None => None,
+            Some(n) => Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(n.max(1))
+                    .build()
+                    .map_err(|e| PyRuntimeError::new_err(format!("threads {n}: {e}")))?,
+            ),
+        };
+        let (prepared, cells) = (self.prepared.clone(), self.cells.clone());
+        let job = move || {
+            // As `Prepared::render`, the light pass's time includes laying out the cells
+            // (only the first frame of a prepared scene does).
+            let start = Instant::now();
+            let cells = cells.get_or_init(|| StoneCells::new(&prepared.structure));
+            let layout = start.elapsed().as_secs_f64();
+            let mut frame = prepared.render_in(cells, angle);
+            frame.times.light_pass += layout;
+            let mut scene = prepared.scene.clone();
+            scene.light.angle_deg = angle;
+            Frame::new(&scene, frame, angle)
+        };
+        // The same bytes on any number of threads (the core's determinism).
+        match pool {
+            None => run_detached(py, job),
+            Some(pool) => run_detached(py, move || pool.install(job)),
+        }
+    }
+}
+
+/// `prepare(scene) -> Stages`: grow the structure and build the optics of a scene dict.
+#[pyfunction]
+pub fn prepare(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Stages> {
+    let scene = scene_of(scene)?;
+    let prepared = run_detached(py, move || opalray::prepare(&scene))?.map_err(to_py_err)?;
+    Ok(Stages {
+        prepared: Arc::new(prepared),
+        cells: Arc::new(OnceLock::new()),
+    })
+}
+
+/// `render(scene) -> Frame`: the whole chain for a scene dict, as `opalray render` runs it.
+#[pyfunction]
+pub fn render(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Frame> {
+    let scene = scene_of(scene)?;
+    let result = run_detached(py, move || {
+        let prepared = opalray::prepare(&scene)?;
+        let frame = prepared.render(scene.light.angle_deg);
+        Ok(Frame::new(&scene, frame, scene.light.angle_deg))
+    })?;
+    result.map_err(to_py_err)
+}
+
+#[pymethods]
+impl Stages {
+    /// The scene, complete, as a dict.
+    fn scene<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        dict_of(py, &self.prepared.scene)
+    }
+
+    /// Render one frame at `light_angle_deg` (default: the scene's `light.angle_deg`) on
+    /// `threads` threads (default: every core).
+    #[pyo3(signature = (light_angle_deg=None, threads=None))]
+    fn render(
+        &self,
+        py: Python<'_>,
+        light_angle_deg: Option<f64>,
+        threads: Option<usize>,
+    ) -> PyResult<Frame> {
+        self.frame(py, light_angle_deg, threads)
+    }
+
+    /// Render one frame and return only its display codes (H × W × 3 bytes, row-major), as
+    /// a sweep's frames are.
+    #[pyo3(signature = (light_angle_deg, threads=None))]
+    fn render_rgb8<'py>(
+        &self,
+        py: Python<'py>,
+        light_angle_deg: f64,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyBytes>> {
+        let frame = self.frame(py, Some(light_angle_deg), threads)?;
+        let codes = opalray::to_display_rgb8(&frame.rgb, &frame.color);
+        Ok(PyBytes::new(py, &codes))
+    }
+
+    /// Seconds of the structure and optics stages, as JSON.
+    fn times_json(&self) -> String {
+        serde_json::to_string(&self.prepared.times).expect("times serialise")
+    }
+
+    /// Cell kinds, `nz × ny × nx` uint8 (indexed `[z, y, x]`): 0 outside, 1 void, 2 cluster.
+    fn cell_kinds<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u8>> {
+        let s = &self.prepared.structure;
+        Array1::from_iter(s.cells.iter().map(|&c| c as u8)).into_pyarray(py)
+    }
+
+    /// Lattice orientation of every cell as unit quaternions `(x, y, z, w)` (scalar last,
+    /// as scipy's `Rotation.from_quat`), flat `cells × 4` float32; identity where no cluster.
+    fn orientations<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f32>> {
+        let s = &self.prepared.structure;
+        let flat: Vec<f32> = s.orientations.iter().flat_map(|q| q.to_array()).collect();
+        Array2::from_shape_vec((s.cells.len(), 4), flat)
+            .expect("4 per cell")
+            .into_pyarray(py)
+    }
+
+    /// The (111) plane normal of every cell in the stone frame, flat `cells × 3` float32.
+    fn normals<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f32>> {
+        let s = &self.prepared.structure;
+        let flat: Vec<f32> = (0..s.cells.len())
+            .flat_map(|i| s.normal(i).to_array())
+            .collect();
+        Array2::from_shape_vec((s.cells.len(), 3), flat)
+            .expect("3 per cell")
+            .into_pyarray(py)
+    }
+
+    /// `(nx, ny, nz, semi_axes_mm, cell_size_mm, stats_json)` of the structure.
+    #[allow(clippy::type_complexity)]
+    fn structure_info(&self) -> (usize, usize, usize, [f64; 3], [f64; 3], String) {
+        let s = &self.prepared.structure;
+        let stats = serde_json::to_string(&s.stats).expect("stats serialise");
+        let [nx, ny, nz] = s.grid;
+        (nx, ny, nz, s.semi_axes_mm, s.cell_size_mm(), stats)
+    }
+
+    /// One optics table, `angles × bins` float32: `which` is `R`, `T` or `D`.
+    fn optics_table<'py>(
+        &self,
+        py: Python<'py>,
+        which: &str,
+    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let o = &self.prepared.optics;
+        let data = match which {
+            "R" => &o.reflectance,
+            "T" => &o.transmittance,
+            "D" => &o.diffuse,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "optics table `{other}`: choose R, T or D"
+                )))
+            }
+        };
+        Ok(
+            Array2::from_shape_vec((o.angles, o.grid.bins), data.clone())
+                .expect("angles × bins")
+                .into_pyarray(py),
+        )
+    }
+
+    /// `cos θ` inside the stone of every optics row (float64, `angles` long).
+    fn optics_cos_theta<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let o = &self.prepared.optics;
+        Array1::from_iter((0..o.angles).map(|i| o.row_cos_theta(i))).into_pyarray(py)
+    }
+
+    /// Centre of every wavelength bin, nm.
+    fn wavelengths_nm<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        Array1::from(self.prepared.optics.grid.centers_nm()).into_pyarray(py)
+    }
+
+    /// `(n_eff, d111_nm)` of the cluster.
+    fn optics_info(&self) -> (f64, f64) {
+        (self.prepared.optics.n_eff, self.prepared.optics.d111_nm)
+    }
+}

@@ -1,0 +1,270 @@
+"""Rendering: ``render`` for one image, ``prepare`` for the stages as arrays and many renders
+of one structure. The work runs in the Rust core with the GIL released."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from . import _opalray
+from ._scene import Scene, as_scene
+
+__all__ = ["Image", "Stages", "Structure", "Optics", "prepare", "render"]
+
+Progress = Callable[[str, int, int], None]
+
+
+def _progress_of(progress: Progress | bool | None, total: int, desc: str) -> tuple[Progress | None, Callable[[], None]]:
+    """A callback ``(stage, done, total)`` for ``progress``: a callable is used as it is;
+    ``True`` draws a tqdm bar (if tqdm is installed). Returns the callback and a closer."""
+    if progress is True:
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:  # pragma: no cover - tqdm is optional
+            return None, lambda: None
+        bar = tqdm(total=total, desc=desc)
+
+        def update(stage: str, done: int, total: int) -> None:
+            bar.set_postfix_str(stage)
+            bar.update(done - bar.n)
+
+        return update, bar.close
+    return (progress or None), (lambda: None)
+
+
+class Image:
+    """A rendered image. Arrays are computed on first access and cached.
+
+    Attributes: ``rgb`` (H × W × 3 float32, linear, scene-referred), ``srgb8`` (H × W × 3
+    uint8, the display codes), ``spectral`` (H × W × bins float32), ``wavelengths_nm`` (bins,
+    float64, bin centres), ``stats`` (dict: the fields of ``opalray render --stats``),
+    ``scene``.
+    """
+
+    def __init__(self, frame: Any, scene: Scene):
+        self._frame = frame
+        self.scene = scene
+        self._cache: dict[str, Any] = {}
+
+    def _get(self, name: str) -> Any:
+        if name not in self._cache:
+            value = getattr(self._frame, name)()
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
+            self._cache[name] = value
+        return self._cache[name]
+
+    @property
+    def rgb(self) -> np.ndarray:
+        return self._get("rgb")
+
+    @property
+    def srgb8(self) -> np.ndarray:
+        return self._get("srgb8")
+
+    @property
+    def spectral(self) -> np.ndarray:
+        return self._get("spectral")
+
+    @property
+    def wavelengths_nm(self) -> np.ndarray:
+        return self._get("wavelengths_nm")
+
+    @property
+    def stats(self) -> dict:
+        return json.loads(self._frame.stats_json())
+
+    @property
+    def width(self) -> int:
+        return self.scene["render"]["width"]
+
+    @property
+    def height(self) -> int:
+        return self.scene["render"]["height"]
+
+    def save(self, path: str | os.PathLike, *, spectral: bool = False) -> None:
+        """Write the image as the CLI does: ``.png`` (sRGB, ``color.bit_depth`` bits) or
+        ``.exr`` (linear RGB); with ``spectral=True``, the spectral image as OpenEXR with one
+        channel per bin (``S0.<λ>nm``). Files are written atomically."""
+        path = os.fspath(path)
+        ext = os.path.splitext(path)[1].lower()
+        if spectral:
+            if ext != ".exr":
+                raise ValueError(f"{path}: unsupported file type; use a name ending in .exr")
+            self._frame.write_spectral_exr(path)
+        elif ext == ".png":
+            self._frame.write_png(path)
+        elif ext == ".exr":
+            self._frame.write_exr(path)
+        else:
+            raise ValueError(f"{path}: unsupported file type; use a name ending in .png or .exr")
+
+    def _repr_png_(self) -> bytes:
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "image.png")
+            self.save(path)
+            with open(path, "rb") as f:
+                return f.read()
+
+    def __repr__(self) -> str:
+        return f"<opalray.Image {self.width}×{self.height}, {len(self.wavelengths_nm)} bins>"
+
+    def __reduce__(self):
+        # Pickled as its arrays (for Dask and multiprocessing).
+        return (
+            _image_from_state,
+            (np.asarray(self.spectral), np.asarray(self.rgb), self.scene, self._frame.stats_json()),
+        )
+
+
+def _image_from_state(spectral: np.ndarray, rgb: np.ndarray, scene: Scene, stats_json: str) -> Image:
+    frame = _opalray.Frame.from_arrays(
+        np.ascontiguousarray(spectral, np.float32),
+        np.ascontiguousarray(rgb, np.float32),
+        scene.to_dict(),
+        stats_json,
+    )
+    return Image(frame, scene)
+
+
+@dataclass(frozen=True)
+class Structure:
+    """The grown structure (paper §2.4, fig. 9). Arrays are indexed ``[z, y, x]``.
+
+    ``cells`` (uint8): ``OUTSIDE`` 0, ``VOID`` 1, ``CLUSTER`` 2. ``orientations`` (float32,
+    … × 4): the lattice → stone rotation of each cell as a unit quaternion ``(x, y, z, w)``
+    (scalar last, as ``scipy.spatial.transform.Rotation.from_quat``), identity where no
+    cluster. ``normals`` (float32, … × 3): the (111) plane normal in the stone frame.
+    ``grid`` = (nx, ny, nz); lengths in mm; ``stats``: void ratio, counts, growth steps.
+    """
+
+    OUTSIDE = 0
+    VOID = 1
+    CLUSTER = 2
+    cells: np.ndarray
+    orientations: np.ndarray
+    normals: np.ndarray
+    grid: tuple[int, int, int]
+    semi_axes_mm: tuple[float, float, float]
+    cell_size_mm: tuple[float, float, float]
+    stats: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Optics:
+    """One cluster's optics tables (paper §3.1): rows are angles inside the stone between a ray
+    and the (111) normal, uniform in cos θ from 1 (normal) to 0 (grazing); columns are
+    wavelength bins. ``reflectance`` R (specular, Bragg), ``transmittance`` T, ``diffuse``
+    D, each ``angles × bins`` float32 with R + T + D = 1."""
+
+    reflectance: np.ndarray
+    transmittance: np.ndarray
+    diffuse: np.ndarray
+    cos_theta: np.ndarray
+    theta_deg: np.ndarray
+    wavelengths_nm: np.ndarray
+    n_eff: float
+    d111_nm: float
+
+
+class Stages:
+    """A prepared scene: the structure and optics computed once (``opalray.prepare``), as
+    arrays, and renders at any light angle that reuse them."""
+
+    def __init__(self, stages: Any, scene: Scene):
+        self._stages = stages
+        self.scene = scene
+        self._structure: Structure | None = None
+        self._optics: Optics | None = None
+
+    @property
+    def times(self) -> dict:
+        """Seconds of the structure and optics stages."""
+        t = json.loads(self._stages.times_json())
+        return {"structure": t["structure"], "optics": t["optics"]}
+
+    @property
+    def structure(self) -> Structure:
+        if self._structure is None:
+            nx, ny, nz, semi, size, stats = self._stages.structure_info()
+            shape = (nz, ny, nx)
+            self._structure = Structure(
+                cells=self._stages.cell_kinds().reshape(shape),
+                orientations=self._stages.orientations().reshape(shape + (4,)),
+                normals=self._stages.normals().reshape(shape + (3,)),
+                grid=(nx, ny, nz),
+                semi_axes_mm=tuple(semi),
+                cell_size_mm=tuple(size),
+                stats=json.loads(stats),
+            )
+        return self._structure
+
+    @property
+    def optics(self) -> Optics:
+        if self._optics is None:
+            n_eff, d111 = self._stages.optics_info()
+            cos_theta = self._stages.optics_cos_theta()
+            self._optics = Optics(
+                reflectance=self._stages.optics_table("R"),
+                transmittance=self._stages.optics_table("T"),
+                diffuse=self._stages.optics_table("D"),
+                cos_theta=cos_theta,
+                theta_deg=np.degrees(np.arccos(np.clip(cos_theta, -1.0, 1.0))),
+                wavelengths_nm=self._stages.wavelengths_nm(),
+                n_eff=n_eff,
+                d111_nm=d111,
+            )
+        return self._optics
+
+    def render(self, light_angle_deg: float | None = None, *, threads: int | None = None) -> Image:
+        """Render one frame at ``light_angle_deg`` (default: the scene's ``light.angle_deg``),
+        on ``threads`` threads (default: every core); the same bytes as a fresh ``render`` of
+        the scene at that angle, on any number of threads."""
+        angle = self.scene["light"]["angle_deg"] if light_angle_deg is None else light_angle_deg
+        scene = self.scene if angle == self.scene["light"]["angle_deg"] else self.scene.replace(light={"angle_deg": angle})
+        return Image(self._stages.render(float(angle), threads), scene)
+
+    def render_rgb8(self, light_angle_deg: float, *, threads: int | None = None) -> bytes:
+        """One frame's display codes only (H × W × 3 bytes, row-major): a sweep's frame."""
+        return self._stages.render_rgb8(float(light_angle_deg), threads)
+
+
+def prepare(scene: Scene | dict | str | os.PathLike | None = None, **overrides: Any) -> Stages:
+    """Grow the structure and build the optics of ``scene`` (see :func:`render` for what
+    ``scene`` and ``overrides`` may be)."""
+    scene = as_scene(scene, **overrides)
+    return Stages(_opalray.prepare(scene.to_dict()), scene)
+
+
+def render(
+    scene: Scene | dict | str | os.PathLike | None = None,
+    *,
+    progress: Progress | bool | None = None,
+    **overrides: Any,
+) -> Image:
+    """Render ``scene`` end to end, exactly as ``opalray render`` does.
+
+    ``scene``: a :class:`Scene`, a dict, a TOML file's path, or None for the ``paper``
+    preset. ``overrides`` change it first, as :meth:`Scene.replace`
+    (``render(scene, light={"angle_deg": -45})``). ``progress``: a callable
+    ``(stage, done, total)`` called as the stages finish, or ``True`` for a tqdm bar.
+    The GIL is released while the core works; Ctrl-C interrupts the wait.
+    """
+    scene = as_scene(scene, **overrides)
+    report, close = _progress_of(progress, 2, "render")
+    try:
+        if report is None:
+            return Image(_opalray.render(scene.to_dict()), scene)
+        report("structure, optics", 0, 2)
+        stages = prepare(scene)
+        report("light, view, colour", 1, 2)
+        image = stages.render()
+        report("done", 2, 2)
+        return image
+    finally:
+        close()

@@ -1,0 +1,224 @@
+"""Sweeps of the light angle (the paper's fig. 11) and parameter studies, locally or on a Dask
+cluster, one task per frame or per scene."""
+
+from __future__ import annotations
+
+import json
+import os
+import threading
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable, Iterable, Sequence
+
+import numpy as np
+
+from . import _opalray
+from ._render import Progress, Stages, _progress_of, prepare
+from ._scene import Scene, as_scene
+
+__all__ = ["Sweep", "sweep", "map", "sweep_angles"]
+
+_MANIFEST = "sweep.json"
+_SCENE_FILE = "scene.toml"
+
+# Prepared scenes of this process, by their TOML text: a Dask worker grows a structure and
+# builds its optics once for all the frames of a sweep it is given.
+_prepared: dict[str, Stages] = {}
+_prepared_lock = threading.Lock()
+_PREPARED_KEPT = 4
+
+
+def _stages_for(scene: Scene) -> Stages:
+    key = scene.to_toml()
+    with _prepared_lock:
+        stages = _prepared.get(key)
+    if stages is None:
+        stages = prepare(scene)
+        with _prepared_lock:
+            while len(_prepared) >= _PREPARED_KEPT:
+                _prepared.pop(next(iter(_prepared)))
+            _prepared[key] = stages
+    return stages
+
+
+def _worker_threads() -> int | None:
+    """The threads of the Dask worker running this task (None outside a worker)."""
+    try:
+        from distributed import get_worker
+
+        return get_worker().state.nthreads
+    except (ImportError, ValueError, AttributeError):
+        return None
+
+
+def _render_frame(scene: Scene, angle: float) -> bytes:
+    """One sweep frame's display codes: a Dask task. It renders on as many threads as its
+    worker has, so that single-threaded workers run one frame per core instead of each
+    spreading its frame over every core of the machine."""
+    return _stages_for(scene).render_rgb8(angle, threads=_worker_threads())
+
+
+def sweep_angles(frames: int = 9, start_deg: float = -60.0, stop_deg: float = 60.0) -> list[float]:
+    """``frames`` light angles evenly spaced from ``start_deg`` to ``stop_deg``, computed as
+    ``opalray sweep --from --to --frames`` computes them."""
+    if not 1 <= frames <= 1000:
+        raise ValueError(f"frames {frames}: must be 1 to 1000; try 9")
+    if frames == 1:
+        return [float(start_deg)]
+    return [start_deg + (stop_deg - start_deg) * k / (frames - 1) for k in range(frames)]
+
+
+@dataclass
+class Sweep:
+    """The result of :func:`sweep`: ``angles_deg``; ``frames``, one H × W × 3 uint8 array per
+    angle (display codes); ``rendered``, the indices rendered by this call (the others were
+    read back from ``out_dir``); the paths written; ``seconds``, the wall time."""
+
+    angles_deg: list[float]
+    frames: list[np.ndarray]
+    rendered: list[int]
+    sheet: str | None = None
+    animation: str | None = None
+    frame_paths: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+
+
+def _check_angles(angles: Sequence[float]) -> list[float]:
+    angles = [float(a) for a in angles]
+    if not 1 <= len(angles) <= 1000:
+        raise ValueError(f"light_angles: {len(angles)} angles, must be 1 to 1000; try 9")
+    for a in angles:
+        if not (np.isfinite(a) and -89.0 <= a <= 89.0):
+            raise ValueError(f"light_angles {a}: the light angle must be within −89° … 89°; try −60 and 60")
+    return angles
+
+
+def _check_out(path: str, allowed: tuple[str, ...], what: str) -> None:
+    if os.path.splitext(path)[1].lower() not in allowed:
+        raise ValueError(f"{what} {path}: unsupported file type; use a name ending in {' or '.join(allowed)}")
+
+
+def sweep(
+    scene: Scene | dict | str | os.PathLike | None = None,
+    light_angles: Sequence[float] | None = None,
+    *,
+    client: Any = None,
+    out_dir: str | os.PathLike | None = None,
+    sheet: str | os.PathLike | None = None,
+    animation: str | os.PathLike | None = None,
+    columns: int | None = None,
+    delay_ms: int = 120,
+    progress: Progress | bool | None = None,
+    **overrides: Any,
+) -> Sweep:
+    """Render ``scene`` at every light angle of ``light_angles`` (default: 9 from −60° to
+    60°, as ``opalray sweep``), at the scene's image size.
+
+    ``client``: a ``dask.distributed.Client``: one task per frame on its cluster (each worker
+    prepares the structure and optics once); None renders here, one frame at a time, each on
+    every core. ``out_dir``: write ``frame_NNNN.png`` per frame there (with ``scene.toml`` and
+    ``sweep.json``), and the sheet (default ``sweep.png``) and animation; a run into a folder
+    that already holds some frames of the same scene and angles renders only the missing ones.
+    ``sheet``/``animation`` (relative paths go under ``out_dir``): the contact sheet (PNG) and
+    an animation (``.gif``, or ``.png`` for APNG), byte for byte those of ``opalray sweep``.
+    ``progress``: a callable ``(stage, done, total)`` per frame, or ``True`` for a tqdm bar.
+    """
+    start = time.perf_counter()
+    scene = as_scene(scene, **overrides)
+    angles = _check_angles(sweep_angles() if light_angles is None else light_angles)
+    width, height = scene["render"]["width"], scene["render"]["height"]
+    n = len(angles)
+
+    # Where the files go, and which frames are already there.
+    frame_paths: list[str] = []
+    frames: list[bytes | None] = [None] * n
+    if out_dir is not None:
+        out_dir = os.fspath(out_dir)
+        os.makedirs(out_dir, exist_ok=True)
+        if sheet is None:
+            sheet = "sweep.png"
+        manifest = {"angles_deg": angles, "scene": scene.to_toml()}
+        manifest_path = os.path.join(out_dir, _MANIFEST)
+        if os.path.exists(manifest_path):
+            with open(manifest_path, encoding="utf-8") as f:
+                if json.load(f) != manifest:
+                    raise ValueError(
+                        f"out_dir {out_dir}: holds a sweep of another scene or other angles; "
+                        "use a new folder or empty this one"
+                    )
+        else:
+            scene.save(os.path.join(out_dir, _SCENE_FILE))
+            with open(manifest_path, "w", encoding="utf-8") as f:
+                json.dump(manifest, f, indent=1)
+        frame_paths = [os.path.join(out_dir, f"frame_{k:04d}.png") for k in range(n)]
+        for k, path in enumerate(frame_paths):
+            if os.path.exists(path):
+                w, h, codes = _opalray.read_png_rgb8(path)
+                if (w, h) == (width, height):
+                    frames[k] = codes
+    paths = []
+    for target, allowed, what in ((sheet, (".png",), "sheet"), (animation, (".gif", ".png"), "animation")):
+        if target is not None:
+            target = os.fspath(target)
+            _check_out(target, allowed, what)
+            if out_dir is not None and not os.path.isabs(target):
+                target = os.path.join(out_dir, target)
+        paths.append(target)
+    sheet_path, animation_path = paths
+
+    missing = [k for k in range(n) if frames[k] is None]
+    report, close = _progress_of(progress, n, "sweep")
+    done = n - len(missing)
+
+    def finish(k: int, codes: bytes) -> None:
+        nonlocal done
+        frames[k] = codes
+        if frame_paths:
+            _opalray.write_png_rgb8(frame_paths[k], width, height, codes)
+        done += 1
+        if report:
+            report(f"{angles[k]:.0f}°", done, n)
+
+    try:
+        if client is None:
+            if missing:
+                stages = prepare(scene)
+                for k in missing:
+                    finish(k, stages.render_rgb8(angles[k]))
+        elif missing:
+            from dask.distributed import as_completed
+
+            scene_future = client.scatter(scene, broadcast=True)
+            futures = {
+                client.submit(_render_frame, scene_future, angles[k], pure=False): k for k in missing
+            }
+            for future in as_completed(futures):
+                finish(futures[future], future.result())
+    finally:
+        close()
+
+    if sheet_path is not None:
+        _opalray.write_sheet(sheet_path, frames, angles, width, height, columns or min(n, 9))
+    if animation_path is not None:
+        _opalray.write_animation(animation_path, frames, width, height, delay_ms)
+    return Sweep(
+        angles_deg=angles,
+        frames=[np.frombuffer(f, np.uint8).reshape(height, width, 3) for f in frames],
+        rendered=missing,
+        sheet=sheet_path,
+        animation=animation_path,
+        frame_paths=frame_paths,
+        seconds=time.perf_counter() - start,
+    )
+
+
+def map(fn: Callable[[Any], Any], items: Iterable[Any], client: Any = None, **submit: Any) -> list:
+    """``[fn(x) for x in items]``, locally or, given a Dask ``client``, one task per item on
+    its cluster (results in the order of ``items``). ``fn`` is typically ``opalray.render``
+    or a function of a scene that returns a few numbers; ``Image`` results travel as arrays.
+    ``submit``: extra keyword arguments of ``client.map`` (``resources=``, ``retries=`` …)."""
+    items = list(items)
+    if client is None:
+        return [fn(x) for x in items]
+    submit.setdefault("pure", False)
+    return client.gather(client.map(fn, items, **submit))

@@ -1,0 +1,162 @@
+"""Rendering from Python: the CLI's bytes, arrays' shapes and dtypes, the stages, the GIL."""
+
+import json
+import pickle
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import opalray
+from conftest import small_scene
+
+
+def test_render_is_byte_identical_to_the_cli(tmp_path, cli, small):
+    scene_path = tmp_path / "small.toml"
+    small.save(scene_path)
+    subprocess.run(
+        [cli, "render", str(scene_path), "--output", str(tmp_path / "cli.png"),
+         "--stats", str(tmp_path / "cli.json")],
+        check=True, capture_output=True,
+    )
+    image = opalray.render(small)
+    image.save(tmp_path / "py.png")
+    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    # The same fields as --stats, the same energy figures.
+    cli_stats = json.loads((tmp_path / "cli.json").read_text())
+    assert set(image.stats) == set(cli_stats)
+    assert image.stats["energy"] == cli_stats["energy"]
+    assert image.stats["void_ratio"] == cli_stats["void_ratio"]
+    assert image.stats["image"] == cli_stats["image"]
+    # And the CLI's EXR outputs.
+    subprocess.run(
+        [cli, "render", str(scene_path), "--output", str(tmp_path / "cli.exr"),
+         "--spectral", str(tmp_path / "cli-cube.exr")],
+        check=True, capture_output=True,
+    )
+    image.save(tmp_path / "py.exr")
+    image.save(tmp_path / "py-cube.exr", spectral=True)
+    assert (tmp_path / "py.exr").read_bytes() == (tmp_path / "cli.exr").read_bytes()
+    assert (tmp_path / "py-cube.exr").read_bytes() == (tmp_path / "cli-cube.exr").read_bytes()
+
+
+def test_arrays_have_their_shapes_dtypes_and_axis(small):
+    image = opalray.render(small, light={"angle_deg": -20})
+    h, w, bins = 48, 64, small["spectrum"]["bins"]
+    assert image.rgb.shape == (h, w, 3) and image.rgb.dtype == np.float32
+    assert image.srgb8.shape == (h, w, 3) and image.srgb8.dtype == np.uint8
+    assert image.spectral.shape == (h, w, bins) and image.spectral.dtype == np.float32
+    wl = image.wavelengths_nm
+    lo, hi = small["spectrum"]["min_nm"], small["spectrum"]["max_nm"]
+    step = (hi - lo) / bins
+    assert wl.shape == (bins,) and wl.dtype == np.float64
+    np.testing.assert_allclose(wl, lo + step * (np.arange(bins) + 0.5))
+    assert np.isfinite(image.spectral).all() and (image.spectral >= 0).all()
+    assert image.spectral.max() > 0 and image.srgb8.max() > 0
+    assert image.stats["light_angle_deg"] == -20
+    assert image.scene["light"]["angle_deg"] == -20
+    assert not image.rgb.flags.writeable
+    png = image._repr_png_()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_save_refuses_unknown_types(tmp_path, small):
+    image = opalray.render(small)
+    for bad, kw in [("x.jpg", {}), ("x.png", {"spectral": True})]:
+        with pytest.raises(ValueError, match="unsupported file type"):
+            image.save(tmp_path / bad, **kw)
+    with pytest.raises(OSError, match="does not exist"):
+        image.save(tmp_path / "no" / "x.png")
+
+
+def test_images_pickle_as_their_arrays(small):
+    image = opalray.render(small)
+    back = pickle.loads(pickle.dumps(image))
+    np.testing.assert_array_equal(back.rgb, image.rgb)
+    np.testing.assert_array_equal(back.srgb8, image.srgb8)
+    np.testing.assert_array_equal(back.spectral, image.spectral)
+    assert back.stats == image.stats and back.scene == image.scene
+    assert back._repr_png_() == image._repr_png_()
+
+
+def test_stages_are_arrays_and_render_the_same_bytes(small):
+    stages = opalray.prepare(small)
+    s = stages.structure
+    nx, ny, nz = small["structure"]["grid"]
+    assert s.grid == (nx, ny, nz)
+    assert s.cells.shape == (nz, ny, nx) and s.cells.dtype == np.uint8
+    assert s.orientations.shape == (nz, ny, nx, 4) and s.orientations.dtype == np.float32
+    assert s.normals.shape == (nz, ny, nx, 3)
+    clusters = s.cells == s.CLUSTER
+    inside = s.cells != s.OUTSIDE
+    assert clusters.sum() == s.stats["clusters"] and inside.sum() == s.stats["inside_cells"]
+    assert abs((inside & ~clusters).sum() / inside.sum() - s.stats["void_ratio"]) < 1e-12
+    np.testing.assert_allclose(np.linalg.norm(s.orientations[clusters], axis=-1), 1, atol=1e-5)
+    np.testing.assert_allclose(np.linalg.norm(s.normals[clusters], axis=-1), 1, atol=1e-5)
+    o = stages.optics
+    bins = small["spectrum"]["bins"]
+    assert o.reflectance.shape == (len(o.cos_theta), bins) == o.transmittance.shape
+    assert o.cos_theta[0] == 1.0 and o.theta_deg[-1] == pytest.approx(90)
+    np.testing.assert_allclose(o.reflectance + o.transmittance + o.diffuse, 1, atol=1e-5)
+    # The Bragg peak at normal incidence: λ = 2·d111·n_eff (DESIGN.md, Bragg–Snell).
+    peak = o.wavelengths_nm[np.argmax(o.reflectance[0])]
+    assert abs(peak - 2 * o.d111_nm * o.n_eff) < 15
+    # A prepared scene renders the bytes of a fresh render, at any angle.
+    for angle in (30.0, -40.0):
+        fresh = opalray.render(small, light={"angle_deg": angle})
+        np.testing.assert_array_equal(stages.render(angle).srgb8, fresh.srgb8)
+        assert stages.render_rgb8(angle) == fresh.srgb8.tobytes()
+
+
+def test_progress_callback_reports_the_stages(small):
+    seen = []
+    image = opalray.render(small, progress=lambda stage, done, total: seen.append((done, total)))
+    assert seen == [(0, 2), (1, 2), (2, 2)]
+    np.testing.assert_array_equal(image.srgb8, opalray.render(small).srgb8)
+
+
+def test_the_gil_is_released_while_rendering():
+    # Big enough that the render takes a while; a second Python thread keeps counting.
+    scene = small_scene(render={"width": 160, "height": 120}, light={"rays": 16384})
+    ticks = []
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.005)
+
+    thread = threading.Thread(target=count)
+    thread.start()
+    try:
+        time.sleep(0.05)
+        start = time.perf_counter()
+        opalray.render(scene)
+        end = time.perf_counter()
+    finally:
+        stop.set()
+        thread.join()
+    during = [t for t in ticks if start <= t <= end]
+    assert end - start > 0.1, "the render should take long enough to measure"
+    # Ticks kept coming every few ms throughout the render: no gap near its length.
+    gaps = np.diff([start] + during + [end])
+    assert len(during) >= 5 and gaps.max() < 0.5 * (end - start), (len(during), gaps.max(), end - start)
+
+
+def test_ctrl_c_interrupts_a_render_at_once():
+    # A render of several seconds; Ctrl-C (SIGINT's flag, as the terminal sets it) 0.2 s in.
+    import _thread
+
+    scene = small_scene(render={"width": 640, "height": 480}, light={"rays": 262144})
+    timer = threading.Timer(0.2, _thread.interrupt_main)
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        opalray.render(scene)
+    waited = time.perf_counter() - start
+    timer.join()
+    assert waited < 1.0, waited
+    # The package still works afterwards.
+    assert opalray.render(small_scene()).srgb8.shape == (48, 64, 3)

@@ -1,0 +1,116 @@
+"""The scene dict: the TOML schema, round trips, `replace`, and the CLI's bad-input corpus as
+`ValueError`s naming the field."""
+
+import math
+import pickle
+
+import pytest
+
+import opalray
+from conftest import REPO
+
+
+def test_preset_is_the_shipped_paper_file():
+    assert opalray.Scene.preset("paper") == opalray.Scene.from_toml(REPO / "scenes" / "paper.toml")
+    assert opalray.Scene() == opalray.Scene.preset()
+
+
+def test_dict_round_trips_through_toml(tmp_path):
+    scene = opalray.Scene.preset("paper").replace(crystal={"sphere_diameter_nm": 215.5})
+    d = scene.to_dict()
+    assert set(d) == {"structure", "crystal", "spectrum", "light", "camera", "render", "color"}
+    path = tmp_path / "s.toml"
+    scene.save(path)
+    back = opalray.Scene.from_toml(path)
+    assert back == scene and back.to_dict() == d
+    assert opalray.Scene(d) == scene
+    assert opalray.Scene.from_toml_str(scene.to_toml()) == scene
+    assert pickle.loads(pickle.dumps(scene)) == scene
+
+
+def test_partial_dict_takes_the_defaults():
+    scene = opalray.Scene({"render": {"width": 100}})
+    d = scene.to_dict()
+    assert d["render"]["width"] == 100
+    assert d["render"]["height"] == opalray.Scene.preset()["render"]["height"]
+    assert opalray.Scene({}) == opalray.Scene.preset()
+
+
+def test_replace_merges_sections_and_dotted_paths():
+    base = opalray.Scene.preset()
+    a = base.replace(crystal={"sphere_diameter_nm": 215})
+    b = base.replace({"crystal.sphere_diameter_nm": 215})
+    c = base.replace(**{"crystal.sphere_diameter_nm": 215.0})
+    assert a == b == c
+    assert a["crystal"]["sphere_diameter_nm"] == 215.0
+    assert a["crystal"]["n_sphere"] == base["crystal"]["n_sphere"]
+    assert base["crystal"]["sphere_diameter_nm"] != 215  # the original is unchanged
+    # numpy scalars are numbers
+    np = pytest.importorskip("numpy")
+    assert base.replace(render={"width": np.int64(64)})["render"]["width"] == 64
+
+
+# (dict changes, the field the error must name): the cases of crates/opalray-cli/tests
+# (cli_structure.rs, cli_render.rs) and the core's scene tests, as a dict user writes them.
+BAD = [
+    ({"structure": {"void_ratoi": 0.3}}, "structure.void_ratoi"),
+    ({"render": {"widht": 3}}, "render.widht"),
+    ({"structure": {"grid": [100, 0, 25]}}, "structure.grid"),
+    ({"structure": {"grid": [100, -75, 25]}}, "structure.grid"),
+    ({"structure": {"semi_axes_mm": [10.0, 0.0, 2.5]}}, "structure.semi_axes_mm"),
+    ({"structure": {"void_ratio": math.nan}}, "structure.void_ratio"),
+    ({"structure": {"mean_radius_cells": math.nan}}, "structure.mean_radius_cells"),
+    ({"structure": {"void_ratio": 1.5}}, "structure.void_ratio"),
+    ({"structure": {"orientation_jitter_deg": -3.0}}, "structure.orientation_jitter_deg"),
+    ({"structure": {"grid": [100000, 100000, 100000]}}, "structure.grid"),
+    ({"render": {"width": 0}}, "render.width"),
+    ({"render": {"width": "wide"}}, "render.width"),
+    ({"render": {"body_tone": 12}}, "render.body_tone"),
+    ({"light": {"angle_deg": math.nan}}, "light.angle_deg"),
+    ({"light": {"rays": 0}}, "light.rays"),
+    ({"light": {"cutoff": 0.0}}, "light.cutoff"),
+    ({"light": {"cutoff": -0.1}}, "light.cutoff"),
+    ({"crystal": {"sphere_diameter_nm": -250.0}}, "crystal.sphere_diameter_nm"),
+    ({"crystal": {"n_sphere": 0.9}}, "crystal.n_sphere"),
+    ({"colour": {"exposure_ev": 1}}, "colour"),
+    ({"render": {"width": 1 << 70}}, "render.width"),
+    ({"render": {"width": object()}}, "render.width"),
+]
+
+
+@pytest.mark.parametrize("changes, field", BAD, ids=[f for _, f in BAD])
+def test_bad_values_are_value_errors_naming_the_field(changes, field):
+    with pytest.raises(ValueError) as err:
+        opalray.Scene(changes)
+    message = str(err.value)
+    assert field in message, message
+    assert "\n" not in message, message
+    with pytest.raises(ValueError, match=field.replace(".", r"\.")):
+        opalray.Scene.preset().replace(changes)
+
+
+def test_dict_errors_match_the_scene_files(tmp_path):
+    # The same message as a scene file's, less the file's name and line.
+    path = tmp_path / "bad.toml"
+    path.write_text("[render]\nwidth = 0\n")
+    with pytest.raises(ValueError) as from_file:
+        opalray.Scene.from_toml(path)
+    with pytest.raises(ValueError) as from_dict:
+        opalray.Scene({"render": {"width": 0}})
+    assert str(from_file.value) == str(from_dict.value)
+    path.write_text("[structure]\nvoid_ratoi = 0.3\n")
+    with pytest.raises(ValueError) as from_file:
+        opalray.Scene.from_toml(path)
+    with pytest.raises(ValueError) as from_dict:
+        opalray.Scene({"structure": {"void_ratoi": 0.3}})
+    tail = str(from_dict.value).split("field `structure.void_ratoi`: ", 1)[1]
+    assert str(from_file.value).endswith(tail), (from_file.value, from_dict.value)
+
+
+def test_malformed_toml_and_unknown_preset():
+    with pytest.raises(ValueError, match="line 1"):
+        opalray.Scene.from_toml_str("[structure\n", "s.toml")
+    with pytest.raises(ValueError, match="nonesuch"):
+        opalray.Scene.preset("nonesuch")
+    with pytest.raises(ValueError, match="dict"):
+        opalray.Scene([1, 2])  # type: ignore[arg-type]

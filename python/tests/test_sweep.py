@@ -1,0 +1,109 @@
+"""Sweeps, locally and on a Dask LocalCluster, and resume; `opalray.map`."""
+
+import subprocess
+
+import numpy as np
+import pytest
+
+import opalray
+from conftest import small_scene
+
+ANGLES = [-60.0, -20.0, 20.0, 60.0]
+
+
+def test_sweep_angles_are_the_clis():
+    assert opalray.sweep_angles(9) == [-60 + 120 * k / 8 for k in range(9)]
+    assert opalray.sweep_angles(1, 10, 20) == [10.0]
+    with pytest.raises(ValueError, match="frames"):
+        opalray.sweep_angles(0)
+    with pytest.raises(ValueError, match="light angle"):
+        opalray.sweep(small_scene(), [100.0])
+
+
+def test_local_sweep_matches_the_cli(tmp_path, cli, small):
+    scene_path = tmp_path / "small.toml"
+    small.save(scene_path)
+    subprocess.run(
+        [cli, "sweep", str(scene_path), "--width", "64", "--height", "48", "--frames", "4",
+         "--from", "-60", "--to", "60", "--sheet", str(tmp_path / "cli-sheet.png"),
+         "--animation", str(tmp_path / "cli.gif")],
+        check=True, capture_output=True,
+    )
+    result = opalray.sweep(small, opalray.sweep_angles(4), sheet=tmp_path / "sheet.png",
+                           animation=tmp_path / "play.gif")
+    assert result.rendered == [0, 1, 2, 3]
+    assert len(result.frames) == 4 and result.frames[0].shape == (48, 64, 3)
+    assert (tmp_path / "sheet.png").read_bytes() == (tmp_path / "cli-sheet.png").read_bytes()
+    assert (tmp_path / "play.gif").read_bytes() == (tmp_path / "cli.gif").read_bytes()
+    for frame, angle in zip(result.frames, result.angles_deg):
+        np.testing.assert_array_equal(frame, opalray.render(small, light={"angle_deg": angle}).srgb8)
+
+
+def test_dask_sweep_equals_the_local_one(tmp_path, dask_client, small):
+    local = opalray.sweep(small, ANGLES, out_dir=tmp_path / "local", animation="play.png")
+    remote = opalray.sweep(small, ANGLES, client=dask_client, out_dir=tmp_path / "dask",
+                           animation="play.png")
+    assert remote.rendered == [0, 1, 2, 3]
+    for a, b in zip(local.frames, remote.frames):
+        np.testing.assert_array_equal(a, b)
+    for name in ["sweep.png", "play.png"] + [f"frame_{k:04d}.png" for k in range(4)]:
+        assert (tmp_path / "local" / name).read_bytes() == (tmp_path / "dask" / name).read_bytes(), name
+
+
+@pytest.mark.parametrize("distributed", [False, True], ids=["local", "dask"])
+def test_resumed_sweep_renders_only_the_missing_frames(tmp_path, request, small, distributed):
+    client = request.getfixturevalue("dask_client") if distributed else None
+    out = tmp_path / "out"
+    first = opalray.sweep(small, ANGLES, client=client, out_dir=out, animation="play.gif")
+    sheet = (out / "sweep.png").read_bytes()
+    gif = (out / "play.gif").read_bytes()
+    (out / "frame_0001.png").unlink()
+    (out / "frame_0003.png").unlink()
+    (out / "sweep.png").unlink()
+    seen = []
+    again = opalray.sweep(small, ANGLES, client=client, out_dir=out, animation="play.gif",
+                          progress=lambda stage, done, total: seen.append(done))
+    assert again.rendered == [1, 3]
+    assert sorted(seen) == [3, 4]
+    assert (out / "sweep.png").read_bytes() == sheet
+    assert (out / "play.gif").read_bytes() == gif
+    for a, b in zip(first.frames, again.frames):
+        np.testing.assert_array_equal(a, b)
+    # Nothing missing: nothing rendered.
+    assert opalray.sweep(small, ANGLES, client=client, out_dir=out).rendered == []
+    # Another scene into the same folder is refused.
+    with pytest.raises(ValueError, match="another scene"):
+        opalray.sweep(small.replace(crystal={"sphere_diameter_nm": 215}), ANGLES, out_dir=out)
+
+
+def _peak_nm(scene):
+    image = opalray.render(scene)
+    spectrum = image.spectral.reshape(-1, image.spectral.shape[-1]).mean(axis=0)
+    return float(image.wavelengths_nm[np.argmax(spectrum)])
+
+
+def test_map_runs_locally_and_on_dask(dask_client, small):
+    scenes = [small.replace(crystal={"sphere_diameter_nm": d}) for d in (215, 250)]
+    local = opalray.map(_peak_nm, scenes)
+    assert opalray.map(_peak_nm, scenes, client=dask_client) == local
+    images = opalray.map(opalray.render, scenes, client=dask_client)
+    for image, scene in zip(images, scenes):
+        np.testing.assert_array_equal(image.srgb8, opalray.render(scene).srgb8)
+
+
+def test_dask_sweep_on_worker_processes(tmp_path, small):
+    # Real worker processes: the scene and the frames cross process boundaries (pickled).
+    distributed = pytest.importorskip("dask.distributed")
+    import dask
+
+    with dask.config.set({"temporary-directory": str(tmp_path / "dask")}):
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                      dashboard_address=":0") as cluster, \
+                distributed.Client(cluster) as client:
+            remote = opalray.sweep(small, ANGLES, client=client)
+            images = opalray.map(opalray.render, [small], client=client)
+    local = opalray.sweep(small, ANGLES)
+    for a, b in zip(local.frames, remote.frames):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(images[0].srgb8, opalray.render(small).srgb8)
+    assert images[0].stats["energy"] == opalray.render(small).stats["energy"]

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The one test command: every Rust test, then the Python package's tests.
+#
+# On a machine with only Rust (stable) and Python ≥ 3.11: makes a venv in .venv (or
+# $OPALRAY_VENV), installs the package with its test extras (pytest, numpy,
+# dask[distributed]) from this checkout, runs `cargo test --workspace`, then pytest. Scratch
+# files of pytest and Dask stay under one temporary folder, removed at the end.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root="$PWD"
+
+venv="${OPALRAY_VENV:-.venv}"
+python="${PYTHON:-python3}"
+if [ ! -x "$venv/bin/python" ]; then
+    "$python" -m venv "$venv"
+fi
+"$venv/bin/python" -m pip install --quiet "maturin>=1.7,<2"
+# The extension module, built in release mode (as the CLI's binary the tests compare with).
+"$venv/bin/python" -m pip install --quiet ".[test]"
+
+cargo test --workspace
+# The tests compare the Python renders with the release binary's.
+cargo build --release -p opalray-cli
+export OPALRAY_BIN="$root/target/release/opalray"
+
+scratch="$(mktemp -d "${TMPDIR:-/tmp}/opalray-test.XXXXXX")"
+trap 'rm -rf "$scratch"' EXIT
+export DASK_TEMPORARY_DIRECTORY="$scratch/dask"
+# Run from the scratch folder so that `import opalray` is the installed package, not python/.
+venv_python="$(cd "$venv" && pwd)/bin/python"
+(cd "$scratch" && "$venv_python" -m pytest -p no:cacheprovider --basetemp="$scratch/pytest" \
+    "$root/python/tests" "$@")
