@@ -89,7 +89,10 @@ pub fn run(args: Args) -> Result<()> {
             args.runs,
             threads
         ))?;
-        crate::stdio::out(format_args!("  {:<11} {:>9} {:>12}", "stage", "median", "fastest"))?;
+        crate::stdio::out(format_args!(
+            "  {:<11} {:>9} {:>12}",
+            "stage", "median", "fastest"
+        ))?;
         for (name, median, fastest) in &stats {
             crate::stdio::out(format_args!(
                 "  {name:<11} {:>6.1} ms {:>9.1} ms",

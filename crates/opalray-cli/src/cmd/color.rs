@@ -85,11 +85,7 @@ pub fn run(args: Args) -> Result<()> {
              emission spectrum"
         );
     }
-    let text = super::common::read_input(
-        "spectrum",
-        &args.spectrum,
-        super::common::MAX_CSV_BYTES,
-    )?;
+    let text = super::common::read_input("spectrum", &args.spectrum, super::common::MAX_CSV_BYTES)?;
     let samples = parse_spectrum_csv(&text, &args.spectrum)?;
     let illuminant = Illuminant::from(args.illuminant.unwrap_or(IlluminantArg::D65));
     let color = if args.reflectance {
@@ -98,7 +94,11 @@ pub fn run(args: Args) -> Result<()> {
         SpectrumColor::of_emission(&samples)
     };
     // Values near f64's limit overflow the colour integrals: refuse rather than print null.
-    let finite = color.xyz.iter().chain(&color.srgb_linear).all(|v| v.is_finite());
+    let finite = color
+        .xyz
+        .iter()
+        .chain(&color.srgb_linear)
+        .all(|v| v.is_finite());
     if !finite {
         anyhow::bail!(
             "{}: the values are too large to integrate (XYZ overflows); scale them down, \
