@@ -46,6 +46,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let mut scene = args.scene.load()?;
     args.look.apply(&mut scene)?;
+    super::memory::check(&scene, super::memory::Extra::default())?;
     opalray::render::render(&scene)?;
     let mut times = Vec::with_capacity(args.runs);
     let ticks = cpu_ticks();

@@ -54,6 +54,7 @@ pub fn run(args: Args) -> Result<()> {
         scene.light.angle_deg = angle;
     }
     args.look.apply(&mut scene)?;
+    super::memory::check(&scene, super::memory::Extra::default())?;
     let bar = progress(2, "structure");
     let prepared = opalray::render::prepare(&scene)?;
     bar.set_message("light, view");

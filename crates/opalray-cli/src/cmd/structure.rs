@@ -71,6 +71,7 @@ pub fn run(args: Args) -> Result<()> {
             largest.max(1)
         );
     }
+    super::memory::check_structure(&scene, pixels)?;
     let mut outputs = Outputs::new();
     let image = outputs.add("--output", &args.output, &["png"])?;
     let stats_out = match &args.stats {

@@ -103,6 +103,13 @@ pub fn run(args: Args) -> Result<()> {
         scene.render.height = 240;
     }
     args.look.apply(&mut scene)?;
+    super::memory::check(
+        &scene,
+        super::memory::Extra {
+            frames: args.frames as u64,
+            animation: args.animation.is_some(),
+        },
+    )?;
     let angles: Vec<f64> = (0..args.frames)
         .map(|k| match args.frames {
             1 => args.from,
