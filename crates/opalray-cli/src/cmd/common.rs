@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use opalray::Scene;
 
@@ -171,10 +171,39 @@ impl LookArgs {
         if let Some(v) = self.exposure {
             scene.color.exposure_ev = v;
         }
-        scene
-            .validate()
-            .context("checking the scene with the command-line flags applied")?;
+        // A field the user set with a flag is named by that flag.
+        scene.validate().map_err(|err| match &err {
+            opalray::Error::InvalidField { field, message } => match self.flag_of(field) {
+                Some(flag) => anyhow::anyhow!("{flag} ({field}): {message}"),
+                None => anyhow::Error::new(err)
+                    .context("checking the scene with the command-line flags applied"),
+            },
+            _ => anyhow::Error::new(err)
+                .context("checking the scene with the command-line flags applied"),
+        })?;
         Ok(())
+    }
+
+    /// The flag that set scene field `field`, if one did.
+    fn flag_of(&self, field: &str) -> Option<&'static str> {
+        let given = [
+            ("render.width", "--width", self.width.is_some()),
+            ("render.height", "--height", self.height.is_some()),
+            (
+                "crystal.sphere_diameter_nm",
+                "--diameter",
+                self.diameter.is_some(),
+            ),
+            ("spectrum.bins", "--bins", self.bins.is_some()),
+            ("light.rays", "--rays", self.rays.is_some()),
+            ("light.cutoff", "--cutoff", self.cutoff.is_some()),
+            ("render.body_tone", "--body-tone", self.body_tone.is_some()),
+            ("color.exposure_ev", "--exposure", self.exposure.is_some()),
+        ];
+        given
+            .iter()
+            .find(|(f, _, set)| *set && *f == field)
+            .map(|(_, flag, _)| *flag)
     }
 }
 

@@ -6,6 +6,7 @@
 
 mod look;
 mod presets;
+mod shape;
 mod stone;
 
 pub use look::{
@@ -69,7 +70,14 @@ impl Scene {
                     format!(" (line {line})")
                 })
                 .unwrap_or_default();
-            let message = if path.is_empty() || path == "." {
+            // An error the parser finds before any field (a number too large for TOML) is
+            // named by the key on its line.
+            let key = inner
+                .span()
+                .and_then(|span| shape::key_at(text, span.start));
+            let message = if let (true, Some(key)) = (path.is_empty() || path == ".", &key) {
+                format!("field `{key}`{location}: {message}")
+            } else if path.is_empty() || path == "." {
                 format!("{message}{location}")
             } else {
                 format!("field `{path}`{location}: {message}")
@@ -79,6 +87,20 @@ impl Scene {
                 message,
             }
         })?;
+        // A TOML array where a section is expected fills the section by position: refuse.
+        if let Ok(given) = text.parse::<toml::Table>() {
+            if let Ok(toml::Value::Table(template)) = toml::Value::try_from(Scene::default()) {
+                if let Some((path, found)) = shape::misplaced_table(&given, &template, "") {
+                    return Err(Error::SceneParse {
+                        origin: origin.to_string(),
+                        message: format!(
+                            "field `{path}`: must be a table (a `[{path}]` section of \
+                             `key = value` lines), found {found}"
+                        ),
+                    });
+                }
+            }
+        }
         scene.validate()?;
         Ok(scene)
     }
@@ -210,6 +232,32 @@ mod tests {
         scene.structure.seed = u64::MAX;
         let err = scene.validate().unwrap_err().to_string();
         assert!(err.contains("structure.seed"), "{err}");
+    }
+
+    #[test]
+    fn silently_accepted_shapes_are_refused() {
+        for (text, expected) in [
+            ("[structure]\ngrid = [1, 2, 3, 4]", "structure.grid"),
+            (
+                "[structure]\nsemi_axes_mm = [1.0, 2.0, 3.0, 4.0]",
+                "structure.semi_axes_mm",
+            ),
+            (
+                "structure = [[1, 2, 3]]",
+                "field `structure`: must be a table",
+            ),
+            (
+                "[render]\nwidth = 99999999999999999999",
+                "field `render.width`",
+            ),
+        ] {
+            let err = Scene::from_toml_str(text, "t").unwrap_err().to_string();
+            assert!(err.contains(expected), "{text}: {err}");
+        }
+        let err = Scene::from_toml_str("[structure]\ngrid = [1, 2, 3, 4]", "t")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("length 4"), "{err}");
     }
 
     #[test]
