@@ -68,9 +68,17 @@ fn main() {
             stdio::note(format_args!("error: {} (see --help)", excerpt_words(&line)));
             std::process::exit(2);
         }
-        // clap explains a bad flag over several lines; keep its first, which names the flag.
+        // clap explains a bad flag over several lines; keep its first, which names the flag
+        // (a missing argument is named on the line after).
         let text = err.to_string();
-        let first = text.lines().next().unwrap_or("invalid arguments").trim();
+        let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+        let mut first = lines.next().unwrap_or("invalid arguments").to_string();
+        if first.ends_with(':') {
+            if let Some(next) = lines.next() {
+                first = format!("{first} {next}");
+            }
+        }
+        let first = first.as_str();
         let first = first.strip_prefix("error: ").unwrap_or(first);
         stdio::note(format_args!("error: {} (see --help)", excerpt_words(first)));
         std::process::exit(2);

@@ -87,6 +87,14 @@ pub fn run(args: Args) -> Result<()> {
     }
     let text = super::common::read_input("spectrum", &args.spectrum, super::common::MAX_CSV_BYTES)?;
     let samples = parse_spectrum_csv(&text, &args.spectrum)?;
+    let (first_nm, last_nm) = (samples[0].0, samples[samples.len() - 1].0);
+    if last_nm <= 360.0 || first_nm >= 830.0 {
+        anyhow::bail!(
+            "{}: the samples cover {first_nm}–{last_nm} nm, outside the 360–830 nm the CIE \
+             observer sees; give wavelengths in nm",
+            args.spectrum.display()
+        );
+    }
     let illuminant = Illuminant::from(args.illuminant.unwrap_or(IlluminantArg::D65));
     let color = if args.reflectance {
         SpectrumColor::of_reflectance(&samples, illuminant)

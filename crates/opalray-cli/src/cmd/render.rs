@@ -51,6 +51,11 @@ pub fn run(args: Args) -> Result<()> {
     };
     let mut scene = args.scene.load()?;
     if let Some(angle) = args.light_angle {
+        if !(angle.is_finite() && (-89.0..=89.0).contains(&angle)) {
+            anyhow::bail!(
+                "--light-angle {angle}: the light angle must be within −89° … 89°; try 30"
+            );
+        }
         scene.light.angle_deg = angle;
     }
     args.look.apply(&mut scene)?;
