@@ -53,7 +53,7 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(angle) = args.light_angle {
         if !(angle.is_finite() && (-89.0..=89.0).contains(&angle)) {
             anyhow::bail!(
-                "--light-angle {angle}: the light angle must be within −89° … 89°; try 30"
+                "--light-angle {angle} (light.angle_deg): must be within −89° … 89°; try 30"
             );
         }
         scene.light.angle_deg = angle;
