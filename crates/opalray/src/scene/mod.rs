@@ -105,9 +105,9 @@ impl Scene {
         Ok(scene)
     }
 
-    /// Read and parse a TOML scene file.
+    /// Read and parse a TOML scene file of at most [`MAX_SCENE_FILE_BYTES`].
     pub fn load(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = read_text_limited(path, MAX_SCENE_FILE_BYTES)?;
         Scene::from_toml_str(&text, &path.display().to_string())
     }
 
@@ -145,6 +145,33 @@ impl Scene {
         }
         Ok(())
     }
+}
+
+/// Largest scene file [`Scene::load`] reads, bytes (a complete scene is about 1.5 kB).
+pub const MAX_SCENE_FILE_BYTES: u64 = 1 << 20;
+
+/// Read the UTF-8 text file `path` of at most `limit` bytes, reading no more than
+/// `limit + 1` whatever the file (`/dev/zero` is refused at once).
+pub fn read_text_limited(path: &Path, limit: u64) -> Result<String> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut bytes = Vec::new();
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    if bytes.len() as u64 > limit {
+        return Err(Error::InvalidData {
+            path: path.to_path_buf(),
+            message: format!("larger than the limit of {limit} bytes; give a smaller file"),
+        });
+    }
+    String::from_utf8(bytes).map_err(|e| Error::InvalidData {
+        path: path.to_path_buf(),
+        message: format!(
+            "not UTF-8 text (byte {}); save it as UTF-8",
+            e.utf8_error().valid_up_to()
+        ),
+    })
 }
 
 /// Check that `value` is finite and within `[lo, hi]`; the error names `field` and a fix.
@@ -232,6 +259,12 @@ mod tests {
         scene.structure.seed = u64::MAX;
         let err = scene.validate().unwrap_err().to_string();
         assert!(err.contains("structure.seed"), "{err}");
+    }
+
+    #[test]
+    fn an_endless_file_is_refused_at_once() {
+        let err = Scene::load(Path::new("/dev/zero")).unwrap_err().to_string();
+        assert!(err.contains("larger than the limit"), "{err}");
     }
 
     #[test]
