@@ -77,11 +77,11 @@ impl Outputs {
 
     /// Write `output` with `write`, given the temporary path; an error names the flag and the
     /// target, not the temporary file.
-    pub fn write<E: std::fmt::Display>(
+    pub fn write<T, E: std::fmt::Display>(
         &self,
         output: Output,
-        write: impl FnOnce(&Path) -> std::result::Result<(), E>,
-    ) -> Result<()> {
+        write: impl FnOnce(&Path) -> std::result::Result<T, E>,
+    ) -> Result<T> {
         let staged = &self.staged[output.0];
         write(&staged.temp).map_err(|err| {
             let text = err.to_string().replace(

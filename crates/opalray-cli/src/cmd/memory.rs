@@ -28,8 +28,8 @@ const TABLE_BYTES: f64 = 64.0;
 pub struct Extra {
     /// Frames of a sweep: the contact sheet holds 3 bytes a pixel of each.
     pub frames: u64,
-    /// An animation keeps every frame (3 bytes a pixel) and a GIF quantises them all
-    /// (5 more).
+    /// An animation, written frame by frame: one frame's quantisation buffers (8 bytes a
+    /// pixel).
     pub animation: bool,
 }
 
@@ -46,7 +46,7 @@ pub fn peak_bytes(scene: &Scene, extra: Extra) -> f64 {
     let frames = extra.frames as f64;
     bytes += frames * pixels * 3.0;
     if extra.animation {
-        bytes += frames * pixels * 8.0;
+        bytes += pixels * 8.0;
     }
     bytes
 }

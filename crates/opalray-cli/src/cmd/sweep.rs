@@ -128,9 +128,27 @@ pub fn run(args: Args) -> Result<()> {
     // The stone's cells are laid out once for all frames.
     let cells = opalray::light_pass::StoneCells::new(&prepared.structure);
     let bar = progress(angles.len() as u64, "sweep");
-    // Each frame goes into the sheet as it completes; only an animation keeps them all.
+    // Each frame goes into the sheet as it completes; none is kept.
     let mut sheet = opalray::output::ContactSheet::blank(angles.len(), w, h, columns);
-    let mut kept = Vec::new();
+    // The animation too is written frame by frame, to its staged file.
+    let mut animation = match (animation_out, &args.animation) {
+        (Some(out), Some(path)) => {
+            let apng = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+            Some(outputs.write(out, |temp| {
+                opalray::output::AnimationWriter::create(
+                    temp,
+                    apng,
+                    angles.len() as u32,
+                    w as u32,
+                    h as u32,
+                    args.delay_ms,
+                )
+            })?)
+        }
+        _ => None,
+    };
     let mut per_frame = Vec::with_capacity(angles.len());
     // One frame at a time, each on all threads. (Two at once kept the cores a little busier,
     // 3.5 % off a 25-frame sweep on two cores, for a third more memory: `BENCHMARKS.md`.)
@@ -152,8 +170,8 @@ pub fn run(args: Args) -> Result<()> {
             }
         };
         sheet.place(k, &rgb8, w, h, &format!("{angle:.0}°"));
-        if animation_out.is_some() {
-            kept.push(rgb8);
+        if let (Some(writer), Some(out)) = (&mut animation, animation_out) {
+            outputs.write(out, |_| writer.push(&rgb8))?;
         }
         bar.inc(1);
     }
@@ -164,17 +182,8 @@ pub fn run(args: Args) -> Result<()> {
         opalray::output::write_png_rgb8(path, sheet.width as u32, sheet.height as u32, &sheet.rgb)
     })?;
     drop(sheet);
-    if let (Some(animation_out), Some(path)) = (animation_out, &args.animation) {
-        let is_png = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-        outputs.write(animation_out, |tmp| {
-            if is_png {
-                opalray::output::write_apng(tmp, &kept, w as u32, h as u32, args.delay_ms)
-            } else {
-                opalray::output::write_gif(tmp, &kept, w as u32, h as u32, args.delay_ms)
-            }
-        })?;
+    if let (Some(writer), Some(out)) = (animation, animation_out) {
+        outputs.write(out, |_| writer.finish())?;
     }
     if let Some(stats_out) = stats_out {
         let light: f64 = per_frame.iter().map(|t| t.light_pass).sum();

@@ -10,7 +10,7 @@ mod label;
 mod openexr;
 mod sheet;
 
-pub use animation::{write_apng, write_gif};
+pub use animation::{write_apng, write_gif, AnimationWriter};
 pub use display::write_png;
 pub use label::{draw_text, text_width};
 pub use openexr::{spectral_channel_name, write_exr, write_spectral_exr};
