@@ -21,11 +21,13 @@ pub mod geometry;
 pub mod light_pass;
 pub mod optics;
 pub mod output;
+pub mod path;
 pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod simd;
 pub mod spectrum;
+pub mod stone;
 pub mod structure;
 pub mod view_pass;
 

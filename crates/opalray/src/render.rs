@@ -7,14 +7,17 @@ use glam::{Quat, Vec3};
 use serde::Serialize;
 
 use crate::color::{illuminant_spectrum, to_rgb, RgbImage};
+use crate::color::{xyz_to_rgb_adapted, RgbSpace};
 use crate::error::Result;
 use crate::geometry::Camera;
 use crate::light_pass::{
     trace_light, ClusterOptics, EnergyLedger, LightSetup, LightSource, StoneCells, Termination,
 };
 use crate::optics::{build_optics, OpticsTables};
-use crate::scene::{LightKind, Scene, BODY_EXTINCTION_PER_MM};
+use crate::path::{trace_paths, Environment, PathLight, PathSetup, SpectralSampler};
+use crate::scene::{LightKind, Method, Scene, BODY_EXTINCTION_PER_MM};
 use crate::spectrum::SpectralImage;
+use crate::stone::Stone;
 use crate::structure::{grow_structure, Structure};
 use crate::view_pass::{trace_view, Shading, ViewSetup};
 
@@ -61,6 +64,8 @@ pub struct Prepared {
     pub structure: Structure,
     /// The cluster optics tables.
     pub optics: OpticsTables,
+    /// The stone model of the path integrator (`integrator.method = "path"`).
+    pub stone: Option<std::sync::Arc<Stone>>,
     /// Time of the structure and optics stages.
     pub times: StageTimes,
 }
@@ -96,10 +101,20 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
     let start = Instant::now();
     let optics = build_optics(&scene.crystal, &scene.spectrum)?;
     times.optics = seconds(start);
+    let stone = match scene.integrator.method {
+        Method::TwoPass => None,
+        Method::Path => {
+            let start = Instant::now();
+            let stone = Stone::new(scene)?;
+            times.structure += seconds(start);
+            Some(std::sync::Arc::new(stone))
+        }
+    };
     Ok(Prepared {
         scene: scene.clone(),
         structure,
         optics,
+        stone,
         times,
     })
 }
@@ -130,7 +145,9 @@ impl Prepared {
         let theta = (light_angle_deg as f32).to_radians();
         let travel = to_opal * Vec3::new(-theta.sin(), 0.0, -theta.cos());
         let source = match s.light.kind {
-            LightKind::Directional => LightSource::Directional { direction: travel },
+            LightKind::Directional | LightKind::None => {
+                LightSource::Directional { direction: travel }
+            }
             LightKind::Point => LightSource::Point {
                 position: -travel * s.light.distance_mm as f32,
             },
@@ -150,6 +167,9 @@ impl Prepared {
     /// Light pass, view pass and colour for one light angle. (Laying out the stone's cells
     /// for the passes is timed with the light pass.)
     pub fn render(&self, light_angle_deg: f64) -> Frame {
+        if let Some(stone) = &self.stone {
+            return self.render_path(stone, light_angle_deg);
+        }
         let start = Instant::now();
         let cells = StoneCells::new(&self.structure);
         let layout = seconds(start);
@@ -161,6 +181,9 @@ impl Prepared {
     /// [`Prepared::render`] with the stone's cells laid out once, for many frames (a sweep):
     /// `cells` must be [`StoneCells::new`] of this structure.
     pub fn render_in(&self, cells: &StoneCells, light_angle_deg: f64) -> Frame {
+        if let Some(stone) = &self.stone {
+            return self.render_path(stone, light_angle_deg);
+        }
         let s = &self.scene;
         let mut times = self.times;
         let (camera, source) = self.placement(light_angle_deg);
@@ -230,3 +253,66 @@ impl Prepared {
         }
     }
 }
+
+impl Prepared {
+    /// The path integrator's frame for light angle `light_angle_deg`.
+    fn render_path(&self, stone: &Stone, light_angle_deg: f64) -> Frame {
+        let s = &self.scene;
+        let mut times = self.times;
+        let (camera, source) = self.placement(light_angle_deg);
+        let start = Instant::now();
+        let sampler = SpectralSampler::new(
+            s.light.illuminant,
+            &s.spectrum,
+            s.integrator.wavelengths as usize,
+        );
+        let light = (s.light.kind != LightKind::None).then_some(PathLight {
+            source,
+            intensity: s.light.intensity as f32,
+            disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
+        });
+        let image = trace_paths(
+            stone,
+            &PathSetup {
+                camera,
+                width: s.render.width as usize,
+                height: s.render.height as usize,
+                spp: s.integrator.spp,
+                max_depth: s.integrator.max_depth,
+                light,
+                environment: Environment::new(&s.environment, s.render.background as f32),
+                gloss: s.render.gloss as f32,
+                seed: s.structure.seed,
+                spectral: &sampler,
+            },
+        );
+        times.view_pass = seconds(start);
+        let start = Instant::now();
+        let m = xyz_to_rgb_adapted(RgbSpace::of(s.color.space), sampler.white_xyz)
+            * 2f64.powf(s.color.exposure_ev);
+        let m = m.as_mat3();
+        let data = image
+            .xyz
+            .iter()
+            .map(|&v| (m * glam::Vec3::from_array(v)).to_array())
+            .collect();
+        let rgb = RgbImage {
+            width: s.render.width as usize,
+            height: s.render.height as usize,
+            data,
+        };
+        times.color = seconds(start);
+        Frame {
+            spectral: image.spectral,
+            rgb,
+            light_rays: 0,
+            ledger: EnergyLedger::default(),
+            times,
+            void_ratio: self.structure.stats.void_ratio,
+        }
+    }
+}
+
+/// Angular radius of the scene light's disc as the path integrator's gloss shows it, degrees
+/// (a small lamp or the sun: 0.5°).
+pub const LIGHT_DISC_RADIUS_DEG: f32 = 0.5;

@@ -13,7 +13,8 @@ pub struct SceneArgs {
     /// Scene file (TOML); see `opalray scene` for a complete example.
     #[arg(value_name = "SCENE.toml")]
     pub scene: Option<PathBuf>,
-    /// Start from a named preset instead of a file (presets: paper).
+    /// Start from a named preset instead of a file (paper, paper-path, harlequin, pinfire,
+    /// broad-flash, ribbon).
     #[arg(long, value_name = "NAME", conflicts_with = "scene")]
     pub preset: Option<String>,
     /// Seed of every random stream (overrides structure.seed), 0 to 2^63 − 1.
@@ -139,6 +140,10 @@ pub struct LookArgs {
     /// Exposure compensation in stops (color.exposure_ev).
     #[arg(long, value_name = "EV", allow_hyphen_values = true)]
     pub exposure: Option<f64>,
+    /// Samples per pixel of the path integrator (integrator.spp): more for smoother edges and
+    /// less noise, in proportion to the time.
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub spp: Option<u32>,
 }
 
 impl LookArgs {
@@ -171,6 +176,9 @@ impl LookArgs {
         if let Some(v) = self.exposure {
             scene.color.exposure_ev = v;
         }
+        if let Some(v) = self.spp {
+            scene.integrator.spp = v;
+        }
         // A field the user set with a flag is named by that flag.
         scene.validate().map_err(|err| match &err {
             opalray::Error::InvalidField { field, message } => match self.flag_of(field) {
@@ -199,6 +207,7 @@ impl LookArgs {
             ("light.cutoff", "--cutoff", self.cutoff.is_some()),
             ("render.body_tone", "--body-tone", self.body_tone.is_some()),
             ("color.exposure_ev", "--exposure", self.exposure.is_some()),
+            ("integrator.spp", "--spp", self.spp.is_some()),
         ];
         given
             .iter()

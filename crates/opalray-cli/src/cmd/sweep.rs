@@ -248,7 +248,7 @@ impl FramesDir {
             .as_bytes())
         );
         let manifest = dir.join(MANIFEST);
-        let previous = std::fs::read_to_string(&manifest).ok();
+        let previous = super::common::read_input("--frames-dir", &manifest, 1 << 20).ok();
         let previous_key = previous
             .as_deref()
             .and_then(|t| serde_json::from_str::<serde_json::Value>(t).ok())

@@ -17,7 +17,7 @@
 
 mod accumulate;
 mod cells;
-mod direct;
+pub(crate) mod direct;
 mod interaction;
 mod shape;
 mod smooth;

@@ -18,12 +18,16 @@
 //! inside the stone is `λ = 2 d n_eff cos θ`; from air at θ₀ onto a face parallel to the
 //! planes, `λ = 2 d √(n_eff² − sin² θ₀)`.
 
+pub mod families;
 pub mod fcc;
 pub mod fine;
+pub mod line;
 pub mod tables;
 pub mod tmm;
 
+pub use families::{Families, FamilyKind, FamilyOptics};
 pub use fcc::{ClusterStack, StackAtAngle};
+pub use line::{rocking_fwhm_rad, BraggLine};
 pub use tables::{build_optics, OpticsTables};
 pub use tmm::Polarization;
 

@@ -18,6 +18,10 @@ pub mod stage {
     /// Light pass's roulette (`light.roulette`): one stream per lattice cell, apart from the
     /// rays' jitter, so that roulette leaves the rays where the cut traces them.
     pub const ROULETTE: u64 = 4;
+    /// The stone model's domains: grains, their orientations and sphere sizes.
+    pub const STONE: u64 = 5;
+    /// Path integrator: one stream per pixel.
+    pub const PATH: u64 = 6;
 }
 
 /// SplitMix64 finaliser: a bijective 64-bit mix (Steele, Lea, Flood 2014).

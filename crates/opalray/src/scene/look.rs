@@ -15,6 +15,8 @@ pub enum LightKind {
     Directional,
     /// A point source at `distance_mm` from the opal's centre.
     Point,
+    /// No light of its own: the environment lights the stone (path integrator only).
+    None,
 }
 
 /// A CIE standard illuminant used as the light's spectrum.

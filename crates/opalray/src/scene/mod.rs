@@ -8,6 +8,7 @@ mod look;
 mod presets;
 mod shape;
 mod stone;
+mod studio;
 
 pub use look::{
     CameraConfig, ColorConfig, ColorSpaceChoice, GamutMapping, Illuminant, LightConfig, LightKind,
@@ -15,6 +16,10 @@ pub use look::{
 };
 pub use presets::{preset, PRESET_NAMES};
 pub use stone::{CrystalConfig, StructureConfig, MAX_CELLS};
+pub use studio::{
+    DomainsConfig, EnvironmentConfig, EnvironmentKind, FamilyChoice, IntegratorConfig, Method,
+    OrientationLaw, Pattern,
+};
 
 use std::path::Path;
 
@@ -45,6 +50,12 @@ pub struct Scene {
     pub render: RenderConfig,
     /// Spectrum → RGB (paper §3.4).
     pub color: ColorConfig,
+    /// The domains as geometry (path integrator).
+    pub domains: DomainsConfig,
+    /// Light from every direction (path integrator).
+    pub environment: EnvironmentConfig,
+    /// Which renderer, and its sampling.
+    pub integrator: IntegratorConfig,
 }
 
 impl Scene {
@@ -125,6 +136,25 @@ impl Scene {
         self.camera.validate()?;
         self.render.validate()?;
         self.color.validate()?;
+        self.domains.validate()?;
+        self.environment.validate()?;
+        self.integrator.validate()?;
+        if self.integrator.method == Method::TwoPass && self.light.kind == LightKind::None {
+            return Err(Error::field(
+                "light.kind",
+                "the two-pass integrator needs a light; set light.kind = \"directional\" or \
+                 \"point\", or integrator.method = \"path\"",
+            ));
+        }
+        if self.integrator.method == Method::TwoPass
+            && self.environment.kind != EnvironmentKind::None
+        {
+            return Err(Error::field(
+                "environment.kind",
+                "an environment light needs the path integrator; set integrator.method = \"path\" \
+                 or environment.kind = \"none\"",
+            ));
+        }
         // The spectral image is width × height × bins floats: refuse what cannot fit.
         let bytes = u64::from(self.render.width)
             * u64::from(self.render.height)

@@ -1,0 +1,177 @@
+//! Every plane family of the FCC sphere lattice that can reflect visible light, and the
+//! strength of each from the crystal's structure (DESIGN §4).
+//!
+//! Input: a [`CrystalConfig`] → output: [`Families`], one [`FamilyOptics`] per family kind
+//! ({111}, {200}, {220}) with its spacing, its coupling and its plane normals in the lattice
+//! frame.
+//!
+//! The cubic cell of an FCC lattice of touching spheres of diameter D has edge `a = √2·D`.
+//! A family (hkl) has spacing `d = a / √(h² + k² + l²)`: `d₁₁₁ = D·√(2/3)`, `d₂₀₀ = D/√2`,
+//! `d₂₂₀ = D/2`. All three are allowed reflections of FCC (h, k, l all odd or all even), where
+//! the four spheres of the cubic cell scatter in phase, so the Fourier coefficient of the
+//! permittivity for the reciprocal vector `G = 2π/d` is that of one sphere, as for (111):
+//! `ε_G = f (ε_s − ε_m) F(G r)`, `F(x) = 3 (sin x − x cos x)/x³`. The relative coupling
+//! `g = |ε_G| / ε̄` is the relative width of the family's stop band at normal incidence. For the
+//! default crystal (r = D/2): `x₁₁₁ = π√(3/2) = 3.85` (F = 0.120), `x₂₀₀ = π√2 = 4.44`
+//! (F = 0.0075), `x₂₂₀ = 2π` (|F| = 0.076). A thick domain's integrated reflectance (over
+//! wavelength) grows as `g·λ_B`, so {220} reflects `0.633 × 0.612 = 0.39` of (111)'s and {200}
+//! has 0.06 of (111)'s coupling, too weak to saturate: about 1 % of its reflectance at 400 layers.
+
+use std::f64::consts::PI;
+
+use glam::Vec3;
+
+use super::fcc::sphere_form_factor;
+use crate::scene::CrystalConfig;
+
+/// A family of lattice planes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FamilyKind {
+    /// {111}: four families, normals along the cube's body diagonals.
+    F111,
+    /// {200}: three families, normals along the cube's axes.
+    F200,
+    /// {220}: six families, normals along the cube's face diagonals.
+    F220,
+}
+
+impl FamilyKind {
+    /// All kinds, strongest first.
+    pub const ALL: [FamilyKind; 3] = [FamilyKind::F111, FamilyKind::F220, FamilyKind::F200];
+
+    /// Miller indices of one member.
+    pub fn miller(self) -> [i32; 3] {
+        match self {
+            FamilyKind::F111 => [1, 1, 1],
+            FamilyKind::F200 => [2, 0, 0],
+            FamilyKind::F220 => [2, 2, 0],
+        }
+    }
+
+    /// Plane spacing over the sphere diameter, `√2 / √(h² + k² + l²)`.
+    pub fn spacing_over_diameter(self) -> f64 {
+        let [h, k, l] = self.miller();
+        std::f64::consts::SQRT_2 / ((h * h + k * k + l * l) as f64).sqrt()
+    }
+
+    /// The families' unit normals in the lattice frame, one per family (`n` and `−n` are the
+    /// same planes).
+    pub fn normals(self) -> Vec<Vec3> {
+        let raw: &[[f32; 3]] = match self {
+            FamilyKind::F111 => &[[1., 1., 1.], [-1., 1., 1.], [1., -1., 1.], [1., 1., -1.]],
+            FamilyKind::F200 => &[[1., 0., 0.], [0., 1., 0.], [0., 0., 1.]],
+            FamilyKind::F220 => &[
+                [1., 1., 0.],
+                [1., -1., 0.],
+                [1., 0., 1.],
+                [1., 0., -1.],
+                [0., 1., 1.],
+                [0., 1., -1.],
+            ],
+        };
+        raw.iter()
+            .map(|v| Vec3::from_array(*v).normalize())
+            .collect()
+    }
+
+    /// Name as in the scene file and the docs.
+    pub fn name(self) -> &'static str {
+        match self {
+            FamilyKind::F111 => "111",
+            FamilyKind::F200 => "200",
+            FamilyKind::F220 => "220",
+        }
+    }
+}
+
+/// The optics of one family kind in the crystal of a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FamilyOptics {
+    /// Which family.
+    pub kind: FamilyKind,
+    /// Spacing over sphere diameter, `d / D`.
+    pub spacing_over_diameter: f64,
+    /// Relative coupling `g = |ε_G| / ε̄`: the stop band's relative width at normal incidence.
+    pub coupling: f64,
+    /// Unit normals of its families in the lattice frame.
+    pub normals: Vec<Vec3>,
+}
+
+/// The families of one crystal and what they share.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Families {
+    /// Effective index `√ε̄` of the domains (and the stone).
+    pub n_eff: f64,
+    /// One entry per family kind, strongest first.
+    pub kinds: Vec<FamilyOptics>,
+}
+
+impl Families {
+    /// The families of `crystal`: all three kinds, or {111} alone when `only_111`.
+    pub fn new(crystal: &CrystalConfig, only_111: bool) -> Families {
+        let f = crystal.filling_fraction;
+        let eps_s = crystal.n_sphere * crystal.n_sphere;
+        let eps_m = crystal.n_matrix * crystal.n_matrix;
+        let eps_mean = f * eps_s + (1.0 - f) * eps_m;
+        // Sphere radius over D from the filling fraction on the lattice of edge √2·D.
+        let radius_over_d = std::f64::consts::SQRT_2 * (3.0 * f / (16.0 * PI)).cbrt();
+        let kinds = FamilyKind::ALL
+            .into_iter()
+            .filter(|&k| !only_111 || k == FamilyKind::F111)
+            .map(|kind| {
+                let spacing = kind.spacing_over_diameter();
+                let x = 2.0 * PI * radius_over_d / spacing;
+                let eps_g = f * (eps_s - eps_m) * sphere_form_factor(x);
+                FamilyOptics {
+                    kind,
+                    spacing_over_diameter: spacing,
+                    coupling: eps_g.abs() / eps_mean,
+                    normals: kind.normals(),
+                }
+            })
+            .collect();
+        Families {
+            n_eff: eps_mean.sqrt(),
+            kinds,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optics::ClusterStack;
+
+    #[test]
+    fn the_111_coupling_is_the_stacks_relative_gap() {
+        let crystal = CrystalConfig::default();
+        let families = Families::new(&crystal, false);
+        let stack = ClusterStack::new(&crystal).unwrap();
+        let g = families.kinds[0].coupling;
+        assert!((g - stack.relative_gap()).abs() < 1e-12, "{g}");
+        assert!((families.n_eff - stack.n_eff).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_220_family_reflects_about_39_percent_of_the_111() {
+        // DESIGN §4: {220} about 39 % of the (111) integrated reflectance; for saturated
+        // stacks that is the ratio of g·λ_B, i.e. g·d.
+        let families = Families::new(&CrystalConfig::default(), false);
+        let f111 = &families.kinds[0];
+        let f220 = &families.kinds[1];
+        assert_eq!(f220.kind, FamilyKind::F220);
+        let ratio = (f220.coupling * f220.spacing_over_diameter)
+            / (f111.coupling * f111.spacing_over_diameter);
+        assert!((ratio - 0.39).abs() < 0.01, "{ratio}");
+    }
+
+    #[test]
+    fn normals_at_70_5_degrees_for_111_and_counts_4_6_3() {
+        let n = FamilyKind::F111.normals();
+        assert_eq!(n.len(), 4);
+        let angle = n[0].dot(n[1]).abs().acos().to_degrees();
+        assert!((angle - 70.53).abs() < 0.01, "{angle}");
+        assert_eq!(FamilyKind::F220.normals().len(), 6);
+        assert_eq!(FamilyKind::F200.normals().len(), 3);
+    }
+}

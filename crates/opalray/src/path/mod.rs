@@ -1,0 +1,579 @@
+//! The spectral path tracer on the stone model: eye paths through the surface, the domains'
+//! plane families and the potch, to the environment and the scene's light.
+//!
+//! Input: a [`Stone`] and a [`PathSetup`] → output: a [`PathImage`] (XYZ per pixel and the
+//! binned spectral image). Per pixel, `spp` camera rays stratified over the pixel; each path:
+//!
+//! - **Surface** (Fresnel, unpolarised): the gloss reflection is followed to the environment
+//!   and the light's disc at once; the refracted part enters with `(1 − F)/n²` (radiance in a
+//!   denser medium). From inside, the escaping part `1 − F` adds `n²` × the environment at
+//!   once and the path goes on reflected with weight × F (all of it beyond the critical
+//!   angle): no random choice, so the stone's internal reflections of the lights are smooth.
+//! - **Potch** (between domains): free flights of extinction σ; at a scattering event the
+//!   weight takes the albedo and the direction is drawn isotropically.
+//! - **Domain crossing**: the families whose line can fall in the range at the ray's angle
+//!   ([`Stone::lines`], the layers set by the chord) reflect or pass it. The ray always goes
+//!   on through, carrying `1 − R` of each line; the reflections are branches: at the camera
+//!   ray's first two crossings every one, later one drawn with twice the lines' share of white
+//!   light (at most ¼), its weight divided by that probability. A reflection draws the lobe's normal `h` about the
+//!   family normal (Gaussian, the rocking width and the mosaic spread,
+//!   [`Stone::lobe_sigma`]) and mirrors the ray about `h`; its line is evaluated at the angle to
+//!   `h` — the half-vector law `λ = 2 d n̄ cos θ_h`. The reflection happens at the domain's
+//!   entry face (the stack reflects within its penetration depth, tens of µm).
+//! - **The light** (directional or point): next-event estimation at every domain crossing and
+//!   potch scattering, through the one refracted path from the light ([`refracted_entry`]),
+//!   its spectrum filtered by every domain and potch on the way. A domain adds
+//!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals.
+//! - Russian roulette below a weight of 0.02; at most `max_depth` events.
+//!
+//! Spectra: see [`spectral`]. Every pixel draws from its own stream `(seed, PATH, pixel)`; rows
+//! are rendered in parallel into pre-sized buffers, so the image does not depend on the
+//! number of threads.
+
+pub mod env;
+pub mod spectral;
+
+use std::f32::consts::PI;
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, Ray};
+use crate::light_pass::direct::refracted_entry;
+use crate::light_pass::LightSource;
+use crate::optics::BraggLine;
+use crate::sampling::{stage, Rng};
+use crate::spectrum::SpectralImage;
+use crate::stone::{ActiveLine, Span, Stone};
+
+pub use env::Environment;
+pub use spectral::{Lines, SpectralSampler};
+
+/// Paths whose weight falls below this play Russian roulette.
+const ROULETTE_BELOW: f32 = 0.02;
+/// Offset of a new ray's origin along its direction, mm (0.1 µm).
+const EPSILON_MM: f32 = 1e-4;
+/// Domain crossings of a camera ray's first segment at which every reflection is followed.
+const FIRST_SPLITS: u32 = 2;
+/// Most probability of a reflection branch at a domain crossing after the first segment.
+const MAX_BRANCH_PROBABILITY: f64 = 0.25;
+/// The lobe is treated as zero beyond this many standard deviations.
+const LOBE_SIGMAS: f32 = 4.0;
+
+/// The scene's light for the path integrator.
+#[derive(Clone, Copy, Debug)]
+pub struct PathLight {
+    /// Where it is.
+    pub source: LightSource,
+    /// Irradiance scale (`light.intensity`).
+    pub intensity: f32,
+    /// Angular radius of its disc as seen in the gloss, radians.
+    pub disc_radius_rad: f32,
+}
+
+/// Everything the path integrator needs besides the stone.
+pub struct PathSetup<'a> {
+    /// The camera.
+    pub camera: Camera,
+    /// Image width, pixels.
+    pub width: usize,
+    /// Image height, pixels.
+    pub height: usize,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Most events per path.
+    pub max_depth: u32,
+    /// The scene's light, if any.
+    pub light: Option<PathLight>,
+    /// The environment.
+    pub environment: Environment,
+    /// Scale of the surface's gloss.
+    pub gloss: f32,
+    /// The scene's seed.
+    pub seed: u64,
+    /// Wavelength sampling and colour matching.
+    pub spectral: &'a SpectralSampler,
+}
+
+/// The path integrator's image.
+pub struct PathImage {
+    /// CIE XYZ per pixel, row-major (Y = 1: a white diffuser under the light).
+    pub xyz: Vec<[f32; 3]>,
+    /// The spectral image (bin averages).
+    pub spectral: SpectralImage,
+}
+
+/// Render `stone` as `setup` says.
+pub fn trace_paths(stone: &Stone, setup: &PathSetup) -> PathImage {
+    let (w, h) = (setup.width, setup.height);
+    let bins = setup.spectral.grid.bins;
+    let mut xyz = vec![[0.0f32; 3]; w * h];
+    let mut spectral = SpectralImage::new(w, h, setup.spectral.grid.clone());
+    xyz.par_chunks_mut(w)
+        .zip(spectral.data.par_chunks_mut(w * bins))
+        .enumerate()
+        .for_each(|(y, (row, row_bins))| {
+            let mut tracer = Tracer::new(stone, setup);
+            for x in 0..w {
+                let pixel = (y * w + x) as u64;
+                let mut rng = Rng::new(setup.seed, stage::PATH, pixel);
+                let mut acc = [0.0f64; 3];
+                let px_bins = &mut row_bins[x * bins..(x + 1) * bins];
+                let spp = setup.spp;
+                let side = (f64::from(spp).sqrt().ceil() as u32).max(1);
+                for s in 0..spp {
+                    let (sx, sy) = (s % side, s / side);
+                    let rows = spp.div_ceil(side);
+                    let jx = (sx as f32 + rng.uniform_f32()) / side as f32;
+                    let jy = (sy as f32 + rng.uniform_f32()) / rows as f32;
+                    let ray = setup.camera.ray(x as f32 + jx, y as f32 + jy);
+                    tracer.sample(ray, &mut rng, &mut acc, px_bins);
+                }
+                let k = 1.0 / f64::from(spp);
+                row[x] = acc.map(|v| (v * k) as f32);
+                for b in px_bins.iter_mut() {
+                    *b *= k as f32;
+                }
+            }
+        });
+    PathImage { xyz, spectral }
+}
+
+/// What happens next on a path inside the stone.
+enum Event {
+    /// Scattered by the potch at `t`.
+    Scattered { t: f32 },
+    /// Reached the surface.
+    Surface,
+}
+
+struct Tracer<'a> {
+    stone: &'a Stone,
+    setup: &'a PathSetup<'a>,
+    n_eff: f32,
+    spans: Vec<Span>,
+    lines: Vec<ActiveLine>,
+    light_spans: Vec<Span>,
+    light_lines: Vec<ActiveLine>,
+}
+
+impl<'a> Tracer<'a> {
+    fn new(stone: &'a Stone, setup: &'a PathSetup<'a>) -> Self {
+        Tracer {
+            stone,
+            setup,
+            n_eff: stone.n_eff,
+            spans: Vec::with_capacity(64),
+            lines: Vec::with_capacity(16),
+            light_spans: Vec::with_capacity(64),
+            light_lines: Vec::with_capacity(16),
+        }
+    }
+
+    fn add(&self, lines: &Lines, weight: f32, rng: &mut Rng, acc: &mut [f64; 3], bins: &mut [f32]) {
+        self.setup
+            .spectral
+            .add(lines, f64::from(weight), rng.uniform(), acc, bins);
+    }
+
+    /// One camera ray's path.
+    fn sample(&mut self, ray: Ray, rng: &mut Rng, acc: &mut [f64; 3], bins: &mut [f32]) {
+        let env = self.setup.environment;
+        let plain = Lines::default();
+        let shape = self.stone.shape;
+        let Some((t0, _)) = shape.intersect(&ray).filter(|&(t0, _)| t0 > 0.0) else {
+            self.add(&plain, env.value(ray.direction), rng, acc, bins);
+            return;
+        };
+        // The surface: gloss to the environment and the light's disc, the rest refracts in.
+        let p = ray.at(t0);
+        let normal = shape.normal(p);
+        let cos_i = -ray.direction.dot(normal);
+        let fresnel = fresnel_dielectric(cos_i, 1.0, self.n_eff);
+        let mirror = reflect(ray.direction, normal);
+        let gloss = fresnel * self.setup.gloss * (env.value(mirror) + self.disc(mirror));
+        self.add(&plain, gloss, rng, acc, bins);
+        let Some(dir) = refract(ray.direction, normal, 1.0, self.n_eff) else {
+            return;
+        };
+        let weight = (1.0 - fresnel) / (self.n_eff * self.n_eff);
+        self.inside(
+            p,
+            dir,
+            weight,
+            Lines::default(),
+            None,
+            FIRST_SPLITS,
+            0,
+            rng,
+            acc,
+            bins,
+        );
+    }
+
+    /// The light's disc seen along `dir` from outside, in image units.
+    fn disc(&self, dir: Vec3) -> f32 {
+        let Some(light) = self.setup.light else {
+            return 0.0;
+        };
+        let to_light = light.source.direction_to_light(Vec3::ZERO);
+        let r = light.disc_radius_rad;
+        if dir.dot(to_light) >= r.cos() {
+            // Irradiance E over the disc's solid angle π r², times π for image units.
+            light.intensity / (r * r)
+        } else {
+            0.0
+        }
+    }
+
+    /// The path from `pos` along `dir` inside the stone with weight `weight`, having met
+    /// `lines`. At the first `splits` domain crossings of its first segment every reflection is
+    /// followed (a branch each) and the ray goes on through as well; after that a reflection
+    /// branch is drawn at random.
+    #[allow(clippy::too_many_arguments)]
+    fn inside(
+        &mut self,
+        mut pos: Vec3,
+        mut dir: Vec3,
+        mut weight: f32,
+        mut lines: Lines,
+        mut skip: Option<u32>,
+        mut splits: u32,
+        depth: u32,
+        rng: &mut Rng,
+        acc: &mut [f64; 3],
+        bins: &mut [f32],
+    ) {
+        let stone = self.stone;
+        let shape = stone.shape;
+        let n2 = self.n_eff * self.n_eff;
+        let mut hint = None;
+        for level in depth..self.setup.max_depth {
+            let ray = Ray {
+                origin: pos,
+                direction: dir,
+            };
+            let Some((_, t_far)) = shape.intersect(&ray) else {
+                return;
+            };
+            let t_far = t_far.max(0.0);
+            let mut spans = std::mem::take(&mut self.spans);
+            spans.clear();
+            let end_hint = stone.walk(pos, dir, 0.0, t_far, hint, &mut |s| spans.push(s));
+            let mut event = Event::Surface;
+            let skip_first = skip.take();
+            for (k, span) in spans.iter().enumerate() {
+                let chord = span.t1 - span.t0;
+                let Some(domain) = span.domain else {
+                    let sigma = stone.potch.extinction_per_mm;
+                    let flight = -(1.0 - rng.uniform_f32()).ln() / sigma;
+                    if flight < chord {
+                        event = Event::Scattered {
+                            t: span.t0 + flight,
+                        };
+                        break;
+                    }
+                    continue;
+                };
+                // A ray reflected at a domain's face leaves through that face.
+                if k == 0 && skip_first == Some(domain) {
+                    continue;
+                }
+                self.lines.clear();
+                stone.lines(domain, dir, chord, &mut self.lines);
+                if self.lines.is_empty() {
+                    continue;
+                }
+                let x = ray.at(span.t0 + EPSILON_MM);
+                self.light_at_domain(x, dir, domain, &lines, weight, rng, acc, bins);
+                let here: Vec<ActiveLine> = self.lines.clone();
+                let face = ray.at(span.t0);
+                if splits > 0 {
+                    // Every reflection as a branch of its own.
+                    for line in &here {
+                        self.branch(
+                            face, dir, domain, line, weight, lines, level, rng, acc, bins,
+                        );
+                    }
+                } else {
+                    // One reflection, drawn with twice the lines' share of white light (at
+                    // most ¼), as a branch: its weight is about 1/(2 × its share), never large
+                    // against what its line passes.
+                    let energy: Vec<f64> = here.iter().map(|l| line_energy(&l.line)).collect();
+                    let total: f64 = energy.iter().sum();
+                    let p_branch = (2.0 * total).min(MAX_BRANCH_PROBABILITY);
+                    if rng.uniform() < p_branch {
+                        let mut u = rng.uniform() * total;
+                        let mut pick = here.len() - 1;
+                        for (i, e) in energy.iter().enumerate() {
+                            if u < *e {
+                                pick = i;
+                                break;
+                            }
+                            u -= e;
+                        }
+                        let w = weight / (p_branch * energy[pick] / total) as f32;
+                        self.branch(
+                            face,
+                            dir,
+                            domain,
+                            &here[pick],
+                            w,
+                            lines,
+                            level,
+                            rng,
+                            acc,
+                            bins,
+                        );
+                    }
+                }
+                // The ray goes on through the planes, carrying 1 − R of each line.
+                for l in &here {
+                    lines.transmit(l.line);
+                }
+            }
+            self.spans = spans;
+            hint = end_hint;
+            match event {
+                Event::Scattered { t } => {
+                    pos = ray.at(t);
+                    weight *= stone.potch.albedo;
+                    self.light_at_potch(pos, &lines, weight, rng, acc, bins);
+                    dir = rng.unit_vector();
+                }
+                Event::Surface => {
+                    // Both ways at once: what escapes is added now (its share 1 − F), the
+                    // path goes on reflected with weight × F.
+                    let exit = ray.at(t_far);
+                    let normal = shape.normal(exit);
+                    let cos = dir.dot(normal).max(0.0);
+                    let f = fresnel_dielectric(cos, self.n_eff, 1.0);
+                    if f < 1.0 {
+                        if let Some(out) = refract(dir, normal, self.n_eff, 1.0) {
+                            let v = self.setup.environment.value(out);
+                            if v > 0.0 {
+                                self.add(&lines, weight * (1.0 - f) * n2 * v, rng, acc, bins);
+                            }
+                        }
+                    }
+                    weight *= f;
+                    dir = reflect(dir, normal);
+                    pos = exit - normal * EPSILON_MM;
+                }
+            }
+            splits = 0;
+            if weight < ROULETTE_BELOW {
+                let survive = weight / ROULETTE_BELOW;
+                if rng.uniform_f32() >= survive {
+                    return;
+                }
+                weight = ROULETTE_BELOW;
+            }
+        }
+    }
+
+    /// Follow the reflection of the ray along `dir` by `line` of `domain` at its face `face`
+    /// as a path of its own, with weight `weight`.
+    #[allow(clippy::too_many_arguments)]
+    fn branch(
+        &mut self,
+        face: Vec3,
+        dir: Vec3,
+        domain: u32,
+        line: &ActiveLine,
+        weight: f32,
+        lines: Lines,
+        level: u32,
+        rng: &mut Rng,
+        acc: &mut [f64; 3],
+        bins: &mut [f32],
+    ) {
+        if let Some((d, l)) = self.reflection(domain, line, dir, rng) {
+            let mut branch = lines;
+            branch.reflect(l);
+            self.inside(
+                face,
+                d,
+                weight,
+                branch,
+                Some(domain),
+                0,
+                level + 1,
+                rng,
+                acc,
+                bins,
+            );
+        }
+    }
+
+    /// A reflection of the ray along `dir` by `line` of `domain`: the lobe's normal drawn, the
+    /// mirrored direction and the line at the half-vector angle; `None` if the drawn normal
+    /// faces away.
+    fn reflection(
+        &self,
+        domain: u32,
+        line: &ActiveLine,
+        dir: Vec3,
+        rng: &mut Rng,
+    ) -> Option<(Vec3, BraggLine)> {
+        let sigma = self.stone.lobe_sigma(line.kind, -dir.dot(line.normal));
+        let h = sample_lobe(line.normal, sigma, rng);
+        let cos_h = -dir.dot(h);
+        (cos_h > 0.0).then(|| (reflect(dir, h), self.line_at(domain, line, cos_h)))
+    }
+
+    /// `line`'s family in `domain` met at `cos_theta` (the same layers).
+    fn line_at(&self, domain: u32, line: &ActiveLine, cos_theta: f32) -> BraggLine {
+        let family = &self.stone.families.kinds[line.kind as usize];
+        let d = f64::from(self.stone.domains[domain as usize].sphere_diameter_nm);
+        let two_dn = 2.0 * f64::from(self.n_eff) * family.spacing_over_diameter * d;
+        BraggLine::new(
+            family.coupling,
+            two_dn,
+            f64::from(cos_theta),
+            line.line.layers,
+        )
+    }
+
+    /// The light reaching `x` straight: `(direction towards the light inside, irradiance across
+    /// the beam, distance to the entry point)`.
+    fn light_inside(&self, x: Vec3) -> Option<(Vec3, f32, f32)> {
+        let light = self.setup.light?;
+        let (entry, d, irradiance) =
+            refracted_entry(&self.stone.shape, &light.source, self.n_eff, x, None)?;
+        Some((-d, irradiance * light.intensity, (entry - x).length()))
+    }
+
+    /// Next-event estimation of the light at a domain crossing `x`: each of the domain's lines
+    /// (in `self.lines`) whose lobe holds the half vector.
+    #[allow(clippy::too_many_arguments)]
+    fn light_at_domain(
+        &mut self,
+        x: Vec3,
+        dir: Vec3,
+        domain: u32,
+        path: &Lines,
+        weight: f32,
+        rng: &mut Rng,
+        acc: &mut [f64; 3],
+        bins: &mut [f32],
+    ) {
+        let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
+            return;
+        };
+        let to_eye = -dir;
+        let h = (to_light + to_eye).normalize_or_zero();
+        let cos_h = h.dot(to_eye);
+        if cos_h <= 0.0 {
+            return;
+        }
+        let mut hits: [(ActiveLine, f32); 4] = [(self.lines[0], 0.0); 4];
+        let mut count = 0;
+        for line in &self.lines {
+            let sigma = self.stone.lobe_sigma(line.kind, cos_h);
+            let alpha = h.dot(line.normal).clamp(-1.0, 1.0).acos();
+            if alpha < LOBE_SIGMAS * sigma && count < hits.len() {
+                let density = (-0.5 * (alpha / sigma).powi(2)).exp() / (2.0 * PI * sigma * sigma);
+                hits[count] = (*line, density);
+                count += 1;
+            }
+        }
+        if count == 0 {
+            return;
+        }
+        let Some((transmitted, notches)) = self.to_light(x, to_light, distance, Some(domain))
+        else {
+            return;
+        };
+        for &(line, density) in &hits[..count] {
+            let mut lines = *path;
+            lines.reflect(self.line_at(domain, &line, cos_h));
+            for n in &notches {
+                lines.transmit(*n);
+            }
+            let value = weight * PI * irradiance * transmitted * density / (4.0 * cos_h);
+            self.add(&lines, value, rng, acc, bins);
+        }
+    }
+
+    /// Next-event estimation of the light at a potch scattering event (isotropic phase).
+    #[allow(clippy::too_many_arguments)]
+    fn light_at_potch(
+        &mut self,
+        x: Vec3,
+        path: &Lines,
+        weight: f32,
+        rng: &mut Rng,
+        acc: &mut [f64; 3],
+        bins: &mut [f32],
+    ) {
+        let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
+            return;
+        };
+        let Some((transmitted, notches)) = self.to_light(x, to_light, distance, None) else {
+            return;
+        };
+        let mut lines = *path;
+        for n in &notches {
+            lines.transmit(*n);
+        }
+        // π × (E/4π) × phase 1: the in-scattered value.
+        self.add(
+            &lines,
+            weight * irradiance * transmitted / 4.0,
+            rng,
+            acc,
+            bins,
+        );
+    }
+
+    /// What lies between `x` and the light's entry point: the potch's transmittance and the
+    /// lines of the domains crossed (except `skip`).
+    fn to_light(
+        &mut self,
+        x: Vec3,
+        to_light: Vec3,
+        distance: f32,
+        skip: Option<u32>,
+    ) -> Option<(f32, Vec<BraggLine>)> {
+        self.light_spans.clear();
+        let spans = &mut self.light_spans;
+        self.stone
+            .walk(x, to_light, 0.0, distance, None, &mut |s| spans.push(s));
+        let mut optical_depth = 0.0;
+        let mut notches = Vec::new();
+        for k in 0..self.light_spans.len() {
+            let span = self.light_spans[k];
+            match span.domain {
+                None => optical_depth += self.stone.potch.extinction_per_mm * (span.t1 - span.t0),
+                Some(d) if Some(d) == skip => {}
+                Some(d) => {
+                    self.light_lines.clear();
+                    self.stone
+                        .lines(d, -to_light, span.t1 - span.t0, &mut self.light_lines);
+                    notches.extend(self.light_lines.iter().map(|l| l.line));
+                }
+            }
+        }
+        let t = (-optical_depth).exp();
+        (t > 1e-6).then_some((t, notches))
+    }
+}
+
+/// A line's share of white light: its area over wavelength over the 400 nm of the visible.
+/// The area is `ν² λ/N` for a weak grating (the side lobes' sum) and `2νλ/(πN)` (the stop
+/// band) for a saturated one; `ν² λ / (N (1 + πν/2))` joins the two.
+fn line_energy(line: &BraggLine) -> f64 {
+    let nu = 0.5 * (line.nu_s + line.nu_p);
+    let area = nu * nu * line.center_nm / (line.layers * (1.0 + 0.5 * std::f64::consts::PI * nu));
+    (area / 400.0).max(1e-9)
+}
+
+/// A normal drawn about `n` with a Gaussian tilt of standard deviation `sigma` (radians).
+fn sample_lobe(n: Vec3, sigma: f32, rng: &mut Rng) -> Vec3 {
+    let u = (1.0 - rng.uniform_f32()).max(1e-12);
+    let alpha = sigma * (-2.0 * u.ln()).sqrt();
+    let phi = 2.0 * PI * rng.uniform_f32();
+    let (t, b) = n.any_orthonormal_pair();
+    (n * alpha.cos() + (t * phi.cos() + b * phi.sin()) * alpha.sin()).normalize()
+}

@@ -1,0 +1,270 @@
+//! The sections of the crystal-and-studio model: the domains as geometry (`[domains]`), the
+//! environment light (`[environment]`) and the integrator that renders them (`[integrator]`),
+//! each a parameter table with defaults and a `validate`.
+
+use serde::{Deserialize, Serialize};
+
+use super::check_range;
+use crate::error::{Error, Result};
+
+/// How the domains are laid out.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Pattern {
+    /// The paper's growth (`[structure]`), its balls kept as geometry.
+    #[default]
+    Paper,
+    /// Grains of a power diagram (`grain_size_mm`, `stretch`, …).
+    Grains,
+}
+
+/// How grain orientations are drawn.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OrientationLaw {
+    /// Every grain uniformly random.
+    #[default]
+    Independent,
+    /// Grains inherit the orientation of a coarser parent grain (`correlation_mm`), turned by
+    /// a random angle of RMS `orientation_spread_deg`: neighbouring grains flash together.
+    Correlated,
+}
+
+/// Which plane families reflect.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FamilyChoice {
+    /// {111} × 4, {220} × 6, {200} × 3.
+    #[default]
+    All,
+    /// The four {111} families only.
+    #[serde(rename = "111")]
+    Only111,
+}
+
+/// The domains: where each ordered region of the stone is and how it is made (DESIGN §3–4).
+///
+/// | field                    | unit | default        | valid                     |
+/// |--------------------------|------|----------------|---------------------------|
+/// | `pattern`                | –    | "paper"        | "paper", "grains"         |
+/// | `grain_size_mm`          | mm   | 2.0            | [0.05, 50]                |
+/// | `grain_size_spread`      | –    | 0.3            | [0, 2]                    |
+/// | `stretch`                | –    | [1, 1, 1]      | each in [0.1, 20]         |
+/// | `orientation`            | –    | "independent"  | "independent", "correlated" |
+/// | `correlation_mm`         | mm   | 6.0            | [0.1, 100]                |
+/// | `orientation_spread_deg` | deg  | 20.0           | [0, 180]                  |
+/// | `void_fraction`          | –    | 0.15           | [0, 0.95]                 |
+/// | `sphere_diameter_spread` | –    | 0.03           | [0, 0.3]                  |
+/// | `mosaic_spread_deg`      | deg  | 0.5            | [0, 20]                   |
+/// | `families`               | –    | "all"          | "all", "111"              |
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DomainsConfig {
+    /// The layout: the paper's growth or grains.
+    pub pattern: Pattern,
+    /// Grains: diameter of a ball of the mean grain volume, mm.
+    pub grain_size_mm: f64,
+    /// Grains: relative spread of the grain sizes (lognormal).
+    pub grain_size_spread: f64,
+    /// Grains: stretch factors along x, y, z (ribbon and straw patterns: one large).
+    pub stretch: [f64; 3],
+    /// Grains: independent or correlated orientations.
+    pub orientation: OrientationLaw,
+    /// Correlated orientations: size of the parent grains, mm.
+    pub correlation_mm: f64,
+    /// Correlated orientations: RMS turn of a grain from its parent, degrees.
+    pub orientation_spread_deg: f64,
+    /// Grains: share of grains that are potch (no play of colour).
+    pub void_fraction: f64,
+    /// Relative standard deviation of the sphere diameter from domain to domain (the mean is
+    /// `crystal.sphere_diameter_nm`).
+    pub sphere_diameter_spread: f64,
+    /// Mosaic spread of a domain's planes, degrees (RMS tilt), added to the rocking width.
+    pub mosaic_spread_deg: f64,
+    /// The plane families that reflect.
+    pub families: FamilyChoice,
+}
+
+impl Default for DomainsConfig {
+    fn default() -> Self {
+        DomainsConfig {
+            pattern: Pattern::Paper,
+            grain_size_mm: 2.0,
+            grain_size_spread: 0.3,
+            stretch: [1.0, 1.0, 1.0],
+            orientation: OrientationLaw::Independent,
+            correlation_mm: 6.0,
+            orientation_spread_deg: 20.0,
+            void_fraction: 0.15,
+            sphere_diameter_spread: 0.03,
+            mosaic_spread_deg: 0.5,
+            families: FamilyChoice::All,
+        }
+    }
+}
+
+impl DomainsConfig {
+    /// Check ranges.
+    pub fn validate(&self) -> Result<()> {
+        check_range("domains.grain_size_mm", self.grain_size_mm, 0.05, 50.0, 2.0)?;
+        check_range(
+            "domains.grain_size_spread",
+            self.grain_size_spread,
+            0.0,
+            2.0,
+            0.3,
+        )?;
+        for s in self.stretch {
+            check_range("domains.stretch", s, 0.1, 20.0, 1.0)?;
+        }
+        check_range(
+            "domains.correlation_mm",
+            self.correlation_mm,
+            0.1,
+            100.0,
+            6.0,
+        )?;
+        check_range(
+            "domains.orientation_spread_deg",
+            self.orientation_spread_deg,
+            0.0,
+            180.0,
+            20.0,
+        )?;
+        check_range("domains.void_fraction", self.void_fraction, 0.0, 0.95, 0.15)?;
+        check_range(
+            "domains.sphere_diameter_spread",
+            self.sphere_diameter_spread,
+            0.0,
+            0.3,
+            0.03,
+        )?;
+        check_range(
+            "domains.mosaic_spread_deg",
+            self.mosaic_spread_deg,
+            0.0,
+            20.0,
+            0.5,
+        )
+    }
+}
+
+/// Built-in environments and files.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum EnvironmentKind {
+    /// No environment: only the scene's light, over the backdrop (`render.background`).
+    #[default]
+    None,
+    /// A gem studio: a large softbox overhead, two strip lights at the sides, a dark table.
+    Studio,
+    /// A window on one side of a dim room.
+    Window,
+    /// An overcast sky over dark ground.
+    Overcast,
+}
+
+/// Light from every direction (path integrator only).
+///
+/// | field          | unit | default | valid                                |
+/// |----------------|------|---------|--------------------------------------|
+/// | `kind`         | –    | "none"  | "none", "studio", "window", "overcast" |
+/// | `intensity`    | –    | 1.0     | [0, 1000]                            |
+/// | `rotation_deg` | deg  | 0.0     | [−360, 360]                          |
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct EnvironmentConfig {
+    /// Which environment.
+    pub kind: EnvironmentKind,
+    /// Scale of its radiance (1: its brightest emitter has luminance about 1).
+    pub intensity: f64,
+    /// Turn of the environment about the stone's vertical (y) axis, degrees.
+    pub rotation_deg: f64,
+}
+
+impl Default for EnvironmentConfig {
+    fn default() -> Self {
+        EnvironmentConfig {
+            kind: EnvironmentKind::None,
+            intensity: 1.0,
+            rotation_deg: 0.0,
+        }
+    }
+}
+
+impl EnvironmentConfig {
+    /// Check ranges.
+    pub fn validate(&self) -> Result<()> {
+        check_range("environment.intensity", self.intensity, 0.0, 1000.0, 1.0)?;
+        check_range(
+            "environment.rotation_deg",
+            self.rotation_deg,
+            -360.0,
+            360.0,
+            0.0,
+        )
+    }
+}
+
+/// Which renderer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// The paper's two passes on the cell grid (light stored per cluster, eq. (2) from the eye).
+    #[default]
+    TwoPass,
+    /// The spectral path tracer on the stone model: domains as geometry, every plane family,
+    /// the rocking width, lines evaluated at exact wavelengths.
+    Path,
+}
+
+/// The integrator.
+///
+/// | field       | unit | default    | valid               |
+/// |-------------|------|------------|---------------------|
+/// | `method`    | –    | "two-pass" | "two-pass", "path"  |
+/// | `spp`       | –    | 16         | 1 ..= 65536         |
+/// | `max_depth` | –    | 8          | 1 ..= 256           |
+/// | `wavelengths` | –  | 4          | 1 ..= 64            |
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IntegratorConfig {
+    /// The renderer.
+    pub method: Method,
+    /// Path: samples per pixel, stratified over the pixel (anti-aliasing).
+    pub spp: u32,
+    /// Path: most scattering events (surface, domain or potch) on one path.
+    pub max_depth: u32,
+    /// Path: wavelengths drawn per contribution, stratified over its spectral proposal.
+    pub wavelengths: u32,
+}
+
+impl Default for IntegratorConfig {
+    fn default() -> Self {
+        IntegratorConfig {
+            method: Method::TwoPass,
+            spp: 16,
+            max_depth: 8,
+            wavelengths: 4,
+        }
+    }
+}
+
+impl IntegratorConfig {
+    /// Check ranges.
+    pub fn validate(&self) -> Result<()> {
+        for (field, v, hi, example) in [
+            ("integrator.spp", self.spp, 65_536, 16),
+            ("integrator.max_depth", self.max_depth, 256, 8),
+            ("integrator.wavelengths", self.wavelengths, 64, 4),
+        ] {
+            if !(1..=hi).contains(&v) {
+                return Err(Error::field(
+                    field,
+                    format!("must be in 1..={hi}, got {v}; try {example}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}

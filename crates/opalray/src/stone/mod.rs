@@ -1,0 +1,410 @@
+//! The stone model every renderer shares: the shape and its surface, the domains as geometry
+//! and what finds them, and what a ray segment meets inside (potch, or a domain's plane
+//! families with their Bragg lines and rocking widths).
+//!
+//! Input: a [`Scene`] → output: a [`Stone`]. Domains are the paper's growth kept as balls
+//! ([`balls`]) or grains of a power diagram ([`grains`]); either way a point's domain is
+//! evaluated exactly, so patch edges are spheres or planes at any resolution, never the cell
+//! grid's staircase. Each domain has a full lattice orientation and its own sphere diameter;
+//! it reflects by every family whose first-order line can fall in the spectral range.
+
+pub mod balls;
+pub mod grains;
+
+use glam::{Quat, Vec3};
+
+use crate::error::Result;
+use crate::geometry::Ellipsoid;
+use crate::optics::{rocking_fwhm_rad, BraggLine, Families};
+use crate::sampling::{stage, Rng};
+use crate::scene::{FamilyChoice, OrientationLaw, Pattern, Scene, BODY_EXTINCTION_PER_MM};
+use crate::structure::orientation::jitter;
+
+use balls::Balls;
+use grains::{normal, Grains};
+
+/// Rows of the rocking-width table over cos θ.
+const WIDTH_ROWS: usize = 64;
+/// Lowest cos θ of the rocking-width table (below it the width of this row is used).
+const WIDTH_MIN_COS: f64 = 0.2;
+/// Full width at half maximum of a Gaussian over its standard deviation, `2√(2 ln 2)`.
+const FWHM_PER_SIGMA: f64 = 2.354_820_045;
+
+/// A piece of a ray inside the stone: `[t0, t1]` along it, in one domain (or potch: `None`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Span {
+    /// Start, mm along the ray.
+    pub t0: f32,
+    /// End, mm along the ray.
+    pub t1: f32,
+    /// The domain, or `None` in potch.
+    pub domain: Option<u32>,
+}
+
+/// One ordered domain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Domain {
+    /// Lattice orientation (lattice frame → stone frame).
+    pub orientation: Quat,
+    /// Sphere diameter, nm.
+    pub sphere_diameter_nm: f32,
+}
+
+/// The potch (common opal) between the domains: a scattering and absorbing medium.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Potch {
+    /// Extinction coefficient, per mm.
+    pub extinction_per_mm: f32,
+    /// Single-scattering albedo (from the body tone).
+    pub albedo: f32,
+}
+
+/// A family's line met by a ray crossing a domain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ActiveLine {
+    /// The planes' unit normal, turned to face the ray (`normal · dir < 0`).
+    pub normal: Vec3,
+    /// The family kind (index into [`Families::kinds`]).
+    pub kind: u8,
+    /// The line at the ray's angle to the planes, for the layers the chord meets.
+    pub line: BraggLine,
+}
+
+#[derive(Debug)]
+enum Layout {
+    Balls(Balls),
+    Grains {
+        grains: Grains,
+        /// Per grain, its domain or `None` (potch).
+        domain_of: Vec<Option<u32>>,
+    },
+}
+
+/// The stone: shape, domains and their optics.
+#[derive(Debug)]
+pub struct Stone {
+    /// The stone's shape.
+    pub shape: Ellipsoid,
+    /// Effective index of the stone (and every domain).
+    pub n_eff: f32,
+    /// The potch between domains.
+    pub potch: Potch,
+    /// Every domain.
+    pub domains: Vec<Domain>,
+    /// The plane families of the crystal.
+    pub families: Families,
+    layout: Layout,
+    /// Per domain, every family normal in the stone frame (`slots` per domain).
+    normals: Vec<Vec3>,
+    /// Family kind of each slot.
+    slot_kind: Vec<u8>,
+    /// Coherent layers of each kind (the (111) `crystal.layers`, as a thickness).
+    layer_cap: Vec<f64>,
+    /// Per kind, the lobe's standard deviation (rad) over cos θ, rocking width and mosaic.
+    lobe_sigma: Vec<[f32; WIDTH_ROWS]>,
+    /// Wavelength range lines are kept in, nm.
+    range_nm: (f64, f64),
+}
+
+impl Stone {
+    /// Build the stone of `scene` (validated by the caller).
+    pub fn new(scene: &Scene) -> Result<Stone> {
+        let s = &scene.structure;
+        let d = &scene.domains;
+        let axes = Vec3::from_array(s.semi_axes_mm.map(|v| v as f32));
+        let seed = s.seed;
+        let draw_diameter = |index: u64| {
+            let mut rng = Rng::new(seed, stage::STONE, (1 << 40) + index);
+            let z = normal(&mut rng).clamp(-3.0, 3.0);
+            (scene.crystal.sphere_diameter_nm * (1.0 + d.sphere_diameter_spread * f64::from(z)))
+                as f32
+        };
+        let (layout, domains) = match d.pattern {
+            Pattern::Paper => {
+                let balls = Balls::grow(s)?;
+                let domains = (0..balls.balls.len())
+                    .map(|k| Domain {
+                        orientation: balls.balls[k].orientation,
+                        sphere_diameter_nm: draw_diameter(k as u64),
+                    })
+                    .collect();
+                (Layout::Balls(balls), domains)
+            }
+            Pattern::Grains => {
+                let stretch = Vec3::from_array(d.stretch.map(|v| v as f32));
+                let mut rng = Rng::new(seed, stage::STONE, 0);
+                let grains = Grains::new(
+                    axes,
+                    d.grain_size_mm as f32,
+                    d.grain_size_spread as f32,
+                    stretch,
+                    &mut rng,
+                );
+                let parents = (d.orientation == OrientationLaw::Correlated).then(|| {
+                    let mut rng = Rng::new(seed, stage::STONE, 1);
+                    Grains::new(axes, d.correlation_mm as f32, 0.0, Vec3::ONE, &mut rng)
+                });
+                let spread = d.orientation_spread_deg.to_radians();
+                let mut domains = Vec::new();
+                let mut domain_of = Vec::with_capacity(grains.seeds.len());
+                for (i, seed_q) in grains.seeds.iter().enumerate() {
+                    let mut rng = Rng::new(seed, stage::STONE, 2 + i as u64);
+                    if rng.uniform() < d.void_fraction {
+                        domain_of.push(None);
+                        continue;
+                    }
+                    let orientation = match &parents {
+                        None => rng.rotation(),
+                        Some(p) => {
+                            let parent = p.at(*seed_q * stretch);
+                            let q = Rng::new(seed, stage::STONE, (1 << 41) + u64::from(parent))
+                                .rotation();
+                            jitter(q, spread, &mut rng)
+                        }
+                    };
+                    domain_of.push(Some(domains.len() as u32));
+                    domains.push(Domain {
+                        orientation,
+                        sphere_diameter_nm: draw_diameter(i as u64),
+                    });
+                }
+                (Layout::Grains { grains, domain_of }, domains)
+            }
+        };
+
+        // Every family normal of every domain, in the stone frame.
+        let families = Families::new(&scene.crystal, d.families == FamilyChoice::Only111);
+        let slot_kind: Vec<u8> = families
+            .kinds
+            .iter()
+            .enumerate()
+            .flat_map(|(k, f)| std::iter::repeat_n(k as u8, f.normals.len()))
+            .collect();
+        let lattice: Vec<Vec3> = families
+            .kinds
+            .iter()
+            .flat_map(|f| f.normals.clone())
+            .collect();
+        let normals = domains
+            .iter()
+            .flat_map(|dm: &Domain| {
+                lattice
+                    .iter()
+                    .map(move |&n| (dm.orientation * n).normalize())
+            })
+            .collect();
+
+        // Rocking widths of the coherent stack, widened by the mosaic spread.
+        let d111 = families.kinds[0].spacing_over_diameter;
+        let layers = f64::from(scene.crystal.layers);
+        let layer_cap: Vec<f64> = families
+            .kinds
+            .iter()
+            .map(|f| layers * d111 / f.spacing_over_diameter)
+            .collect();
+        let mosaic = d.mosaic_spread_deg.to_radians();
+        let lobe_sigma = families
+            .kinds
+            .iter()
+            .zip(&layer_cap)
+            .map(|(f, &cap)| {
+                std::array::from_fn(|row| {
+                    let c = width_row_cos(row);
+                    let rock = rocking_fwhm_rad(f.coupling, c, cap) / FWHM_PER_SIGMA;
+                    (rock * rock + mosaic * mosaic).sqrt() as f32
+                })
+            })
+            .collect();
+        Ok(Stone {
+            shape: Ellipsoid::new(axes),
+            n_eff: families.n_eff as f32,
+            potch: Potch {
+                extinction_per_mm: BODY_EXTINCTION_PER_MM,
+                albedo: scene.render.body_albedo(),
+            },
+            domains,
+            families,
+            layout,
+            normals,
+            slot_kind,
+            layer_cap,
+            lobe_sigma,
+            range_nm: (scene.spectrum.min_nm, scene.spectrum.max_nm),
+        })
+    }
+
+    /// Family slots per domain.
+    pub fn slots(&self) -> usize {
+        self.slot_kind.len()
+    }
+
+    /// The domain at `p` (mm), `None` in potch (or outside the stone).
+    pub fn domain_at(&self, p: Vec3) -> Option<u32> {
+        if !self.shape.contains(p) {
+            return None;
+        }
+        match &self.layout {
+            Layout::Balls(b) => b.at(p),
+            Layout::Grains { grains, domain_of } => domain_of[grains.at(p) as usize],
+        }
+    }
+
+    /// Call `visit` for the spans of `[t0, t1]` along `origin + t·dir` (mm; `dir` unit), in
+    /// order, each in one domain or in potch. The caller keeps the segment inside the stone.
+    ///
+    /// `hint` is the value `walk` returned for a walk that ended where this one starts (a
+    /// cheaper start); it returns the same for its end.
+    pub fn walk(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        t0: f32,
+        t1: f32,
+        hint: Option<u32>,
+        visit: &mut dyn FnMut(Span),
+    ) -> Option<u32> {
+        match &self.layout {
+            Layout::Balls(b) => {
+                b.walk(origin, dir, t0, t1, visit);
+                None
+            }
+            Layout::Grains { grains, domain_of } => {
+                let mut pending: Option<Span> = None;
+                let mut last = None;
+                grains.walk(origin, dir, t0, t1, hint, &mut |span, grain| {
+                    last = Some(grain);
+                    let domain = span.domain.and_then(|g| domain_of[g as usize]);
+                    match pending.as_mut() {
+                        Some(p) if p.domain == domain => p.t1 = span.t1,
+                        _ => {
+                            if let Some(p) = pending.take() {
+                                visit(p);
+                            }
+                            pending = Some(Span { domain, ..span });
+                        }
+                    }
+                });
+                if let Some(p) = pending {
+                    visit(p);
+                }
+                last
+            }
+        }
+    }
+
+    /// The lines of domain `domain` that a ray along `dir` (unit) crossing it over `chord_mm`
+    /// meets within the spectral range, pushed onto `out`.
+    pub fn lines(&self, domain: u32, dir: Vec3, chord_mm: f32, out: &mut Vec<ActiveLine>) {
+        let slots = self.slots();
+        let dm = &self.domains[domain as usize];
+        let normals = &self.normals[domain as usize * slots..][..slots];
+        let two_n = 2.0 * f64::from(self.n_eff) * f64::from(dm.sphere_diameter_nm);
+        for (slot, &n) in normals.iter().enumerate() {
+            let dot = n.dot(dir);
+            let c = f64::from(dot.abs());
+            let kind = self.slot_kind[slot];
+            let family = &self.families.kinds[kind as usize];
+            let spacing_nm = family.spacing_over_diameter * f64::from(dm.sphere_diameter_nm);
+            let center = two_n * family.spacing_over_diameter * c;
+            if center < 0.8 * self.range_nm.0 || center > 1.05 * self.range_nm.1 {
+                continue;
+            }
+            let layers = (f64::from(chord_mm) * 1e6 * c / spacing_nm)
+                .min(self.layer_cap[kind as usize])
+                .max(1.0);
+            let line = BraggLine::new(
+                family.coupling,
+                two_n * family.spacing_over_diameter,
+                c,
+                layers,
+            );
+            let (lo, hi) = line.window_nm();
+            if hi < self.range_nm.0 || lo > self.range_nm.1 {
+                continue;
+            }
+            out.push(ActiveLine {
+                normal: if dot > 0.0 { -n } else { n },
+                kind,
+                line,
+            });
+        }
+    }
+
+    /// Standard deviation (rad) of the reflection lobe of family kind `kind` about its normal
+    /// at cos θ `cos_theta`: the rocking width of the coherent stack and the mosaic spread.
+    pub fn lobe_sigma(&self, kind: u8, cos_theta: f32) -> f32 {
+        let table = &self.lobe_sigma[kind as usize];
+        let x = (f64::from(cos_theta) - WIDTH_MIN_COS) / (1.0 - WIDTH_MIN_COS)
+            * (WIDTH_ROWS - 1) as f64;
+        let x = x.clamp(0.0, (WIDTH_ROWS - 1) as f64);
+        let i = (x as usize).min(WIDTH_ROWS - 2);
+        let f = (x - i as f64) as f32;
+        table[i] * (1.0 - f) + table[i + 1] * f
+    }
+}
+
+fn width_row_cos(row: usize) -> f64 {
+    WIDTH_MIN_COS + (1.0 - WIDTH_MIN_COS) * row as f64 / (WIDTH_ROWS - 1) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grains_scene() -> Scene {
+        let mut scene = Scene::default();
+        scene.domains.pattern = Pattern::Grains;
+        scene
+    }
+
+    #[test]
+    fn face_on_111_line_of_a_250_nm_domain_is_at_588_8_nm() {
+        let mut scene = grains_scene();
+        scene.domains.sphere_diameter_spread = 0.0;
+        let stone = Stone::new(&scene).unwrap();
+        let dm = stone.domains[0];
+        let n111 = dm.orientation * Vec3::splat(1.0).normalize();
+        let mut lines = Vec::new();
+        stone.lines(0, -n111, 1.0, &mut lines);
+        let face_on = lines
+            .iter()
+            .find(|l| l.kind == 0 && l.line.center_nm > 580.0)
+            .unwrap();
+        // DESIGN §4: 588.8 nm for D = 250 nm in cement 1.42.
+        assert!(
+            (face_on.line.center_nm - 588.8).abs() < 0.2,
+            "{}",
+            face_on.line.center_nm
+        );
+        assert!(face_on.normal.dot(-n111) < 0.0);
+    }
+
+    #[test]
+    fn a_corner_chord_meets_few_layers() {
+        let stone = Stone::new(&grains_scene()).unwrap();
+        let n = stone.domains[0].orientation * Vec3::splat(1.0).normalize();
+        let (mut thick, mut thin) = (Vec::new(), Vec::new());
+        stone.lines(0, -n, 1.0, &mut thick);
+        stone.lines(0, -n, 0.004, &mut thin);
+        let peak = |v: &Vec<ActiveLine>| v.iter().map(|l| l.line.peak()).fold(0.0, f64::max);
+        assert!(
+            peak(&thick) > 0.9 && peak(&thin) < 0.2,
+            "{} {}",
+            peak(&thick),
+            peak(&thin)
+        );
+    }
+
+    #[test]
+    fn the_lobe_is_the_rocking_width_without_mosaic() {
+        let mut scene = grains_scene();
+        scene.domains.mosaic_spread_deg = 0.0;
+        let stone = Stone::new(&scene).unwrap();
+        let fwhm = stone.lobe_sigma(0, 30f32.to_radians().cos()) as f64 * FWHM_PER_SIGMA;
+        assert!(
+            (fwhm.to_degrees() / 0.48 - 1.0).abs() < 0.1,
+            "{}",
+            fwhm.to_degrees()
+        );
+    }
+}

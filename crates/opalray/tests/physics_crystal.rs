@@ -1,0 +1,197 @@
+//! The crystal as the stone model builds it, against independent numbers: how many domains
+//! flash, the {220} line, the spread of hues, lines carried at exact wavelengths, and the path
+//! tracer's determinism.
+
+use glam::Vec3;
+use opalray::optics::BraggLine;
+use opalray::path::{Lines, SpectralSampler};
+use opalray::render::prepare;
+use opalray::scene::{preset, FamilyChoice, Illuminant, Pattern, Scene};
+use opalray::spectrum::WavelengthGrid;
+use opalray::stone::{ActiveLine, Stone};
+
+fn grains(size_mm: f64) -> Scene {
+    let mut scene = Scene::default();
+    scene.domains.pattern = Pattern::Grains;
+    scene.domains.grain_size_mm = size_mm;
+    scene.domains.void_fraction = 0.0;
+    scene
+}
+
+/// The {111} normals of domain `k` (lines met along every normal, face on).
+fn normals_111(stone: &Stone, k: u32) -> Vec<Vec3> {
+    let q = stone.domains[k as usize].orientation;
+    [[1., 1., 1.], [-1., 1., 1.], [1., -1., 1.], [1., 1., -1.]]
+        .iter()
+        .map(|v: &[f32; 3]| (q * Vec3::from_array(*v)).normalize())
+        .collect()
+}
+
+#[test]
+fn four_families_make_four_times_the_domains_flash() {
+    // For isotropic orientations the chance that one of N families has a normal (±n) within
+    // a cone of half-angle δ about a direction is N·(1 − cos δ) (small δ: cones do not meet).
+    let mut scene = grains(0.8);
+    scene.domains.families = FamilyChoice::Only111;
+    let stone = Stone::new(&scene).unwrap();
+    let n = stone.domains.len() as f64;
+    assert!(n > 5000.0, "{n} domains");
+    for delta_deg in [5.0f64, 10.0] {
+        let cos_delta = delta_deg.to_radians().cos() as f32;
+        let flashing = (0..stone.domains.len() as u32)
+            .filter(|&k| {
+                normals_111(&stone, k)
+                    .iter()
+                    .any(|m| m.z.abs() >= cos_delta)
+            })
+            .count() as f64;
+        let p = 4.0 * (1.0 - f64::from(cos_delta));
+        let expected = n * p;
+        let sigma = (n * p * (1.0 - p)).sqrt();
+        assert!(
+            (flashing - expected).abs() < 4.0 * sigma,
+            "δ {delta_deg}°: {flashing} flashing, expected {expected:.0} ± {sigma:.0}"
+        );
+    }
+}
+
+#[test]
+fn the_220_line_follows_d_n_eff_cos_theta() {
+    // DESIGN §4: {220} reflects at λ = D·n_eff·cos θ (d₂₂₀ = D/2).
+    let mut scene = grains(3.0);
+    scene.crystal.sphere_diameter_nm = 300.0;
+    scene.domains.sphere_diameter_spread = 0.0;
+    let stone = Stone::new(&scene).unwrap();
+    let q = stone.domains[0].orientation;
+    let n220 = (q * Vec3::new(1.0, 1.0, 0.0)).normalize();
+    for theta_deg in [0.0f32, 15.0, 25.0] {
+        // A direction at θ to the (220) normal.
+        let (t, _) = n220.any_orthonormal_pair();
+        let dir = -(n220 * theta_deg.to_radians().cos() + t * theta_deg.to_radians().sin());
+        let mut lines: Vec<ActiveLine> = Vec::new();
+        stone.lines(0, dir, 2.0, &mut lines);
+        let expected = 300.0 * stone.families.n_eff * f64::from(theta_deg.to_radians().cos());
+        let found = lines
+            .iter()
+            .map(|l| l.line.center_nm)
+            .min_by(|a, b| (a - expected).abs().total_cmp(&(b - expected).abs()))
+            .unwrap();
+        assert!(
+            (found / expected - 1.0).abs() < 0.01,
+            "θ {theta_deg}°: {found} vs {expected}"
+        );
+    }
+}
+
+#[test]
+fn a_spread_of_sphere_sizes_spreads_the_hues_of_face_on_domains() {
+    // Face-on {111} lines of every domain: one wavelength without spread, tens of nm with 3 %.
+    let span = |spread: f64| {
+        let mut scene = grains(1.0);
+        scene.domains.sphere_diameter_spread = spread;
+        let stone = Stone::new(&scene).unwrap();
+        let centres: Vec<f64> = (0..200u32)
+            .map(|k| {
+                let n = normals_111(&stone, k)[0];
+                let mut lines = Vec::new();
+                stone.lines(k, -n, 2.0, &mut lines);
+                lines
+                    .iter()
+                    .find(|l| l.kind == 0 && l.normal.dot(-n) < -0.999)
+                    .unwrap()
+                    .line
+                    .center_nm
+            })
+            .collect();
+        let lo = centres.iter().cloned().fold(f64::INFINITY, f64::min);
+        let hi = centres.iter().cloned().fold(0.0, f64::max);
+        hi - lo
+    };
+    assert!(span(0.0) < 0.01, "{}", span(0.0));
+    // 3 % of 589 nm is 18 nm; 200 draws span about ±2.7 σ.
+    assert!(span(0.03) > 60.0, "{}", span(0.03));
+}
+
+#[test]
+fn a_double_reflection_is_the_mean_of_r_squared_not_the_square_of_the_bin_mean() {
+    // The crystal issue: in 10 nm bins two reflections came out 3× too weak (R̄² against
+    // mean(R²)). Lines are carried at exact wavelengths; the 580–590 nm bin of a path reflected
+    // twice by the face-on default line is within 2 % of mean(R²) by brute force.
+    let grid = WavelengthGrid::default();
+    let sampler = SpectralSampler::new(Illuminant::E, &grid, 8);
+    let line = BraggLine::new(0.003_712, 588.8, 1.0, 400.0);
+    let mut lines = Lines::default();
+    lines.reflect(line);
+    lines.reflect(line);
+    let bin = grid.bin_of(585.0).unwrap();
+    let draws = 20_000;
+    let mut mean_bin = 0.0f64;
+    for k in 0..draws {
+        let (mut xyz, mut bins) = ([0.0; 3], vec![0.0f32; grid.bins]);
+        sampler.add(
+            &lines,
+            1.0,
+            (k as f64 + 0.5) / draws as f64,
+            &mut xyz,
+            &mut bins,
+        );
+        mean_bin += f64::from(bins[bin]) / draws as f64;
+    }
+    // Brute force: the light's spectrum is flat (E), so the bin value is the light's level
+    // times mean(R²) over the bin.
+    let light = f64::from(sampler.white_bins[bin]);
+    let (a, b) = grid.edges_nm(bin);
+    let steps = 100_000;
+    let mean_r2: f64 = (0..steps)
+        .map(|i| {
+            line.reflectance(a + (b - a) * (i as f64 + 0.5) / steps as f64)
+                .powi(2)
+        })
+        .sum::<f64>()
+        / steps as f64;
+    let bin_mean: f64 = (0..steps)
+        .map(|i| line.reflectance(a + (b - a) * (i as f64 + 0.5) / steps as f64))
+        .sum::<f64>()
+        / steps as f64;
+    assert!(
+        bin_mean * bin_mean < 0.5 * mean_r2,
+        "the bins' error this guards against"
+    );
+    let got = mean_bin / light;
+    assert!(
+        (got / mean_r2 - 1.0).abs() < 0.02,
+        "{got} vs mean(R²) {mean_r2}"
+    );
+}
+
+#[test]
+fn path_tracer_is_identical_at_one_two_and_three_threads() {
+    let mut scene = preset("harlequin").unwrap();
+    scene.render.width = 48;
+    scene.render.height = 36;
+    scene.integrator.spp = 2;
+    let prepared = prepare(&scene).unwrap();
+    let runs: Vec<Vec<u32>> = [1, 2, 3]
+        .into_iter()
+        .map(|n| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap()
+                .install(|| {
+                    let frame = prepared.render(scene.light.angle_deg);
+                    frame
+                        .rgb
+                        .data
+                        .iter()
+                        .flatten()
+                        .chain(frame.spectral.data.iter())
+                        .map(|v| v.to_bits())
+                        .collect()
+                })
+        })
+        .collect();
+    assert!(runs[0].iter().any(|&v| v != 0), "the image is not black");
+    assert_eq!(runs[0], runs[1], "1 vs 2 threads");
+    assert_eq!(runs[0], runs[2], "1 vs 3 threads");
+}
