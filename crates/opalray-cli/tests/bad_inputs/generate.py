@@ -26,6 +26,7 @@ look = {
     "--cutoff": ["0", "1e-7", "0.8", "nan", "-1"],
     "--body-tone": ["0", "10", "-1", "256"],
     "--exposure": ["21", "-21", "nan", "inf"],
+    "--spp": ["0", "-1", "65537", "x"],
 }
 for sub in ["render", "sweep", "bench"]:
     for flag, values in look.items():
