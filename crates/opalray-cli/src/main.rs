@@ -4,6 +4,8 @@
 //! needs and writes its files atomically. Errors are one line on stderr and exit code 2.
 
 mod cmd;
+mod outputs;
+mod stdio;
 
 use clap::{Parser, Subcommand};
 
@@ -47,16 +49,41 @@ fn main() {
                 | ErrorKind::DisplayVersion
                 | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
         ) {
-            err.exit();
+            // clap's own `exit` ignores a failed stdout; a full device must not pass.
+            let code = if err.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                2
+            } else {
+                0
+            };
+            match stdio::out_raw(&err.render().to_string()) {
+                Ok(()) => std::process::exit(code),
+                Err(e) if e.is_closed_pipe() => std::process::exit(code),
+                Err(e) => {
+                    stdio::note(format_args!("error: {e}"));
+                    std::process::exit(2);
+                }
+            }
         }
-        // clap explains a bad flag over several lines; keep its first, which names the flag.
+        if let Some(line) = negative_for_flag(&err) {
+            stdio::note(format_args!("error: {} (see --help)", excerpt_words(&line)));
+            std::process::exit(2);
+        }
+        // clap explains a bad flag over several lines; keep its first, which names the flag
+        // (a missing argument is named on the line after).
         let text = err.to_string();
-        let first = text.lines().next().unwrap_or("invalid arguments").trim();
+        let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+        let mut first = lines.next().unwrap_or("invalid arguments").to_string();
+        if first.ends_with(':') {
+            if let Some(next) = lines.next() {
+                first = format!("{first} {next}");
+            }
+        }
+        let first = first.as_str();
         let first = first.strip_prefix("error: ").unwrap_or(first);
-        eprintln!("error: {first} (see --help)");
+        stdio::note(format_args!("error: {} (see --help)", excerpt_words(first)));
         std::process::exit(2);
     });
-    let result = match cli.command {
+    let result = cmd::common::check_environment().and_then(|()| match cli.command {
         Command::Structure(args) => cmd::structure::run(args),
         Command::Scene(args) => cmd::scene::run(args),
         Command::Spectrum(args) => cmd::spectrum::run(args),
@@ -64,10 +91,67 @@ fn main() {
         Command::Render(args) => cmd::render::run(args),
         Command::Sweep(args) => cmd::sweep::run(args),
         Command::Bench(args) => cmd::bench::run(args),
-    };
+    });
     if let Err(err) = result {
-        eprintln!("error: {}", one_line(&err));
+        if err
+            .downcast_ref::<stdio::StdoutFailed>()
+            .is_some_and(stdio::StdoutFailed::is_closed_pipe)
+        {
+            // The reader has gone (`opalray scene | head -1`): nothing left to say.
+            std::process::exit(0);
+        }
+        stdio::note(format_args!("error: {}", excerpt_words(&one_line(&err))));
         std::process::exit(2);
+    }
+}
+
+/// clap takes `--frames -1` for a flag `-1` and names no flag; say which flag got a
+/// negative number.
+fn negative_for_flag(err: &clap::Error) -> Option<String> {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if err.kind() != ErrorKind::UnknownArgument {
+        return None;
+    }
+    let Some(ContextValue::String(bad)) = err.get(ContextKind::InvalidArg) else {
+        return None;
+    };
+    bad.parse::<f64>().ok()?;
+    let args: Vec<String> = std::env::args().collect();
+    let at = args.iter().position(|a| a == bad)?;
+    let flag = args[..at].last().filter(|f| f.starts_with("--"))?;
+    Some(format!(
+        "{flag} {bad}: must not be negative; give a number from the range in --help"
+    ))
+}
+
+/// Longest run of text without a space kept whole in an error line; longer runs (a
+/// 50 MB key echoed by the parser) keep their start and end.
+const MAX_WORD_CHARS: usize = 80;
+
+/// Longest error line written whole.
+const MAX_LINE_CHARS: usize = 500;
+
+/// `line` with every word longer than [`MAX_WORD_CHARS`] cut to a short excerpt.
+fn excerpt_words(line: &str) -> String {
+    let line = line
+        .split(' ')
+        .map(|word| {
+            let chars = word.chars().count();
+            if chars <= MAX_WORD_CHARS {
+                word.to_string()
+            } else {
+                let head: String = word.chars().take(40).collect();
+                let tail: String = word.chars().skip(chars - 20).collect();
+                format!("{head}…{tail} ({chars} characters)")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ");
+    if line.chars().count() <= MAX_LINE_CHARS {
+        line
+    } else {
+        let head: String = line.chars().take(MAX_LINE_CHARS - 20).collect();
+        format!("{head}… (cut)")
     }
 }
 

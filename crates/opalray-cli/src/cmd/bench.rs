@@ -46,6 +46,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let mut scene = args.scene.load()?;
     args.look.apply(&mut scene)?;
+    super::memory::check(&scene, super::memory::Extra::default())?;
     opalray::render::render(&scene)?;
     let mut times = Vec::with_capacity(args.runs);
     let ticks = cpu_ticks();
@@ -70,7 +71,7 @@ pub fn run(args: Args) -> Result<()> {
             map.insert((*name).to_string(), json!(median));
             min.insert((*name).to_string(), json!(fastest));
         }
-        println!(
+        crate::stdio::out(format_args!(
             "{}",
             serde_json::to_string_pretty(&json!({
                 "median_s": map, "min_s": min, "runs": args.runs, "threads": threads, "simd": simd,
@@ -78,9 +79,9 @@ pub fn run(args: Args) -> Result<()> {
                 "light_rays": scene.light.rays, "peak_memory_mb": memory,
                 "cpu_stolen_fraction": stolen,
             }))?
-        );
+        ))?;
     } else {
-        println!(
+        crate::stdio::out(format_args!(
             "opalray bench: {} × {}, {} bins, {} light rays, {} runs, {} threads, {simd}",
             scene.render.width,
             scene.render.height,
@@ -88,23 +89,26 @@ pub fn run(args: Args) -> Result<()> {
             scene.light.rays,
             args.runs,
             threads
-        );
-        println!("  {:<11} {:>9} {:>12}", "stage", "median", "fastest");
+        ))?;
+        crate::stdio::out(format_args!(
+            "  {:<11} {:>9} {:>12}",
+            "stage", "median", "fastest"
+        ))?;
         for (name, median, fastest) in &stats {
-            println!(
+            crate::stdio::out(format_args!(
                 "  {name:<11} {:>6.1} ms {:>9.1} ms",
                 median * 1e3,
                 fastest * 1e3
-            );
+            ))?;
         }
         if let Some(mb) = memory {
-            println!("  peak memory {mb:>7.0} MiB");
+            crate::stdio::out(format_args!("  peak memory {mb:>7.0} MiB"))?;
         }
         if let Some(share) = stolen {
-            println!(
+            crate::stdio::out(format_args!(
                 "  cpu stolen  {:>7.0} %   (by the hypervisor for other work, while timing)",
                 share * 100.0
-            );
+            ))?;
         }
     }
     Ok(())

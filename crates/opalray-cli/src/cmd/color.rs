@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 
 use anyhow::Result;
-use opalray::color::{read_spectrum_csv, SpectrumColor};
+use opalray::color::{parse_spectrum_csv, SpectrumColor};
 use opalray::scene::Illuminant;
 use serde::Serialize;
 
@@ -85,13 +85,35 @@ pub fn run(args: Args) -> Result<()> {
              emission spectrum"
         );
     }
-    let samples = read_spectrum_csv(&args.spectrum)?;
+    let text = super::common::read_input("spectrum", &args.spectrum, super::common::MAX_CSV_BYTES)?;
+    let samples = parse_spectrum_csv(&text, &args.spectrum)?;
+    let (first_nm, last_nm) = (samples[0].0, samples[samples.len() - 1].0);
+    if last_nm <= 360.0 || first_nm >= 830.0 {
+        anyhow::bail!(
+            "{}: the samples cover {first_nm}–{last_nm} nm, outside the 360–830 nm the CIE \
+             observer sees; give wavelengths in nm",
+            args.spectrum.display()
+        );
+    }
     let illuminant = Illuminant::from(args.illuminant.unwrap_or(IlluminantArg::D65));
     let color = if args.reflectance {
         SpectrumColor::of_reflectance(&samples, illuminant)
     } else {
         SpectrumColor::of_emission(&samples)
     };
+    // Values near f64's limit overflow the colour integrals: refuse rather than print null.
+    let finite = color
+        .xyz
+        .iter()
+        .chain(&color.srgb_linear)
+        .all(|v| v.is_finite());
+    if !finite {
+        anyhow::bail!(
+            "{}: the values are too large to integrate (XYZ overflows); scale them down, \
+             e.g. to at most 1e30",
+            args.spectrum.display()
+        );
+    }
     let report = Report {
         file: args.spectrum.display().to_string(),
         mode: if args.reflectance {
@@ -111,6 +133,6 @@ pub fn run(args: Args) -> Result<()> {
         hex: color.hex(),
     };
     let text = serde_json::to_string_pretty(&report).expect("JSON values serialise");
-    println!("{text}");
+    crate::stdio::out(format_args!("{text}"))?;
     Ok(())
 }

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use opalray::Scene;
 
@@ -27,7 +27,10 @@ impl SceneArgs {
     /// Load the scene: the file if given, else the preset (default `paper`), then the seed.
     pub fn load(&self) -> Result<Scene> {
         let mut scene = match (&self.scene, &self.preset) {
-            (Some(path), _) => Scene::load(path)?,
+            (Some(path), _) => {
+                let text = read_input("scene file", path, MAX_SCENE_BYTES)?;
+                Scene::from_toml_str(&text, &path.display().to_string())?
+            }
             (None, Some(name)) => opalray::scene::preset(name)?,
             (None, None) => opalray::scene::preset("paper")?,
         };
@@ -37,6 +40,71 @@ impl SceneArgs {
         Ok(scene)
     }
 }
+
+/// Largest scene file read, bytes (a complete scene is about 1.5 kB).
+pub const MAX_SCENE_BYTES: u64 = 1 << 20;
+
+/// Largest spectrum CSV read, bytes (a million rows of `wavelength,value`).
+pub const MAX_CSV_BYTES: u64 = 32 << 20;
+
+/// Read the text file `path` of at most `limit` bytes; `what` names it in errors. Reads no
+/// more than `limit + 1` bytes whatever the file (`/dev/zero` is refused at once).
+pub fn read_input(what: &str, path: &Path, limit: u64) -> Result<String> {
+    use std::io::Read;
+    let shown = path.display();
+    let file = std::fs::File::open(path)
+        .map_err(|e| anyhow::anyhow!("{what} {shown}: {}", crate::outputs::plain_io(&e)))?;
+    if file.metadata().is_ok_and(|m| m.is_dir()) {
+        anyhow::bail!("{what} {shown}: is a directory; give a file");
+    }
+    let mut bytes = Vec::new();
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| anyhow::anyhow!("{what} {shown}: {}", crate::outputs::plain_io(&e)))?;
+    if bytes.len() as u64 > limit {
+        anyhow::bail!(
+            "{what} {shown}: larger than the limit of {} MiB; give a smaller file",
+            limit >> 20
+        );
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        anyhow::anyhow!(
+            "{what} {shown}: not UTF-8 text (byte {}); save it as UTF-8",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
+/// Refuse environment values the command would otherwise ignore or suffer from:
+/// `RAYON_NUM_THREADS` must be a whole number 1 to [`MAX_THREADS`], `OPALRAY_SIMD` one of
+/// the known copies.
+pub fn check_environment() -> Result<()> {
+    if let Some(value) = std::env::var_os("RAYON_NUM_THREADS") {
+        let text = value.to_string_lossy();
+        match text.trim().parse::<u64>() {
+            Ok(n) if (1..=MAX_THREADS).contains(&n) => {}
+            _ => anyhow::bail!(
+                "RAYON_NUM_THREADS={text}: must be a whole number of threads from 1 to \
+                 {MAX_THREADS}; unset it to use every core"
+            ),
+        }
+    }
+    if let Some(value) = std::env::var_os(opalray::simd::SIMD_ENV) {
+        let text = value.to_string_lossy();
+        if !["portable", "widest", "auto"].contains(&text.as_ref()) {
+            anyhow::bail!(
+                "{}={text}: unknown; use portable (the portable copy), or widest or auto \
+                 (the fastest this processor runs)",
+                opalray::simd::SIMD_ENV
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Most worker threads accepted in `RAYON_NUM_THREADS` (each costs a stack and a share of
+/// every per-thread buffer).
+pub const MAX_THREADS: u64 = 256;
 
 /// Flags that override the scene's look, shared by `render`, `sweep` and `bench`.
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -111,10 +179,40 @@ impl LookArgs {
         if let Some(v) = self.spp {
             scene.integrator.spp = v;
         }
-        scene
-            .validate()
-            .context("checking the scene with the command-line flags applied")?;
+        // A field the user set with a flag is named by that flag.
+        scene.validate().map_err(|err| match &err {
+            opalray::Error::InvalidField { field, message } => match self.flag_of(field) {
+                Some(flag) => anyhow::anyhow!("{flag} ({field}): {message}"),
+                None => anyhow::Error::new(err)
+                    .context("checking the scene with the command-line flags applied"),
+            },
+            _ => anyhow::Error::new(err)
+                .context("checking the scene with the command-line flags applied"),
+        })?;
         Ok(())
+    }
+
+    /// The flag that set scene field `field`, if one did.
+    fn flag_of(&self, field: &str) -> Option<&'static str> {
+        let given = [
+            ("render.width", "--width", self.width.is_some()),
+            ("render.height", "--height", self.height.is_some()),
+            (
+                "crystal.sphere_diameter_nm",
+                "--diameter",
+                self.diameter.is_some(),
+            ),
+            ("spectrum.bins", "--bins", self.bins.is_some()),
+            ("light.rays", "--rays", self.rays.is_some()),
+            ("light.cutoff", "--cutoff", self.cutoff.is_some()),
+            ("render.body_tone", "--body-tone", self.body_tone.is_some()),
+            ("color.exposure_ev", "--exposure", self.exposure.is_some()),
+            ("integrator.spp", "--spp", self.spp.is_some()),
+        ];
+        given
+            .iter()
+            .find(|(f, _, set)| *set && *f == field)
+            .map(|(_, flag, _)| *flag)
     }
 }
 
@@ -171,56 +269,12 @@ pub fn progress(len: u64, what: &str) -> ProgressBar {
 }
 
 /// Write `value` as pretty JSON to `path`, atomically.
-pub fn write_json(path: &Path, value: &serde_json::Value) -> Result<()> {
-    let text = serde_json::to_string_pretty(value).expect("JSON values serialise");
+pub fn write_json(path: &Path, value: &serde_json::Value) -> opalray::Result<()> {
+    let text = serde_json::to_string_pretty(value).unwrap_or_default();
     opalray::output::write_atomic(path, |w| {
         w.write_all(text.as_bytes())?;
         w.write_all(b"\n")
     })
-    .with_context(|| format!("writing --stats {}", path.display()))
-}
-
-/// Refuse an output path whose extension is not one of `allowed` or whose directory does not
-/// exist, before any work is done (so a bad later output cannot leave an earlier one behind).
-pub fn check_output(flag: &str, path: &Path, allowed: &[&str]) -> Result<()> {
-    check_extension(flag, path, allowed)?;
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    if !dir.is_dir() {
-        anyhow::bail!(
-            "{flag} {}: directory {} does not exist; create it first or choose another path",
-            path.display(),
-            dir.display()
-        );
-    }
-    Ok(())
-}
-
-/// Refuse two outputs that name the same file (the second written would replace the first),
-/// before any work is done. `outputs` are the flags and their paths, in the order given.
-pub fn check_distinct(outputs: &[(&str, &Path)]) -> Result<()> {
-    // The same file whatever the spelling: the directory resolved, then the file's name.
-    let key = |path: &Path| {
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        (
-            dir.canonicalize().ok(),
-            path.file_name().map(|n| n.to_owned()),
-        )
-    };
-    for (k, (flag, path)) in outputs.iter().enumerate() {
-        if let Some((first, _)) = outputs[..k].iter().find(|(_, p)| key(p) == key(path)) {
-            anyhow::bail!(
-                "{flag} {}: the same file as {first}; give each output its own name",
-                path.display()
-            );
-        }
-    }
-    Ok(())
 }
 
 /// Refuse an output path whose extension is not one of `allowed`, before any work is done.

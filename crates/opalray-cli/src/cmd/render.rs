@@ -5,9 +5,8 @@ use std::path::PathBuf;
 use anyhow::Result;
 use serde_json::json;
 
-use super::common::{
-    check_distinct, check_output, peak_memory_mb, progress, write_json, LookArgs, SceneArgs,
-};
+use super::common::{peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
+use crate::outputs::Outputs;
 
 /// Render the opal (paper figs. 10–11) to a PNG or EXR, and optionally its spectral image.
 ///
@@ -39,21 +38,28 @@ pub struct Args {
 
 /// Run `opalray render`.
 pub fn run(args: Args) -> Result<()> {
-    check_output("--output", &args.output, &["png", "exr"])?;
-    if let Some(path) = &args.spectral {
-        check_output("--spectral", path, &["exr"])?;
-    }
-    if let Some(path) = &args.stats {
-        check_output("--stats", path, &["json"])?;
-    }
-    if let Some(path) = &args.spectral {
-        check_distinct(&[("--output", &args.output), ("--spectral", path)])?;
-    }
+    // Every output checked and staged before any work.
+    let mut outputs = Outputs::new();
+    let image = outputs.add("--output", &args.output, &["png", "exr"])?;
+    let spectral = match &args.spectral {
+        Some(path) => Some(outputs.add("--spectral", path, &["exr"])?),
+        None => None,
+    };
+    let stats = match &args.stats {
+        Some(path) => Some(outputs.add("--stats", path, &["json"])?),
+        None => None,
+    };
     let mut scene = args.scene.load()?;
     if let Some(angle) = args.light_angle {
+        if !(angle.is_finite() && (-89.0..=89.0).contains(&angle)) {
+            anyhow::bail!(
+                "--light-angle {angle} (light.angle_deg): must be within −89° … 89°; try 30"
+            );
+        }
         scene.light.angle_deg = angle;
     }
     args.look.apply(&mut scene)?;
+    super::memory::check(&scene, super::memory::Extra::default())?;
     let bar = progress(2, "structure");
     let prepared = opalray::render::prepare(&scene)?;
     bar.set_message("light, view");
@@ -64,16 +70,20 @@ pub fn run(args: Args) -> Result<()> {
         .output
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    if is_exr {
-        opalray::output::write_exr(&args.output, &frame.rgb)?;
-    } else {
-        opalray::output::write_png(&args.output, &frame.rgb, &scene.color)?;
-    }
-    if let Some(path) = &args.spectral {
-        opalray::output::write_spectral_exr(path, &frame.spectral)?;
+    outputs.write(image, |path| {
+        if is_exr {
+            opalray::output::write_exr(path, &frame.rgb)
+        } else {
+            opalray::output::write_png(path, &frame.rgb, &scene.color)
+        }
+    })?;
+    if let Some(spectral) = spectral {
+        outputs.write(spectral, |path| {
+            opalray::output::write_spectral_exr(path, &frame.spectral)
+        })?;
     }
     let t = frame.times;
-    eprintln!(
+    crate::stdio::note(format_args!(
         "structure {:.1} ms | optics {:.1} ms | light pass {:.1} ms | view pass {:.1} ms | colour {:.1} ms | total {:.1} ms",
         t.structure * 1e3,
         t.optics * 1e3,
@@ -81,27 +91,25 @@ pub fn run(args: Args) -> Result<()> {
         t.view_pass * 1e3,
         t.color * 1e3,
         t.total() * 1e3
-    );
-    println!("wrote {}", args.output.display());
-    if let Some(path) = &args.spectral {
-        println!("wrote {}", path.display());
+    ));
+    if let Some(stats) = stats {
+        let value = json!({
+            "time_s": {"structure": t.structure, "optics": t.optics, "light_pass": t.light_pass,
+                       "view_pass": t.view_pass, "color": t.color, "total": t.total()},
+            "image": {"width": scene.render.width, "height": scene.render.height,
+                      "bins": scene.spectrum.bins},
+            "light_angle_deg": scene.light.angle_deg,
+            "void_ratio": frame.void_ratio,
+            "light_rays": frame.light_rays,
+            "energy": frame.ledger,
+            "peak_memory_mb": peak_memory_mb(),
+        });
+        outputs.write(stats, |path| write_json(path, &value))?;
     }
-    if let Some(path) = &args.stats {
-        write_json(
-            path,
-            &json!({
-                "time_s": {"structure": t.structure, "optics": t.optics, "light_pass": t.light_pass,
-                           "view_pass": t.view_pass, "color": t.color, "total": t.total()},
-                "image": {"width": scene.render.width, "height": scene.render.height,
-                          "bins": scene.spectrum.bins},
-                "light_angle_deg": scene.light.angle_deg,
-                "void_ratio": frame.void_ratio,
-                "light_rays": frame.light_rays,
-                "energy": frame.ledger,
-                "peak_memory_mb": peak_memory_mb(),
-            }),
-        )?;
-        println!("wrote {}", path.display());
+    outputs.commit()?;
+    crate::stdio::out(format_args!("wrote {}", args.output.display()))?;
+    for path in [&args.spectral, &args.stats].into_iter().flatten() {
+        crate::stdio::out(format_args!("wrote {}", path.display()))?;
     }
     Ok(())
 }

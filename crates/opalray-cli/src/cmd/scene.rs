@@ -16,6 +16,6 @@ pub struct Args {
 /// Run `opalray scene`.
 pub fn run(args: Args) -> Result<()> {
     let scene = args.scene.load()?;
-    print!("{}", scene.to_toml());
+    crate::stdio::out_raw(&scene.to_toml())?;
     Ok(())
 }

@@ -4,10 +4,11 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use opalray::structure::{self, map::MAX_SCALE};
 
-use super::common::{check_output, write_json, SceneArgs};
+use super::common::{write_json, SceneArgs};
+use crate::outputs::Outputs;
 
 const EXAMPLES: &str = "\
 Examples:
@@ -58,28 +59,38 @@ pub fn run(args: Args) -> Result<()> {
             nz - 1
         );
     }
-    check_output("--output", &args.output, &["png"])?;
-    if let Some(stats) = &args.stats {
-        check_output("--stats", stats, &["json"])?;
+    // The map's size is known before growing: refuse a --scale it cannot draw.
+    let pixels = (nx as u64 * u64::from(args.scale)) * (ny as u64 * u64::from(args.scale));
+    if pixels > structure::map::MAX_PIXELS as u64 {
+        let largest = ((structure::map::MAX_PIXELS as f64 / (nx * ny) as f64).sqrt()) as u64;
+        bail!(
+            "--scale {}: the map of {nx} × {ny} cells would be {pixels} pixels, more than the \
+             limit of {}; use --scale {} or less",
+            args.scale,
+            structure::map::MAX_PIXELS,
+            largest.max(1)
+        );
     }
+    super::memory::check_structure(&scene, pixels)?;
+    let mut outputs = Outputs::new();
+    let image = outputs.add("--output", &args.output, &["png"])?;
+    let stats_out = match &args.stats {
+        Some(path) => Some(outputs.add("--stats", path, &["json"])?),
+        None => None,
+    };
 
     // Grow and draw.
     let start = Instant::now();
     let grown = opalray::grow_structure(config)?;
     let structure_s = start.elapsed().as_secs_f64();
-    let map = structure::orientation_map(&grown, slice_z, args.scale)?;
-    opalray::output::write_png_rgba8(&args.output, map.width, map.height, &map.rgba)
-        .with_context(|| format!("writing --output {}", args.output.display()))?;
-    println!(
-        "wrote {} ({} × {} px, slice z = {slice_z} of 0..={})",
-        args.output.display(),
-        map.width,
-        map.height,
-        nz - 1
-    );
+    let map = structure::orientation_map(&grown, slice_z, args.scale)
+        .map_err(|e| anyhow::anyhow!("--{}", e.to_string().replace('_', "-")))?;
+    outputs.write(image, |path| {
+        opalray::output::write_png_rgba8(path, map.width, map.height, &map.rgba)
+    })?;
 
     let s = &grown.stats;
-    if let Some(path) = &args.stats {
+    if let Some(stats_out) = stats_out {
         let mut value = serde_json::to_value(s).expect("stats serialise");
         let object = value.as_object_mut().expect("stats are an object");
         object.insert("grid".into(), serde_json::json!(config.grid));
@@ -101,10 +112,20 @@ pub fn run(args: Args) -> Result<()> {
             "time_s".into(),
             serde_json::json!({ "structure": structure_s }),
         );
-        write_json(path, &value)?;
-        println!("wrote {}", path.display());
+        outputs.write(stats_out, |path| write_json(path, &value))?;
     }
-    println!(
+    outputs.commit()?;
+    crate::stdio::out(format_args!(
+        "wrote {} ({} × {} px, slice z = {slice_z} of 0..={})",
+        args.output.display(),
+        map.width,
+        map.height,
+        nz - 1
+    ))?;
+    if let Some(path) = &args.stats {
+        crate::stdio::out(format_args!("wrote {}", path.display()))?;
+    }
+    crate::stdio::out(format_args!(
         "structure {nx} × {ny} × {nz}: {} inside cells, {} clusters, {} voids \
          (void ratio {:.4}), {} seeds, mean radius {:.2} cells, {:.1} ms",
         s.inside_cells,
@@ -114,6 +135,6 @@ pub fn run(args: Args) -> Result<()> {
         s.seeds_placed,
         s.mean_radius_cells,
         structure_s * 1e3
-    );
+    ))?;
     Ok(())
 }

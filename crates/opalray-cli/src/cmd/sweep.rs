@@ -6,9 +6,8 @@ use std::time::Instant;
 use anyhow::Result;
 use serde_json::json;
 
-use super::common::{
-    check_distinct, check_output, peak_memory_mb, progress, write_json, LookArgs, SceneArgs,
-};
+use super::common::{peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
+use crate::outputs::Outputs;
 
 /// Render the light sweep of the paper's fig. 11 as a contact sheet and an animation.
 ///
@@ -53,20 +52,18 @@ pub struct Args {
     /// memory.
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
+    /// Write each frame to this folder as it completes (`frame-0000.png`, …); a run with the
+    /// same arguments keeps the frames already there and renders only the rest.
+    #[arg(long, value_name = "DIR")]
+    pub frames_dir: Option<PathBuf>,
+    /// Continue a sweep killed half-way: like a plain re-run with --frames-dir, but refuses
+    /// to start when the folder holds no frames of this sweep.
+    #[arg(long, requires = "frames_dir")]
+    pub resume: bool,
 }
 
 /// Run `opalray sweep`.
 pub fn run(args: Args) -> Result<()> {
-    check_output("--sheet", &args.sheet, &["png"])?;
-    if let Some(path) = &args.animation {
-        check_output("--animation", path, &["gif", "png"])?;
-    }
-    if let Some(path) = &args.stats {
-        check_output("--stats", path, &["json"])?;
-    }
-    if let Some(path) = &args.animation {
-        check_distinct(&[("--sheet", &args.sheet), ("--animation", path)])?;
-    }
     if !(1..=1000).contains(&args.frames) {
         anyhow::bail!("--frames {}: must be 1 to 1000; try 9", args.frames);
     }
@@ -75,81 +72,243 @@ pub fn run(args: Args) -> Result<()> {
             anyhow::bail!("{flag} {v}: the light angle must be within −89° … 89°; try −60 and 60");
         }
     }
+    if let Some(columns) = args.columns {
+        if !(1..=args.frames).contains(&columns) {
+            anyhow::bail!(
+                "--columns {columns}: must be 1 to the number of frames ({}); try {}",
+                args.frames,
+                args.frames.min(9)
+            );
+        }
+    }
+    if args.delay_ms > 65_535 {
+        anyhow::bail!(
+            "--delay-ms {}: must be at most 65535 ms per frame; try 120",
+            args.delay_ms
+        );
+    }
+    let mut outputs = Outputs::new();
+    let sheet_out = outputs.add("--sheet", &args.sheet, &["png"])?;
+    let animation_out = match &args.animation {
+        Some(path) => Some(outputs.add("--animation", path, &["gif", "png"])?),
+        None => None,
+    };
+    let stats_out = match &args.stats {
+        Some(path) => Some(outputs.add("--stats", path, &["json"])?),
+        None => None,
+    };
     let mut scene = args.scene.load()?;
     if args.look.width.is_none() && args.look.height.is_none() {
         scene.render.width = 320;
         scene.render.height = 240;
     }
     args.look.apply(&mut scene)?;
-
-    let start = Instant::now();
-    let prepared = opalray::render::prepare(&scene)?;
-    // The stone's cells are laid out once for all frames.
-    let cells = opalray::light_pass::StoneCells::new(&prepared.structure);
+    super::memory::check(
+        &scene,
+        super::memory::Extra {
+            frames: args.frames as u64,
+            animation: args.animation.is_some(),
+        },
+    )?;
     let angles: Vec<f64> = (0..args.frames)
         .map(|k| match args.frames {
             1 => args.from,
             n => args.from + (args.to - args.from) * k as f64 / (n - 1) as f64,
         })
         .collect();
-    let bar = progress(angles.len() as u64, "sweep");
     let (w, h) = (scene.render.width as usize, scene.render.height as usize);
-    let mut frames = Vec::with_capacity(angles.len());
+    let columns = args.columns.unwrap_or(angles.len().min(9));
+    let frames_dir = match &args.frames_dir {
+        Some(dir) => Some(FramesDir::open(dir, &scene, &angles, args.resume)?),
+        None => None,
+    };
+
+    let start = Instant::now();
+    let prepared = opalray::render::prepare(&scene)?;
+    // The stone's cells are laid out once for all frames.
+    let cells = opalray::light_pass::StoneCells::new(&prepared.structure);
+    let bar = progress(angles.len() as u64, "sweep");
+    // Each frame goes into the sheet as it completes; none is kept.
+    let mut sheet = opalray::output::ContactSheet::blank(angles.len(), w, h, columns);
+    // The animation too is written frame by frame, to its staged file.
+    let mut animation = match (animation_out, &args.animation) {
+        (Some(out), Some(path)) => {
+            let apng = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+            Some(outputs.write(out, |temp| {
+                opalray::output::AnimationWriter::create(
+                    temp,
+                    apng,
+                    angles.len() as u32,
+                    w as u32,
+                    h as u32,
+                    args.delay_ms,
+                )
+            })?)
+        }
+        _ => None,
+    };
     let mut per_frame = Vec::with_capacity(angles.len());
     // One frame at a time, each on all threads. (Two at once kept the cores a little busier,
     // 3.5 % off a 25-frame sweep on two cores, for a third more memory: `BENCHMARKS.md`.)
-    for &angle in &angles {
-        let frame = prepared.render_in(&cells, angle);
-        per_frame.push(frame.times);
-        frames.push(opalray::color::to_display_rgb8(&frame.rgb, &scene.color));
+    for (k, &angle) in angles.iter().enumerate() {
+        let done = match &frames_dir {
+            Some(dir) => dir.finished(k, w, h),
+            None => None,
+        };
+        let rgb8 = match done {
+            Some(rgb8) => rgb8,
+            None => {
+                let frame = prepared.render_in(&cells, angle);
+                per_frame.push(frame.times);
+                let rgb8 = opalray::color::to_display_rgb8(&frame.rgb, &scene.color);
+                if let Some(dir) = &frames_dir {
+                    dir.save(k, w, h, &rgb8)?;
+                }
+                rgb8
+            }
+        };
+        sheet.place(k, &rgb8, w, h, &format!("{angle:.0}°"));
+        if let (Some(writer), Some(out)) = (&mut animation, animation_out) {
+            outputs.write(out, |_| writer.push(&rgb8))?;
+        }
         bar.inc(1);
     }
     bar.finish_and_clear();
     let elapsed = start.elapsed().as_secs_f64();
 
-    let labelled: Vec<(Vec<u8>, String)> = frames
-        .iter()
-        .zip(&angles)
-        .map(|(f, a)| (f.clone(), format!("{a:.0}°")))
-        .collect();
-    let columns = args.columns.unwrap_or(angles.len().min(9));
-    let sheet = opalray::output::contact_sheet(&labelled, w, h, columns);
-    opalray::output::write_png_rgb8(
-        &args.sheet,
-        sheet.width as u32,
-        sheet.height as u32,
-        &sheet.rgb,
-    )?;
-    println!(
-        "wrote {} ({} frames, {:.2} s)",
-        args.sheet.display(),
-        frames.len(),
-        elapsed
-    );
-    if let Some(path) = &args.animation {
-        let is_png = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-        if is_png {
-            opalray::output::write_apng(path, &frames, w as u32, h as u32, args.delay_ms)?;
-        } else {
-            opalray::output::write_gif(path, &frames, w as u32, h as u32, args.delay_ms)?;
-        }
-        println!("wrote {}", path.display());
+    outputs.write(sheet_out, |path| {
+        opalray::output::write_png_rgb8(path, sheet.width as u32, sheet.height as u32, &sheet.rgb)
+    })?;
+    drop(sheet);
+    if let (Some(writer), Some(out)) = (animation, animation_out) {
+        outputs.write(out, |_| writer.finish())?;
     }
-    if let Some(path) = &args.stats {
+    if let Some(stats_out) = stats_out {
         let light: f64 = per_frame.iter().map(|t| t.light_pass).sum();
         let view: f64 = per_frame.iter().map(|t| t.view_pass).sum();
-        write_json(
-            path,
-            &json!({
-                "frames": angles.len(),
-                "angles_deg": angles,
-                "time_s": {"structure": prepared.times.structure, "optics": prepared.times.optics,
-                           "light_pass": light, "view_pass": view, "total": elapsed},
-                "peak_memory_mb": peak_memory_mb(),
-            }),
-        )?;
+        let value = json!({
+            "frames": angles.len(),
+            "frames_rendered": per_frame.len(),
+            "angles_deg": angles,
+            "time_s": {"structure": prepared.times.structure, "optics": prepared.times.optics,
+                       "light_pass": light, "view_pass": view, "total": elapsed},
+            "peak_memory_mb": peak_memory_mb(),
+        });
+        outputs.write(stats_out, |path| write_json(path, &value))?;
+    }
+    outputs.commit()?;
+    crate::stdio::out(format_args!(
+        "wrote {} ({} frames, {} rendered, {:.2} s)",
+        args.sheet.display(),
+        angles.len(),
+        per_frame.len(),
+        elapsed
+    ))?;
+    for path in [&args.animation, &args.stats].into_iter().flatten() {
+        crate::stdio::out(format_args!("wrote {}", path.display()))?;
     }
     Ok(())
+}
+
+/// A folder of finished frames, `frame-0000.png` …, with `sweep.json` naming the sweep they
+/// belong to (a hash of the scene, the angles and the frame size), so that a re-run reuses
+/// frames of the same sweep only.
+struct FramesDir {
+    dir: PathBuf,
+}
+
+/// The file naming the sweep whose frames a folder holds.
+const MANIFEST: &str = "sweep.json";
+
+impl FramesDir {
+    /// Open (creating) `dir` for the sweep of `scene` over `angles`.
+    fn open(
+        dir: &std::path::Path,
+        scene: &opalray::Scene,
+        angles: &[f64],
+        resume: bool,
+    ) -> Result<Self> {
+        use anyhow::Context as _;
+        if dir.exists() && !dir.is_dir() {
+            anyhow::bail!(
+                "--frames-dir {}: is a file, not a folder; choose another path",
+                dir.display()
+            );
+        }
+        let key = format!(
+            "{:016x}",
+            fnv(format!(
+                "{}\n{angles:?}\n{}x{}",
+                scene.to_toml(),
+                scene.render.width,
+                scene.render.height
+            )
+            .as_bytes())
+        );
+        let manifest = dir.join(MANIFEST);
+        let previous = super::common::read_input("--frames-dir", &manifest, 1 << 20).ok();
+        let previous_key = previous
+            .as_deref()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(t).ok())
+            .and_then(|v| v.get("sweep").and_then(|k| k.as_str()).map(str::to_string));
+        match (&previous_key, resume) {
+            (Some(k), _) if *k != key => anyhow::bail!(
+                "--frames-dir {}: holds the frames of another sweep (other scene, angles or size); \
+                 remove them or choose another folder",
+                dir.display()
+            ),
+            (None, true) => anyhow::bail!(
+                "--resume: {} holds no frames of this sweep; run without --resume to start it",
+                dir.display()
+            ),
+            _ => {}
+        }
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("--frames-dir {}: cannot create the folder", dir.display()))?;
+        if previous_key.is_none() {
+            let value = json!({"sweep": key, "frames": angles.len(), "angles_deg": angles});
+            write_json(&manifest, &value)
+                .map_err(|e| anyhow::anyhow!("--frames-dir {}: {e}", dir.display()))?;
+        }
+        Ok(FramesDir {
+            dir: dir.to_path_buf(),
+        })
+    }
+
+    fn frame_path(&self, k: usize) -> PathBuf {
+        self.dir.join(format!("frame-{k:04}.png"))
+    }
+
+    /// Frame `k`'s RGB8 pixels if it was finished (a whole PNG of the right size).
+    fn finished(&self, k: usize, w: usize, h: usize) -> Option<Vec<u8>> {
+        let file = std::fs::File::open(self.frame_path(k)).ok()?;
+        let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+        decoder.set_transformations(png::Transformations::IDENTITY);
+        let mut reader = decoder.read_info().ok()?;
+        let info = reader.info();
+        if (info.width as usize, info.height as usize) != (w, h)
+            || info.color_type != png::ColorType::Rgb
+            || info.bit_depth != png::BitDepth::Eight
+        {
+            return None;
+        }
+        let mut rgb = vec![0; reader.output_buffer_size()?];
+        reader.next_frame(&mut rgb).ok()?;
+        (rgb.len() == w * h * 3).then_some(rgb)
+    }
+
+    /// Write frame `k`, atomically.
+    fn save(&self, k: usize, w: usize, h: usize, rgb8: &[u8]) -> Result<()> {
+        opalray::output::write_png_rgb8(&self.frame_path(k), w as u32, h as u32, rgb8)
+            .map_err(|e| anyhow::anyhow!("--frames-dir: {e}"))
+    }
+}
+
+/// FNV-1a, 64 bit: a stable hash of a sweep's description.
+fn fnv(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
 }

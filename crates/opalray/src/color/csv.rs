@@ -81,9 +81,13 @@ pub fn parse_spectrum_csv(text: &str, path: &Path) -> Result<Vec<(f64, f64)>> {
     Ok(samples)
 }
 
-/// Read and parse a spectrum CSV file (see [`parse_spectrum_csv`]).
+/// Largest spectrum CSV [`read_spectrum_csv`] reads, bytes (a million rows).
+pub const MAX_CSV_BYTES: u64 = 32 << 20;
+
+/// Read (at most [`MAX_CSV_BYTES`]) and parse a spectrum CSV file (see
+/// [`parse_spectrum_csv`]).
 pub fn read_spectrum_csv(path: &Path) -> Result<Vec<(f64, f64)>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::scene::read_text_limited(path, MAX_CSV_BYTES)?;
     parse_spectrum_csv(&text, path)
 }
 

@@ -10,7 +10,7 @@ mod label;
 mod openexr;
 mod sheet;
 
-pub use animation::{write_apng, write_gif};
+pub use animation::{write_apng, write_gif, AnimationWriter};
 pub use display::write_png;
 pub use label::{draw_text, text_width};
 pub use openexr::{spectral_channel_name, write_exr, write_spectral_exr};
@@ -22,15 +22,14 @@ use std::path::{Path, PathBuf};
 use crate::error::{Error, Result};
 
 /// Write a file atomically: `write` fills a temporary file in the target's directory, which
-/// is renamed over `path` only if everything succeeded. On failure nothing is left behind.
+/// is renamed over `path` only if everything succeeded. On failure nothing is left behind;
+/// temporary files of earlier runs for the same target that were killed are removed first
+/// ([`remove_stale_temps`]).
 pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
+    let dir = parent_dir(path);
     if !dir.is_dir() {
         return Err(Error::io(
             path,
@@ -43,14 +42,14 @@ pub fn write_atomic(
             ),
         ));
     }
-    let file_name = path
-        .file_name()
-        .ok_or_else(|| Error::argument("--output", "the path names no file; give a file name"))?;
-    let tmp = dir.join(format!(
-        ".{}.{}.tmp",
-        file_name.to_string_lossy(),
-        std::process::id()
-    ));
+    if path.file_name().is_none() {
+        return Err(Error::argument(
+            "--output",
+            "the path names no file; give a file name",
+        ));
+    }
+    remove_stale_temps(path);
+    let tmp = temp_path(path);
     let result = (|| {
         let file = std::fs::File::create(&tmp)?;
         let mut buffered = std::io::BufWriter::new(file);
@@ -63,6 +62,82 @@ pub fn write_atomic(
         let _ = std::fs::remove_file(&tmp);
         Error::io(path, e)
     })
+}
+
+/// The directory a file `path` is written in (`.` for a bare name).
+pub fn parent_dir(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// Prefix of every temporary file name: `.opalray-`.
+const TEMP_PREFIX: &str = ".opalray-";
+
+/// The temporary file this process writes `path` through: `.opalray-HASH.PID.tmp` beside
+/// it, HASH 16 hex digits of the file's name. Short whatever the target's name (a legal
+/// 255-byte name stays legal), unique per target and process.
+pub fn temp_path(path: &Path) -> PathBuf {
+    temp_path_of(path, std::process::id())
+}
+
+fn temp_path_of(path: &Path, pid: u32) -> PathBuf {
+    let name = path.file_name().unwrap_or_default();
+    parent_dir(path).join(format!(
+        "{TEMP_PREFIX}{:016x}.{pid}.tmp",
+        name_hash(name.as_encoded_bytes())
+    ))
+}
+
+/// FNV-1a, 64 bit: a stable hash (the same in every build), for temporary names only.
+fn name_hash(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// Remove the temporary files that runs killed while writing `path` left beside it: names
+/// of this version's form ([`temp_path`]) and of the earlier `.NAME.PID.tmp`, whose process
+/// is no longer running. Files of a live process are kept. Only where the system lists its
+/// processes (`/proc`); elsewhere nothing is removed. Failures are ignored: a leftover is
+/// untidy, never wrong.
+pub fn remove_stale_temps(path: &Path) {
+    let Some(name) = path.file_name() else {
+        return;
+    };
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let dir = parent_dir(path);
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        return;
+    };
+    let hashed = format!("{TEMP_PREFIX}{:016x}.", name_hash(name.as_encoded_bytes()));
+    let old = format!(".{}.", name.to_string_lossy());
+    for entry in entries.flatten() {
+        let file_name = entry.file_name();
+        let Some(entry_name) = file_name.to_str() else {
+            continue;
+        };
+        let pid = [&hashed, &old].iter().find_map(|prefix| {
+            entry_name
+                .strip_prefix(prefix.as_str())?
+                .strip_suffix(".tmp")?
+                .parse::<u32>()
+                .ok()
+        });
+        let Some(pid) = pid else {
+            continue;
+        };
+        if pid == std::process::id() || Path::new(&format!("/proc/{pid}")).exists() {
+            continue;
+        }
+        let stale = dir.join(&file_name);
+        // A temporary file written through a temporary file (a staged output) has its own.
+        let _ = std::fs::remove_file(temp_path_of(&stale, pid));
+        let _ = std::fs::remove_file(&stale);
+    }
 }
 
 /// Write 8-bit RGBA pixels (rows top to bottom) as a PNG, atomically.
@@ -139,6 +214,32 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("does not exist"), "{err}");
+    }
+
+    #[test]
+    fn temp_name_is_short_for_a_255_byte_target() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(format!("{}.png", "a".repeat(251)));
+        write_png_rgb8(&path, 1, 1, &[0, 0, 0]).unwrap();
+        assert!(path.exists());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn stale_temps_of_dead_processes_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.png");
+        // Process ids beyond Linux's pid_max (2²²) never run.
+        let dead = 4_999_999;
+        let old = dir.path().join(format!(".a.png.{dead}.tmp"));
+        let new = temp_path_of(&path, dead);
+        let live = temp_path_of(&path, 1);
+        for p in [&old, &new, &live] {
+            std::fs::write(p, "x").unwrap();
+        }
+        write_png_rgb8(&path, 1, 1, &[0, 0, 0]).unwrap();
+        assert!(!old.exists() && !new.exists());
+        assert!(live.exists(), "pid 1 is alive: its file is kept");
     }
 
     #[test]

@@ -29,30 +29,59 @@ pub fn contact_sheet(
     height: usize,
     columns: usize,
 ) -> ContactSheet {
-    let columns = columns.clamp(1, frames.len().max(1));
-    let rows = frames.len().div_ceil(columns);
-    let cell_w = width + GAP;
-    let cell_h = height + LABEL_HEIGHT;
-    let sheet_w = columns * cell_w + GAP;
-    let sheet_h = rows * cell_h + GAP;
-    let mut rgb: Vec<u8> = PAPER
-        .iter()
-        .copied()
-        .cycle()
-        .take(sheet_w * sheet_h * 3)
-        .collect();
+    let mut sheet = ContactSheet::blank(frames.len(), width, height, columns);
     for (k, (frame, label)) in frames.iter().enumerate() {
+        sheet.place(k, frame, width, height, label);
+    }
+    sheet
+}
+
+impl ContactSheet {
+    /// An empty sheet for `count` frames of `width × height` in rows of `columns`, to be
+    /// filled one frame at a time with [`ContactSheet::place`] (the frames need not all be
+    /// held at once). The same bytes as [`contact_sheet`] once every frame is placed.
+    pub fn blank(count: usize, width: usize, height: usize, columns: usize) -> ContactSheet {
+        let (sheet_w, sheet_h) = Self::size(count, width, height, columns);
+        let rgb: Vec<u8> = PAPER
+            .iter()
+            .copied()
+            .cycle()
+            .take(sheet_w * sheet_h * 3)
+            .collect();
+        ContactSheet {
+            width: sheet_w,
+            height: sheet_h,
+            rgb,
+        }
+    }
+
+    /// Width and height in pixels of the sheet of `count` frames (as [`ContactSheet::blank`]).
+    pub fn size(count: usize, width: usize, height: usize, columns: usize) -> (usize, usize) {
+        let columns = columns.clamp(1, count.max(1));
+        let rows = count.div_ceil(columns);
+        (
+            columns * (width + GAP) + GAP,
+            rows * (height + LABEL_HEIGHT) + GAP,
+        )
+    }
+
+    /// Copy frame `k` (RGB8, `width × height`) into its cell with `label` under it.
+    pub fn place(&mut self, k: usize, frame: &[u8], width: usize, height: usize, label: &str) {
+        let cell_w = width + GAP;
+        let cell_h = height + LABEL_HEIGHT;
+        let columns = (self.width - GAP) / cell_w;
+        let sheet_w = self.width;
         let x0 = GAP + (k % columns) * cell_w;
         let y0 = GAP + (k / columns) * cell_h;
         for y in 0..height {
             let src = &frame[y * width * 3..(y + 1) * width * 3];
             let at = ((y0 + y) * sheet_w + x0) * 3;
-            rgb[at..at + width * 3].copy_from_slice(src);
+            self.rgb[at..at + width * 3].copy_from_slice(src);
         }
         let tw = text_width(label, LABEL_SCALE);
         let tx = x0 + width.saturating_sub(tw) / 2;
         draw_text(
-            &mut rgb,
+            &mut self.rgb,
             sheet_w,
             tx,
             y0 + height + 5,
@@ -60,11 +89,6 @@ pub fn contact_sheet(
             LABEL_SCALE,
             [230, 230, 230],
         );
-    }
-    ContactSheet {
-        width: sheet_w,
-        height: sheet_h,
-        rgb,
     }
 }
 

@@ -6,6 +6,7 @@
 
 mod look;
 mod presets;
+mod shape;
 mod stone;
 mod studio;
 
@@ -80,7 +81,14 @@ impl Scene {
                     format!(" (line {line})")
                 })
                 .unwrap_or_default();
-            let message = if path.is_empty() || path == "." {
+            // An error the parser finds before any field (a number too large for TOML) is
+            // named by the key on its line.
+            let key = inner
+                .span()
+                .and_then(|span| shape::key_at(text, span.start));
+            let message = if let (true, Some(key)) = (path.is_empty() || path == ".", &key) {
+                format!("field `{key}`{location}: {message}")
+            } else if path.is_empty() || path == "." {
                 format!("{message}{location}")
             } else {
                 format!("field `{path}`{location}: {message}")
@@ -90,13 +98,27 @@ impl Scene {
                 message,
             }
         })?;
+        // A TOML array where a section is expected fills the section by position: refuse.
+        if let Ok(given) = text.parse::<toml::Table>() {
+            if let Ok(toml::Value::Table(template)) = toml::Value::try_from(Scene::default()) {
+                if let Some((path, found)) = shape::misplaced_table(&given, &template, "") {
+                    return Err(Error::SceneParse {
+                        origin: origin.to_string(),
+                        message: format!(
+                            "field `{path}`: must be a table (a `[{path}]` section of \
+                             `key = value` lines), found {found}"
+                        ),
+                    });
+                }
+            }
+        }
         scene.validate()?;
         Ok(scene)
     }
 
-    /// Read and parse a TOML scene file.
+    /// Read and parse a TOML scene file of at most [`MAX_SCENE_FILE_BYTES`].
     pub fn load(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = read_text_limited(path, MAX_SCENE_FILE_BYTES)?;
         Scene::from_toml_str(&text, &path.display().to_string())
     }
 
@@ -153,6 +175,33 @@ impl Scene {
         }
         Ok(())
     }
+}
+
+/// Largest scene file [`Scene::load`] reads, bytes (a complete scene is about 1.5 kB).
+pub const MAX_SCENE_FILE_BYTES: u64 = 1 << 20;
+
+/// Read the UTF-8 text file `path` of at most `limit` bytes, reading no more than
+/// `limit + 1` whatever the file (`/dev/zero` is refused at once).
+pub fn read_text_limited(path: &Path, limit: u64) -> Result<String> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut bytes = Vec::new();
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    if bytes.len() as u64 > limit {
+        return Err(Error::InvalidData {
+            path: path.to_path_buf(),
+            message: format!("larger than the limit of {limit} bytes; give a smaller file"),
+        });
+    }
+    String::from_utf8(bytes).map_err(|e| Error::InvalidData {
+        path: path.to_path_buf(),
+        message: format!(
+            "not UTF-8 text (byte {}); save it as UTF-8",
+            e.utf8_error().valid_up_to()
+        ),
+    })
 }
 
 /// Check that `value` is finite and within `[lo, hi]`; the error names `field` and a fix.
@@ -240,6 +289,38 @@ mod tests {
         scene.structure.seed = u64::MAX;
         let err = scene.validate().unwrap_err().to_string();
         assert!(err.contains("structure.seed"), "{err}");
+    }
+
+    #[test]
+    fn an_endless_file_is_refused_at_once() {
+        let err = Scene::load(Path::new("/dev/zero")).unwrap_err().to_string();
+        assert!(err.contains("larger than the limit"), "{err}");
+    }
+
+    #[test]
+    fn silently_accepted_shapes_are_refused() {
+        for (text, expected) in [
+            ("[structure]\ngrid = [1, 2, 3, 4]", "structure.grid"),
+            (
+                "[structure]\nsemi_axes_mm = [1.0, 2.0, 3.0, 4.0]",
+                "structure.semi_axes_mm",
+            ),
+            (
+                "structure = [[1, 2, 3]]",
+                "field `structure`: must be a table",
+            ),
+            (
+                "[render]\nwidth = 99999999999999999999",
+                "field `render.width`",
+            ),
+        ] {
+            let err = Scene::from_toml_str(text, "t").unwrap_err().to_string();
+            assert!(err.contains(expected), "{text}: {err}");
+        }
+        let err = Scene::from_toml_str("[structure]\ngrid = [1, 2, 3, 4]", "t")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("length 4"), "{err}");
     }
 
     #[test]

@@ -24,8 +24,10 @@ pub const MAX_CELLS: u64 = 64_000_000;
 #[serde(deny_unknown_fields, default)]
 pub struct StructureConfig {
     /// Cells along x, y, z over the ellipsoid's bounding box (paper: 100 × 75 × 25).
+    #[serde(deserialize_with = "super::shape::three")]
     pub grid: [usize; 3],
     /// The ellipsoid's semi-axes along x, y, z in millimetres.
+    #[serde(deserialize_with = "super::shape::three")]
     pub semi_axes_mm: [f64; 3],
     /// Mean neighbourhood radius `R` of eq. (1), in cells (paper: 6).
     pub mean_radius_cells: f64,

@@ -21,7 +21,7 @@ use opalray::optics::{
 };
 use opalray::scene::{CrystalConfig, Illuminant};
 
-use super::common::check_extension;
+use crate::outputs::Outputs;
 use plot::{write_plot, PlotAxes};
 
 /// Most wavelength × angle samples one run computes (about 200 MB of CSV).
@@ -128,22 +128,27 @@ pub fn run(args: Args) -> Result<()> {
     let crystal = crystal_from_flags(&args)?;
     let wavelengths = wavelengths(&args)?;
     check_angles(&args.angles)?;
-    if let Some(path) = &args.output {
-        check_output("--output", path, "csv")?;
-    }
-    if let Some(path) = &args.plot {
-        check_output("--plot", path, "png")?;
-    }
+    let mut outputs = Outputs::new();
+    let csv = match &args.output {
+        Some(path) => Some(outputs.add("--output", path, &["csv"])?),
+        None => None,
+    };
+    let plot_out = match &args.plot {
+        Some(path) => Some(outputs.add("--plot", path, &["png"])?),
+        None => None,
+    };
     let stack = ClusterStack::new(&crystal)?;
     let curves: Vec<AngleCurve> = args
         .angles
         .iter()
         .map(|&angle_deg| curve(&stack, angle_deg, args.inside, &wavelengths))
         .collect();
-    if let Some(path) = &args.output {
-        write_csv(path, &curves, decimals_of(args.step_nm))?;
+    if let Some(csv) = csv {
+        outputs.write(csv, |path| {
+            write_csv(path, &curves, decimals_of(args.step_nm))
+        })?;
     }
-    if let Some(path) = &args.plot {
+    if let Some(plot_out) = plot_out {
         let axes = PlotAxes {
             from_nm: args.from_nm,
             to_nm: args.to_nm,
@@ -155,16 +160,17 @@ pub fn run(args: Args) -> Result<()> {
             },
             marked_deg: args.angles.clone(),
         };
-        write_plot(path, &stack, &axes)?;
+        outputs.write(plot_out, |path| write_plot(path, &stack, &axes))?;
     }
-    print!("{}", summary(&crystal, &stack, &curves, &args));
+    outputs.commit()?;
+    crate::stdio::out_raw(&summary(&crystal, &stack, &curves, &args))?;
     if let Some(path) = &args.plot {
-        println!(
+        crate::stdio::out(format_args!(
             "wrote {} ({} × {} px)",
             path.display(),
             plot::WIDTH_PX,
             plot::HEIGHT_PX
-        );
+        ))?;
     }
     Ok(())
 }
@@ -276,21 +282,6 @@ fn curve(stack: &ClusterStack, angle_deg: f64, inside: bool, wavelengths: &[f64]
     }
 }
 
-/// Refuse a path for `flag` that does not end in `.ext` or whose directory is missing,
-/// before any work.
-fn check_output(flag: &str, path: &Path, ext: &str) -> Result<()> {
-    check_extension(flag, path, &[ext])?;
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
-    if let Some(dir) = dir.filter(|d| !d.is_dir()) {
-        bail!(
-            "{flag} {}: directory {} does not exist; create it first or choose another path",
-            path.display(),
-            dir.display()
-        );
-    }
-    Ok(())
-}
-
 /// Decimals that print every multiple of `step` exactly (at most 9).
 fn decimals_of(step: f64) -> usize {
     (0..9)
@@ -301,7 +292,7 @@ fn decimals_of(step: f64) -> usize {
         .unwrap_or(9)
 }
 
-fn write_csv(path: &Path, curves: &[AngleCurve], decimals: usize) -> Result<()> {
+fn write_csv(path: &Path, curves: &[AngleCurve], decimals: usize) -> opalray::Result<()> {
     opalray::output::write_atomic(path, |w| {
         writeln!(w, "wavelength_nm,angle_deg,reflectance,transmittance")?;
         for c in curves {
@@ -311,8 +302,6 @@ fn write_csv(path: &Path, curves: &[AngleCurve], decimals: usize) -> Result<()> 
         }
         Ok(())
     })
-    // The core error already names the file and the cause: one line, no chain.
-    .map_err(|err| anyhow!("--output: {err}"))
 }
 
 /// The report printed on stdout.

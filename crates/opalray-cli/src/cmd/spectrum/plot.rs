@@ -12,7 +12,6 @@
 
 use std::path::Path;
 
-use anyhow::{anyhow, Result};
 use opalray::color::{encode_srgb8, wavelength_linear_srgb};
 use opalray::optics::ClusterStack;
 use opalray::output::{draw_text, text_width, write_png_rgb8};
@@ -97,7 +96,7 @@ impl PlotAxes {
 }
 
 /// Draw the plot of `stack` over `axes` and write it to `path` (a `.png`), atomically.
-pub fn write_plot(path: &Path, stack: &ClusterStack, axes: &PlotAxes) -> Result<()> {
+pub fn write_plot(path: &Path, stack: &ClusterStack, axes: &PlotAxes) -> opalray::Result<()> {
     let data = data_pixels(stack, axes);
     let mut rgb = vec![0u8; WIDTH_PX * HEIGHT_PX * 3];
     for (row, line) in data.chunks_exact(DATA_COLUMNS * 3).enumerate() {
@@ -106,8 +105,6 @@ pub fn write_plot(path: &Path, stack: &ClusterStack, axes: &PlotAxes) -> Result<
     }
     draw_axes(&mut rgb, axes);
     write_png_rgb8(path, WIDTH_PX as u32, HEIGHT_PX as u32, &rgb)
-        // The core error already names the file and the cause: one line, no chain.
-        .map_err(|err| anyhow!("--plot: {err}"))
 }
 
 /// RGB8 codes of the data area, rows top to bottom: each wavelength's colour times the mean

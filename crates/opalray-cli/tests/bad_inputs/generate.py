@@ -1,0 +1,217 @@
+#!/usr/bin/env python3
+"""Writes cases.txt, the bad-input corpus run by tests/cli_bad_inputs.rs.
+
+One case a line: `exit | env | args | file | expected`, where env is `-` or `K=V,K=V`,
+args are split on spaces (`''` is an empty argument), file is `-` or `NAME:TEXT` (TEXT with
+`\\n` escapes; written beside the fixtures) and expected is a substring of the one error line.
+Edit the lists below and run `python3 generate.py > cases.txt`; hand-written lines may also
+be appended to cases.txt directly.
+"""
+
+cases = []
+
+
+def case(args, expected, env="-", file="-", code=2):
+    cases.append(f"{code} | {env} | {args} | {file} | {expected}")
+
+
+TINY = "--width 8 --height 6 --rays 64"
+
+look = {
+    "--width": ["0", "-1", "16385", "99999999999", "abc", "1.5", "''"],
+    "--height": ["0", "-1", "16385", "4294967296", "x"],
+    "--diameter": ["-1", "0", "49", "2001", "nan", "inf", "abc"],
+    "--bins": ["0", "-1", "1001", "abc"],
+    "--rays": ["0", "-1", "abc", "1000000001", "1e3"],
+    "--cutoff": ["0", "1e-7", "0.8", "nan", "-1"],
+    "--body-tone": ["0", "10", "-1", "256"],
+    "--exposure": ["21", "-21", "nan", "inf"],
+    "--spp": ["0", "-1", "65537", "x"],
+}
+for sub in ["render", "sweep", "bench"]:
+    for flag, values in look.items():
+        for v in values:
+            case(f"{sub} {flag} {v}", flag)
+
+for v in ["90", "-90", "nan", "1e308", "abc"]:
+    case(f"render --light-angle {v}", "--light-angle")
+
+for flag, v in [("--frames", "0"), ("--frames", "1001"), ("--frames", "-1"), ("--frames", "x"),
+                ("--from", "90"), ("--from", "nan"), ("--to", "-90"), ("--to", "inf"),
+                ("--columns", "0"), ("--columns", "100"), ("--delay-ms", "70000"),
+                ("--delay-ms", "-5"), ("--sheet", "x.jpg"), ("--animation", "x.mp4"),
+                ("--frames-dir", "afile"), ("--sheet", "keep.png/"), ("--sheet", "nodir/s.png"),
+                ("--animation", "adir.json"), ("--stats", "adir.json")]:
+    case(f"sweep {flag} {v} {TINY}", flag)
+case(f"sweep --resume {TINY}", "--frames-dir")
+case(f"sweep --frames-dir fresh --resume {TINY}", "--resume")
+
+for flag, v in [("--slice-z", "25"), ("--slice-z", "-1"), ("--scale", "0"), ("--scale", "65"),
+                ("--scale", "-1"), ("--output", "x.jpg"), ("--stats", "x.txt"),
+                ("--output", "/proc/m.png"), ("--output", "afile/m.png"), ("--stats", "adir.json"),
+                ("--seed", "-1"), ("--seed", "9223372036854775808"), ("--preset", "nosuch")]:
+    case(f"structure {flag} {v}", flag if flag not in ("--preset",) else "nosuch")
+
+for flag, v in [("--diameter", "10"), ("--diameter", "nan"), ("--n-sphere", "0.5"),
+                ("--n-matrix", "5"), ("--layers", "0"), ("--layers", "100001"),
+                ("--layers", "-1"), ("--angles", "90"), ("--angles", "nan"),
+                ("--angles", "abc"), ("--angles", "0,95"), ("--from-nm", "0"),
+                ("--from-nm", "-5"), ("--to-nm", "100"), ("--step-nm", "0"),
+                ("--step-nm", "-1"), ("--step-nm", "1e-9"), ("--output", "x.txt"),
+                ("--plot", "x.jpg"), ("--output", "afile/x.csv"), ("--plot", "nodir/p.png")]:
+    case(f"spectrum {flag} {v}", flag)
+
+for flag, v in [("--output", "keep.png/"), ("--output", "nodir/x.png"), ("--output", "/proc/x.png"),
+                ("--output", "/sys/x.png"), ("--output", "x.tiff"), ("--output", "afile/x.png"),
+                ("--output", "sub"), ("--spectral", "x.png"), ("--spectral", "afile/x.exr"),
+                ("--stats", "adir.json"), ("--stats", "x.csv"), ("--stats", "nodir/s.json"),
+                ("--spectral", "keep.exr"), ("--output", "''")]:
+    extra = " --output keep.exr" if v == "keep.exr" else ""
+    case(f"render {flag} {v}{extra} {TINY}", flag if v != "keep.exr" else "the same file")
+
+csvs = {
+    "empty": ("", "found 0 data rows"),
+    "one": ("400,1\\n", "found 1 data rows"),
+    "desc": ("500,1\\n400,1\\n", "does not increase"),
+    "dup": ("400,1\\n400,2\\n", "does not increase"),
+    "nan": ("400,1\\n500,nan\\n", "not a finite number"),
+    "inf": ("400,1\\n500,inf\\n", "not a finite number"),
+    "text": ("400,1\\n500,abc\\n", "value `abc`"),
+    "three": ("400,1,2\\n500,1\\n", "expected 2"),
+    "onefield": ("400\\n500\\n", "expected 2"),
+    "neg": ("-5,1\\n400,1\\n", "must be positive"),
+    "zero": ("0,1\\n400,1\\n", "must be positive"),
+    "huge": ("400,1e308\\n500,1e308\\n", "too large to integrate"),
+    "hugewl": ("1e308,1\\n1.5e308,1\\n", "outside the 360–830 nm"),
+    "infrared": ("900,1\\n1000,1\\n", "outside the 360–830 nm"),
+    "semicolon": ("400;1\\n500;1\\n", "expected 2"),
+    "badwl": ("400,1\\nx,1\\n", "wavelength `x`"),
+}
+for name, (text, expected) in csvs.items():
+    case("color s.csv", expected, file=f"s.csv:{text}")
+    if name in ("nan", "desc", "huge", "three"):
+        case("color s.csv --reflectance", expected, file=f"s.csv:{text}")
+case("color missing.csv", "missing.csv")
+case("color sub", "is a directory")
+case("color /dev/zero", "larger than the limit")
+case("color s.csv --illuminant a", "--illuminant", file="s.csv:400,1\\n500,1\\n")
+case("color s.csv --reflectance --illuminant z", "--illuminant", file="s.csv:400,1\\n500,1\\n")
+case("color s.csv", "not UTF-8", file="s.csv:400,1\\n\\xff500,1\\n")
+
+scenes = [
+    ("[structure]\\nvoid_ratoi = 0.3", "structure.void_ratoi"),
+    ("[structure]\\nvoid_ratio = 1.5", "structure.void_ratio"),
+    ("[structure]\\nvoid_ratio = 0.0", "structure.void_ratio"),
+    ("[structure]\\nvoid_ratio = nan", "structure.void_ratio"),
+    ("[structure]\\nvoid_ratio = inf", "structure.void_ratio"),
+    ("[structure]\\nvoid_ratio = \"a\"", "structure.void_ratio"),
+    ("[structure]\\ngrid = [100, 0, 25]", "structure.grid"),
+    ("[structure]\\ngrid = [1, 2, 3, 4]", "structure.grid"),
+    ("[structure]\\ngrid = [1, 2]", "structure.grid"),
+    ("[structure]\\ngrid = []", "structure.grid"),
+    ("[structure]\\ngrid = [-1, 2, 3]", "structure.grid"),
+    ("[structure]\\ngrid = [1.5, 2, 3]", "structure.grid"),
+    ("[structure]\\ngrid = 5", "structure.grid"),
+    ("[structure]\\ngrid = [100000, 100000, 100000]", "structure.grid"),
+    ("[structure]\\nsemi_axes_mm = [1.0, 2.0, 3.0, 4.0]", "structure.semi_axes_mm"),
+    ("[structure]\\nsemi_axes_mm = [10.0, -1.0, 2.0]", "structure.semi_axes_mm"),
+    ("[structure]\\nsemi_axes_mm = [10.0, nan, 2.0]", "structure.semi_axes_mm"),
+    ("[structure]\\nsemi_axes_mm = [1e9, 1.0, 2.0]", "structure.semi_axes_mm"),
+    ("[structure]\\nmean_radius_cells = -6.0", "structure.mean_radius_cells"),
+    ("[structure]\\nmean_radius_cells = 0", "structure.mean_radius_cells"),
+    ("[structure]\\nseed = -1", "structure.seed"),
+    ("[structure]\\nseed = 99999999999999999999", "structure.seed"),
+    ("[structure]\\norientation_jitter_deg = 181", "structure.orientation_jitter_deg"),
+    ("structure = [[1, 2, 3], [1.0, 1.0, 1.0]]", "field `structure`"),
+    ("render = [640, 480]", "field `render`"),
+    ("light = 5", "field `light`"),
+    ("crystal = \"opal\"", "field `crystal`"),
+    ("[crystal]\\nsphere_diameter_nm = -250.0", "crystal.sphere_diameter_nm"),
+    ("[crystal]\\nsphere_diameter_nm = 1e400", "crystal.sphere_diameter_nm"),
+    ("[crystal]\\nn_sphere = 0.9", "crystal.n_sphere"),
+    ("[crystal]\\nn_matrix = 4.5", "crystal.n_matrix"),
+    ("[crystal]\\nfilling_fraction = 1.0", "crystal.filling_fraction"),
+    ("[crystal]\\nfilling_fraction = nan", "crystal.filling_fraction"),
+    ("[crystal]\\nlayers = 0", "crystal.layers"),
+    ("[crystal]\\nlayers = 4294967296", "crystal.layers"),
+    ("[crystal]\\nlayers = -3", "crystal.layers"),
+    ("[crystal]\\ndiffuse_fraction = 1.0", "crystal.diffuse_fraction"),
+    ("[crystal]\\nangles = 89", "crystal.angles"),
+    ("[crystal]\\nangles = 10001", "crystal.angles"),
+    ("[spectrum]\\nbins = 0", "spectrum.bins"),
+    ("[spectrum]\\nbins = 1001", "spectrum.bins"),
+    ("[spectrum]\\nmin_nm = 100", "spectrum.min_nm"),
+    ("[spectrum]\\nmax_nm = 300", "spectrum.max_nm"),
+    ("[spectrum]\\nmax_nm = 5000", "spectrum.max_nm"),
+    ("[light]\\nangle_deg = 120.0", "light.angle_deg"),
+    ("[light]\\ncutoff = 0.0", "light.cutoff"),
+    ("[light]\\ncutoff = 0.8", "light.cutoff"),
+    ("[light]\\nrays = 0", "light.rays"),
+    ("[light]\\nrays = -5", "light.rays"),
+    ("[light]\\nrays = 99999999999999999999", "light.rays"),
+    ("[light]\\nintensity = 0", "light.intensity"),
+    ("[light]\\nintensity = 1e7", "light.intensity"),
+    ("[light]\\ndistance_mm = -1", "light.distance_mm"),
+    ("[light]\\nkind = \"laser\"", "light.kind"),
+    ("[light]\\nilluminant = \"x\"", "light.illuminant"),
+    ("[light]\\nroulette = 1", "light.roulette"),
+    ("[camera]\\nfov_deg = 0", "camera.fov_deg"),
+    ("[camera]\\nfov_deg = 171", "camera.fov_deg"),
+    ("[camera]\\ntilt_deg = 90", "camera.tilt_deg"),
+    ("[camera]\\ndistance_mm = nan", "camera.distance_mm"),
+    ("[render]\\nwidth = 0", "render.width"),
+    ("[render]\\nwidth = 99999999999", "render.width"),
+    ("[render]\\nwidth = 99999999999999999999", "render.width"),
+    ("[render]\\nwidth = -5", "render.width"),
+    ("[render]\\nwidth = 16384\\nheight = 16384", "render.width"),
+    ("[render]\\nbody_tone = 12", "render.body_tone"),
+    ("[render]\\nbody_tone = 256", "render.body_tone"),
+    ("[render]\\nphong_exponent = -1", "render.phong_exponent"),
+    ("[render]\\ngloss = 11", "render.gloss"),
+    ("[render]\\nbackground = 2", "render.background"),
+    ("[render]\\nreflection_block = 0", "render.reflection_block"),
+    ("[render]\\nreflection_block = 9", "render.reflection_block"),
+    ("[color]\\nexposure_ev = 30", "color.exposure_ev"),
+    ("[color]\\nbit_depth = 12", "color.bit_depth"),
+    ("[color]\\nspace = \"cmyk\"", "color.space"),
+    ("[color]\\ngamut = \"x\"", "color.gamut"),
+    ("[nosuch]\\na = 1", "nosuch"),
+    ("[structure\\n", "line"),
+    ("[structure]\\nvoid_ratio = 0.2\\nvoid_ratio = 0.3", "void_ratio"),
+    ("[structure]\\n[structure]", "structure"),
+    ("= 5", "line"),
+    ("\\\"unterminated = 1", "line"),
+    ("[render]\\nwidth = 0x", "line"),
+]
+for text, expected in scenes:
+    case("render s.toml", expected, file=f"s.toml:{text}")
+for text, expected in scenes[::4]:
+    case("scene s.toml", expected, file=f"s.toml:{text}")
+    case("structure s.toml", expected, file=f"s.toml:{text}")
+case("render missing.toml", "missing.toml")
+case("render sub", "is a directory")
+case("render /dev/zero", "larger than the limit")
+case("scene s.toml", "not UTF-8", file="s.toml:[render]\\nwidth = 8 \\xff\\n")
+case("render s.toml --preset paper", "--preset", file="s.toml:")
+
+envs = [
+    ("RAYON_NUM_THREADS=0", "RAYON_NUM_THREADS"),
+    ("RAYON_NUM_THREADS=-1", "RAYON_NUM_THREADS"),
+    ("RAYON_NUM_THREADS=abc", "RAYON_NUM_THREADS"),
+    ("RAYON_NUM_THREADS=5000", "RAYON_NUM_THREADS"),
+    ("RAYON_NUM_THREADS=", "RAYON_NUM_THREADS"),
+    ("RAYON_NUM_THREADS=2.5", "RAYON_NUM_THREADS"),
+    ("OPALRAY_SIMD=fast", "OPALRAY_SIMD"),
+    ("OPALRAY_SIMD=AVX512", "OPALRAY_SIMD"),
+    ("OPALRAY_SIMD=", "OPALRAY_SIMD"),
+    ("OPALRAY_MAX_MEMORY_MB=1", "OPALRAY_MAX_MEMORY_MB"),
+    ("OPALRAY_MAX_MEMORY_MB=abc", "OPALRAY_MAX_MEMORY_MB"),
+]
+for env, expected in envs:
+    for sub in ["scene", f"render {TINY}"]:
+        if "MEMORY" in env and sub == "scene":
+            continue
+        case(sub, expected, env=env)
+
+for line in cases:
+    print(line)
