@@ -23,6 +23,9 @@ fuzz_target!(|data: &[u8]| {
     scene.light.rays = scene.light.rays.min(64);
     scene.crystal.angles = scene.crystal.angles.min(181);
     scene.structure.mean_radius_cells = scene.structure.mean_radius_cells.min(4.0);
+    scene.integrator.spp = scene.integrator.spp.min(2);
+    scene.integrator.max_depth = scene.integrator.max_depth.min(4);
+    scene.domains.grain_size_mm = scene.domains.grain_size_mm.max(1.0);
     if scene.validate().is_err() {
         return;
     }

@@ -28,6 +28,9 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::spectrum::WavelengthGrid;
 
+/// Most grains of a `domains.pattern = "grains"` stone (about 100 MB of grain data).
+pub const MAX_GRAINS: u64 = 250_000;
+
 /// Largest spectral image accepted, bytes (4 GiB).
 pub const MAX_SPECTRAL_IMAGE_BYTES: u64 = 4 << 30;
 
@@ -139,6 +142,21 @@ impl Scene {
         self.domains.validate()?;
         self.environment.validate()?;
         self.integrator.validate()?;
+        if self.domains.pattern == Pattern::Grains {
+            let grains = self.domains.grain_count(self.structure.semi_axes_mm);
+            if grains > MAX_GRAINS as f64 {
+                let smallest = self.domains.grain_size_mm * (grains / MAX_GRAINS as f64).cbrt();
+                return Err(Error::field(
+                    "domains.grain_size_mm",
+                    format!(
+                        "{} mm grains would make about {grains:.0} grains in this stone, more than \
+                         the limit of {MAX_GRAINS}; use at least {:.2} mm",
+                        self.domains.grain_size_mm,
+                        (smallest * 100.0).ceil() / 100.0
+                    ),
+                ));
+            }
+        }
         if self.integrator.method == Method::TwoPass && self.light.kind == LightKind::None {
             return Err(Error::field(
                 "light.kind",
@@ -365,6 +383,17 @@ mod tests {
             ("[light]\ncutoff = 0.8", "light.cutoff"),
             ("[light]\ncutoff = nan", "light.cutoff"),
             ("[render]\nwidth = 16384\nheight = 16384", "render.width"),
+            (
+                "[domains]\npattern = \"grains\"\ngrain_size_mm = 0.05",
+                "domains.grain_size_mm",
+            ),
+            ("[integrator]\nspp = 0", "integrator.spp"),
+            ("[environment]\nkind = \"studio\"", "environment.kind"),
+            ("[light]\nkind = \"none\"", "light.kind"),
+            (
+                "[domains]\nsphere_diameter_spread = 0.5",
+                "domains.sphere_diameter_spread",
+            ),
         ] {
             let err = Scene::from_toml_str(text, "t").unwrap_err().to_string();
             assert!(err.contains(field), "{text}: {err}");

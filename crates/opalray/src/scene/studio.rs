@@ -104,6 +104,20 @@ impl Default for DomainsConfig {
 }
 
 impl DomainsConfig {
+    /// About how many grains a stone of semi-axes `semi_axes_mm` holds (the seeds of its box,
+    /// one grain size of margin each side: as `stone::grains` places them).
+    pub fn grain_count(&self, semi_axes_mm: [f64; 3]) -> f64 {
+        let stretch: f64 = self.stretch.iter().product();
+        let volume = std::f64::consts::PI / 6.0 * self.grain_size_mm.powi(3) / stretch;
+        let pad = 2.0 * volume.cbrt();
+        let box_volume: f64 = semi_axes_mm
+            .iter()
+            .zip(self.stretch)
+            .map(|(a, s)| 2.0 * a / s + pad)
+            .product();
+        box_volume / volume
+    }
+
     /// Check ranges.
     pub fn validate(&self) -> Result<()> {
         check_range("domains.grain_size_mm", self.grain_size_mm, 0.05, 50.0, 2.0)?;
