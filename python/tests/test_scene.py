@@ -18,7 +18,10 @@ def test_preset_is_the_shipped_paper_file():
 def test_dict_round_trips_through_toml(tmp_path):
     scene = opalray.Scene.preset("paper").replace(crystal={"sphere_diameter_nm": 215.5})
     d = scene.to_dict()
-    assert set(d) == {"structure", "crystal", "spectrum", "light", "camera", "render", "color"}
+    assert set(d) == {
+        "structure", "crystal", "spectrum", "light", "camera", "render", "color",
+        "domains", "environment", "integrator",
+    }
     path = tmp_path / "s.toml"
     scene.save(path)
     back = opalray.Scene.from_toml(path)

@@ -7,7 +7,7 @@
 //!
 //! - `studio`: a softbox 50° from the zenith towards the top of the picture (+y), 22° in
 //!   angular radius, value 1; two strip lights low at the left and right (15° × 60°, value
-//!   0.8 and 0.5); a dim ceiling (0.03) and a black velvet table (0.004).
+//!   0.8 and 0.5); a dark room (0.004) and a black velvet table (0.0004).
 //! - `window`: a window 50° wide and 40° high, 20–60° above the horizon towards −x and +y,
 //!   value 1, in a room of 0.04 over a floor of 0.02.
 //! - `overcast`: the CIE overcast sky, `(1 + 2 sin h)/3` at elevation h, over ground of 0.1.
@@ -52,7 +52,7 @@ impl Environment {
             }
             EnvironmentKind::Studio => {
                 if d.z < 0.0 {
-                    0.004
+                    0.0004
                 } else if within_cap(d, SOFTBOX_AXIS, SOFTBOX_RADIUS_DEG) {
                     1.0
                 } else if strip(azimuth, elevation, 0.0, 15.0) {
@@ -60,7 +60,7 @@ impl Environment {
                 } else if strip(azimuth, elevation, 180.0, 15.0) {
                     0.5
                 } else {
-                    0.03
+                    0.004
                 }
             }
             EnvironmentKind::Window => {
