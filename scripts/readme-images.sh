@@ -17,3 +17,12 @@ import opalray
 scene = opalray.Scene.preset("paper").replace(render={"width": 320, "height": 240})
 opalray.render(scene, light={"angle_deg": -45}).save("docs/images/python-flash.png")'
 fi
+# The path tracer on the stone model (minutes on two cores).
+for p in harlequin broad-flash; do
+    "$bin" render --preset "$p" --width 320 --height 240 --spp 8 --output "docs/images/$p.png"
+done
+for p in pinfire ribbon; do
+    "$bin" render --preset "$p" --width 320 --height 240 --spp 4 --output "docs/images/$p.png"
+done
+"$bin" sweep --preset paper-path --from -30 --to 30 --frames 3 --columns 3 --width 256 \
+    --height 192 --spp 4 --sheet docs/images/paper-path-sweep.png

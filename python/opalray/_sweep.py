@@ -188,7 +188,9 @@ def sweep(
         elif missing:
             from dask.distributed import as_completed
 
-            scene_future = client.scatter(scene, broadcast=True)
+            # A key of its own (hash=False): a content-hashed key can name data that the last
+            # sweep's release is still deleting ("lost dependencies").
+            scene_future = client.scatter(scene, broadcast=True, hash=False)
             futures = {
                 client.submit(_render_frame, scene_future, angles[k], pure=False): k for k in missing
             }
