@@ -55,6 +55,8 @@ const ROULETTE_BELOW: f32 = 0.02;
 const EPSILON_MM: f32 = 1e-4;
 /// Domain crossings of a camera ray's first segment at which every reflection is followed.
 const FIRST_SPLITS: u32 = 2;
+/// Most lines one domain crossing can have (one per family normal: 4 + 6 + 3).
+const MAX_LINES_PER_CROSSING: usize = 13;
 /// Most probability of a reflection branch at a domain crossing after the first segment.
 const MAX_BRANCH_PROBABILITY: f64 = 0.25;
 /// The lobe is treated as zero beyond this many standard deviations.
@@ -286,7 +288,8 @@ impl<'a> Tracer<'a> {
                 }
                 let x = ray.at(span.t0 + EPSILON_MM);
                 self.light_at_domain(x, dir, domain, &lines, weight, rng, acc, bins);
-                let here: Vec<ActiveLine> = self.lines.clone();
+                // The branches below refill `self.lines`: this crossing keeps its own.
+                let here = std::mem::take(&mut self.lines);
                 let face = ray.at(span.t0);
                 if splits > 0 {
                     // Every reflection as a branch of its own.
@@ -299,7 +302,11 @@ impl<'a> Tracer<'a> {
                     // One reflection, drawn with twice the lines' share of white light (at
                     // most ¼), as a branch: its weight is about 1/(2 × its share), never large
                     // against what its line passes.
-                    let energy: Vec<f64> = here.iter().map(|l| line_energy(&l.line)).collect();
+                    let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
+                    for (e, l) in energy.iter_mut().zip(&here) {
+                        *e = line_energy(&l.line);
+                    }
+                    let energy = &energy[..here.len().min(MAX_LINES_PER_CROSSING)];
                     let total: f64 = energy.iter().sum();
                     let p_branch = (2.0 * total).min(MAX_BRANCH_PROBABILITY);
                     if rng.uniform() < p_branch {
@@ -331,6 +338,7 @@ impl<'a> Tracer<'a> {
                 for l in &here {
                     lines.transmit(l.line);
                 }
+                self.lines = here;
             }
             self.spans = spans;
             hint = end_hint;
