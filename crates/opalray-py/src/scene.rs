@@ -110,28 +110,7 @@ fn from_toml<'py>(py: Python<'py>, value: &toml::Value) -> PyResult<Bound<'py, P
 /// Deserialize and validate a scene from a TOML value, with the scene file's messages
 /// (`field `path`: …`), less the line number a file has and a dict does not.
 fn scene_of_value(value: toml::Value) -> opalray::Result<Scene> {
-    let scene: Scene = serde_path_to_error::deserialize(value).map_err(|e| {
-        let path = e.path().to_string();
-        let message = e
-            .into_inner()
-            .message()
-            .lines()
-            .map(str::trim)
-            .filter(|line| !line.is_empty())
-            .collect::<Vec<_>>()
-            .join(": ");
-        let message = if path.is_empty() || path == "." {
-            message
-        } else {
-            format!("field `{path}`: {message}")
-        };
-        Error::SceneParse {
-            origin: ORIGIN.to_string(),
-            message,
-        }
-    })?;
-    scene.validate()?;
-    Ok(scene)
+    Scene::from_toml_value(value, ORIGIN)
 }
 
 /// The validated [`Scene`] a Python dict describes (missing fields take the defaults).

@@ -28,6 +28,33 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::spectrum::WavelengthGrid;
 
+/// A parser's message on one line (it may span several).
+fn one_line(message: &str) -> String {
+    message
+        .lines()
+        .map(str::trim)
+        .filter(|line| !line.is_empty())
+        .collect::<Vec<_>>()
+        .join(": ")
+}
+
+/// A TOML array where a section is expected would fill the section by position: refuse it,
+/// naming the section.
+fn refuse_misplaced_tables(given: &toml::Table, origin: &str) -> Result<()> {
+    if let Ok(toml::Value::Table(template)) = toml::Value::try_from(Scene::default()) {
+        if let Some((path, found)) = shape::misplaced_table(given, &template, "") {
+            return Err(Error::SceneParse {
+                origin: origin.to_string(),
+                message: format!(
+                    "field `{path}`: must be a table (a `[{path}]` section of `key = value` \
+                     lines), found {found}"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Most grains of a `domains.pattern = "grains"` stone (about 100 MB of grain data).
 pub const MAX_GRAINS: u64 = 250_000;
 
@@ -69,14 +96,7 @@ impl Scene {
         let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
             let inner = e.into_inner();
-            // One line: the parser's message may span several.
-            let message = inner
-                .message()
-                .lines()
-                .map(str::trim)
-                .filter(|line| !line.is_empty())
-                .collect::<Vec<_>>()
-                .join(": ");
+            let message = one_line(inner.message());
             let location = inner
                 .span()
                 .map(|span| {
@@ -101,20 +121,33 @@ impl Scene {
                 message,
             }
         })?;
-        // A TOML array where a section is expected fills the section by position: refuse.
         if let Ok(given) = text.parse::<toml::Table>() {
-            if let Ok(toml::Value::Table(template)) = toml::Value::try_from(Scene::default()) {
-                if let Some((path, found)) = shape::misplaced_table(&given, &template, "") {
-                    return Err(Error::SceneParse {
-                        origin: origin.to_string(),
-                        message: format!(
-                            "field `{path}`: must be a table (a `[{path}]` section of \
-                             `key = value` lines), found {found}"
-                        ),
-                    });
-                }
-            }
+            refuse_misplaced_tables(&given, origin)?;
         }
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// A scene from a TOML value (a Python dict or a JS object turned into one), with the
+    /// messages of a scene file less its line numbers. `origin` names the source in errors.
+    /// The result is validated.
+    pub fn from_toml_value(value: toml::Value, origin: &str) -> Result<Scene> {
+        if let toml::Value::Table(given) = &value {
+            refuse_misplaced_tables(given, origin)?;
+        }
+        let scene: Scene = serde_path_to_error::deserialize(value).map_err(|e| {
+            let path = e.path().to_string();
+            let message = one_line(e.into_inner().message());
+            let message = if path.is_empty() || path == "." {
+                message
+            } else {
+                format!("field `{path}`: {message}")
+            };
+            Error::SceneParse {
+                origin: origin.to_string(),
+                message,
+            }
+        })?;
         scene.validate()?;
         Ok(scene)
     }
