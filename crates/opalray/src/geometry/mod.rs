@@ -1,14 +1,16 @@
-//! Geometry foundations: the ellipsoid's surface, Fresnel optics at it, exact traversal of
+//! Geometry foundations: the ellipsoid's and the cabochon's surfaces, Fresnel optics at it, exact traversal of
 //! the cell grid (3-D DDA) and the pinhole camera. Depends on no stage.
 
 mod camera;
 mod ellipsoid;
 mod grid;
+mod outline;
 mod surface;
 
 pub use camera::Camera;
 pub use ellipsoid::Ellipsoid;
 pub use grid::{CellGrid, Segment};
+pub use outline::{Cabochon, Outline, Surface};
 pub use surface::{fresnel_dielectric, reflect, refract};
 
 use glam::Vec3;

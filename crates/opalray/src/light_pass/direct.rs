@@ -17,7 +17,7 @@ use super::interaction::Transmission;
 use super::source::LightSource;
 use super::walk::Walker;
 use super::NO_PATCH;
-use crate::geometry::{fresnel_dielectric, refract, Ellipsoid, Ray};
+use crate::geometry::{fresnel_dielectric, refract, Ray, Surface};
 use crate::structure::Cell;
 
 /// Most iterations of the entry-point search. It stops once the refracted direction moves by
@@ -61,8 +61,8 @@ impl UnitSpectrum {
 /// direction to start from (a neighbouring cell's); without one the unrefracted line to
 /// the light.
 #[inline(always)]
-pub(crate) fn refracted_entry(
-    shape: &Ellipsoid,
+pub(crate) fn refracted_entry<S: Surface + ?Sized>(
+    shape: &S,
     source: &LightSource,
     n_eff: f32,
     target: Vec3,
@@ -256,6 +256,7 @@ impl Walker<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Ellipsoid;
 
     #[test]
     fn the_entry_point_refracts_the_light_onto_the_target() {

@@ -43,8 +43,10 @@ use crate::light_pass::direct::refracted_entry;
 use crate::light_pass::LightSource;
 use crate::optics::BraggLine;
 use crate::sampling::{stage, Rng};
+use crate::scene::Backing;
 use crate::spectrum::SpectralImage;
-use crate::stone::{ActiveLine, Span, Stone};
+use crate::stone::body::{hg_cos, hg_phase};
+use crate::stone::{ActiveLine, Boundary, Region, Span, Stone};
 
 pub use env::Environment;
 pub use spectral::{Lines, SpectralSampler};
@@ -143,10 +145,23 @@ pub fn trace_paths(stone: &Stone, setup: &PathSetup) -> PathImage {
 
 /// What happens next on a path inside the stone.
 enum Event {
-    /// Scattered by the potch at `t`.
-    Scattered { t: f32 },
-    /// Reached the surface.
-    Surface,
+    /// Scattered at `t` (by the potch, or the haze of a milky domain), keeping `albedo`.
+    Scattered { t: f32, albedo: f32 },
+    /// Reached the boundary of its region.
+    Boundary(Boundary),
+}
+
+/// Where a path inside the stone is.
+#[derive(Clone, Copy)]
+struct PathState {
+    pos: Vec3,
+    dir: Vec3,
+    weight: f32,
+    /// The lines met so far.
+    lines: Lines,
+    /// The domain whose face reflected it (left through that face).
+    skip: Option<u32>,
+    region: Region,
 }
 
 struct Tracer<'a> {
@@ -182,7 +197,8 @@ impl<'a> Tracer<'a> {
     fn sample(&mut self, ray: Ray, rng: &mut Rng, acc: &mut [f64; 3], bins: &mut [f32]) {
         let env = self.setup.environment;
         let plain = Lines::default();
-        let shape = self.stone.shape;
+        let stone = self.stone;
+        let shape = stone.shape;
         let Some((t0, _)) = shape.intersect(&ray).filter(|&(t0, _)| t0 > 0.0) else {
             self.add(&plain, env.value(ray.direction), rng, acc, bins);
             return;
@@ -190,27 +206,26 @@ impl<'a> Tracer<'a> {
         // The surface: gloss to the environment and the light's disc, the rest refracts in.
         let p = ray.at(t0);
         let normal = shape.normal(p);
+        let region = stone.region_at(p - normal * EPSILON_MM);
+        let n = stone.index_of(region);
         let cos_i = -ray.direction.dot(normal);
-        let fresnel = fresnel_dielectric(cos_i, 1.0, self.n_eff);
+        let fresnel = fresnel_dielectric(cos_i, 1.0, n);
         let mirror = reflect(ray.direction, normal);
         let gloss = fresnel * self.setup.gloss * (env.value(mirror) + self.disc(mirror));
         self.add(&plain, gloss, rng, acc, bins);
-        let Some(dir) = refract(ray.direction, normal, 1.0, self.n_eff) else {
+        let Some(dir) = refract(ray.direction, normal, 1.0, n) else {
             return;
         };
-        let weight = (1.0 - fresnel) / (self.n_eff * self.n_eff);
-        self.inside(
-            p,
+        let weight = (1.0 - fresnel) / (n * n);
+        let start = PathState {
+            pos: p,
             dir,
             weight,
-            Lines::default(),
-            None,
-            FIRST_SPLITS,
-            0,
-            rng,
-            acc,
-            bins,
-        );
+            lines: Lines::default(),
+            skip: None,
+            region,
+        };
+        self.inside(start, FIRST_SPLITS, 0, rng, acc, bins);
     }
 
     /// The light's disc seen along `dir` from outside, in image units.
@@ -228,18 +243,12 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// The path from `pos` along `dir` inside the stone with weight `weight`, having met
-    /// `lines`. At the first `splits` domain crossings of its first segment every reflection is
-    /// followed (a branch each) and the ray goes on through as well; after that a reflection
-    /// branch is drawn at random.
-    #[allow(clippy::too_many_arguments)]
+    /// The path `state` inside the stone. At the first `splits` domain crossings of its first
+    /// segment every reflection is followed (a branch each) and the ray goes on through as
+    /// well; after that a reflection branch is drawn at random.
     fn inside(
         &mut self,
-        mut pos: Vec3,
-        mut dir: Vec3,
-        mut weight: f32,
-        mut lines: Lines,
-        mut skip: Option<u32>,
+        state: PathState,
         mut splits: u32,
         depth: u32,
         rng: &mut Rng,
@@ -248,125 +257,142 @@ impl<'a> Tracer<'a> {
     ) {
         let stone = self.stone;
         let shape = stone.shape;
-        let n2 = self.n_eff * self.n_eff;
+        let potch = stone.potch;
+        let PathState {
+            mut pos,
+            mut dir,
+            mut weight,
+            mut lines,
+            mut skip,
+            mut region,
+        } = state;
         let mut hint = None;
         for level in depth..self.setup.max_depth {
             let ray = Ray {
                 origin: pos,
                 direction: dir,
             };
-            let Some((_, t_far)) = shape.intersect(&ray) else {
+            let Some((t_end, boundary)) = stone.exit(&ray, region) else {
                 return;
             };
-            let t_far = t_far.max(0.0);
-            let mut spans = std::mem::take(&mut self.spans);
-            spans.clear();
-            let end_hint = stone.walk(pos, dir, 0.0, t_far, hint, &mut |s| spans.push(s));
-            let mut event = Event::Surface;
+            let mut event = Event::Boundary(boundary);
             let skip_first = skip.take();
-            for (k, span) in spans.iter().enumerate() {
-                let chord = span.t1 - span.t0;
-                let Some(domain) = span.domain else {
-                    let sigma = stone.potch.extinction_per_mm;
-                    let flight = -(1.0 - rng.uniform_f32()).ln() / sigma;
-                    if flight < chord {
-                        event = Event::Scattered {
-                            t: span.t0 + flight,
-                        };
+            let mut end_hint = None;
+            if region == Region::Opal {
+                let mut spans = std::mem::take(&mut self.spans);
+                spans.clear();
+                end_hint = stone.walk(pos, dir, 0.0, t_end, hint, &mut |s| spans.push(s));
+                for (k, span) in spans.iter().enumerate() {
+                    let mut chord = span.t1 - span.t0;
+                    let Some(domain) = span.domain else {
+                        let flight = -(1.0 - rng.uniform_f32()).ln() / potch.extinction_per_mm;
+                        if flight < chord {
+                            event = Event::Scattered {
+                                t: span.t0 + flight,
+                                albedo: potch.albedo,
+                            };
+                            break;
+                        }
+                        continue;
+                    };
+                    // Milky domains scatter too (without absorbing).
+                    let mut scatter_at = None;
+                    if potch.domain_scattering_per_mm > 0.0 {
+                        let flight =
+                            -(1.0 - rng.uniform_f32()).ln() / potch.domain_scattering_per_mm;
+                        if flight < chord {
+                            chord = flight;
+                            scatter_at = Some(span.t0 + flight);
+                        }
+                    }
+                    // A ray reflected at a domain's face leaves through that face.
+                    if !(k == 0 && skip_first == Some(domain)) {
+                        self.cross_domain(
+                            &ray, span.t0, chord, domain, weight, &mut lines, splits, level, rng,
+                            acc, bins,
+                        );
+                    }
+                    if let Some(t) = scatter_at {
+                        event = Event::Scattered { t, albedo: 1.0 };
                         break;
                     }
-                    continue;
-                };
-                // A ray reflected at a domain's face leaves through that face.
-                if k == 0 && skip_first == Some(domain) {
-                    continue;
                 }
-                self.lines.clear();
-                stone.lines(domain, dir, chord, &mut self.lines);
-                if self.lines.is_empty() {
-                    continue;
-                }
-                let x = ray.at(span.t0 + EPSILON_MM);
-                self.light_at_domain(x, dir, domain, &lines, weight, rng, acc, bins);
-                // The branches below refill `self.lines`: this crossing keeps its own.
-                let here = std::mem::take(&mut self.lines);
-                let face = ray.at(span.t0);
-                if splits > 0 {
-                    // Every reflection as a branch of its own.
-                    for line in &here {
-                        self.branch(
-                            face, dir, domain, line, weight, lines, level, rng, acc, bins,
-                        );
-                    }
-                } else {
-                    // One reflection, drawn with twice the lines' share of white light (at
-                    // most ¼), as a branch: its weight is about 1/(2 × its share), never large
-                    // against what its line passes.
-                    let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
-                    for (e, l) in energy.iter_mut().zip(&here) {
-                        *e = line_energy(&l.line);
-                    }
-                    let energy = &energy[..here.len().min(MAX_LINES_PER_CROSSING)];
-                    let total: f64 = energy.iter().sum();
-                    let p_branch = (2.0 * total).min(MAX_BRANCH_PROBABILITY);
-                    if rng.uniform() < p_branch {
-                        let mut u = rng.uniform() * total;
-                        let mut pick = here.len() - 1;
-                        for (i, e) in energy.iter().enumerate() {
-                            if u < *e {
-                                pick = i;
-                                break;
-                            }
-                            u -= e;
-                        }
-                        let w = weight / (p_branch * energy[pick] / total) as f32;
-                        self.branch(
-                            face,
-                            dir,
-                            domain,
-                            &here[pick],
-                            w,
-                            lines,
-                            level,
-                            rng,
-                            acc,
-                            bins,
-                        );
-                    }
-                }
-                // The ray goes on through the planes, carrying 1 − R of each line.
-                for l in &here {
-                    lines.transmit(l.line);
-                }
-                self.lines = here;
+                self.spans = spans;
             }
-            self.spans = spans;
             hint = end_hint;
             match event {
-                Event::Scattered { t } => {
+                Event::Scattered { t, albedo } => {
                     pos = ray.at(t);
-                    weight *= stone.potch.albedo;
-                    self.light_at_potch(pos, &lines, weight, rng, acc, bins);
-                    dir = rng.unit_vector();
+                    weight *= albedo;
+                    self.light_at_potch(pos, dir, &lines, weight, rng, acc, bins);
+                    dir = sample_hg(dir, potch.anisotropy, rng);
+                    hint = None;
                 }
-                Event::Surface => {
+                Event::Boundary(Boundary::Surface) => {
                     // Both ways at once: what escapes is added now (its share 1 − F), the
                     // path goes on reflected with weight × F.
-                    let exit = ray.at(t_far);
+                    let n = stone.index_of(region);
+                    let exit = ray.at(t_end);
                     let normal = shape.normal(exit);
                     let cos = dir.dot(normal).max(0.0);
-                    let f = fresnel_dielectric(cos, self.n_eff, 1.0);
+                    let f = fresnel_dielectric(cos, n, 1.0);
                     if f < 1.0 {
-                        if let Some(out) = refract(dir, normal, self.n_eff, 1.0) {
+                        if let Some(out) = refract(dir, normal, n, 1.0) {
                             let v = self.setup.environment.value(out);
                             if v > 0.0 {
-                                self.add(&lines, weight * (1.0 - f) * n2 * v, rng, acc, bins);
+                                let value = weight * (1.0 - f) * n * n * v;
+                                self.add(&lines, value, rng, acc, bins);
                             }
                         }
                     }
                     weight *= f;
                     dir = reflect(dir, normal);
                     pos = exit - normal * EPSILON_MM;
+                }
+                Event::Boundary(Boundary::Back) => {
+                    // The backing reflects diffusely (Lambert): cosine-weighted about +z.
+                    let Some(back) = stone.back else {
+                        return;
+                    };
+                    pos = ray.at(t_end) + Vec3::Z * EPSILON_MM;
+                    weight *= match back.kind {
+                        Backing::Ironstone => {
+                            lines.tint();
+                            1.0
+                        }
+                        _ => back.reflectance(550.0) as f32,
+                    };
+                    if weight <= 0.0 {
+                        return;
+                    }
+                    self.light_at_back(pos, &lines, weight, rng, acc, bins);
+                    dir = cosine_about_z(rng);
+                    hint = None;
+                }
+                Event::Boundary(Boundary::CapPlane) => {
+                    // Between the opal slice and the cap: reflected with probability F,
+                    // else refracted into the other region.
+                    let other = match region {
+                        Region::Opal => Region::Cap,
+                        Region::Cap => Region::Opal,
+                    };
+                    let (n1, n2) = (stone.index_of(region), stone.index_of(other));
+                    let facing = if dir.z > 0.0 { -Vec3::Z } else { Vec3::Z };
+                    let f = fresnel_dielectric(-dir.dot(facing), n1, n2);
+                    let at = ray.at(t_end);
+                    match refract(dir, facing, n1, n2).filter(|_| rng.uniform_f32() >= f) {
+                        Some(d) => {
+                            dir = d;
+                            weight *= (n1 / n2) * (n1 / n2);
+                            region = other;
+                            pos = at - facing * EPSILON_MM;
+                        }
+                        None => {
+                            dir = reflect(dir, facing);
+                            pos = at + facing * EPSILON_MM;
+                        }
+                    }
+                    hint = None;
                 }
             }
             splits = 0;
@@ -378,6 +404,85 @@ impl<'a> Tracer<'a> {
                 weight = ROULETTE_BELOW;
             }
         }
+    }
+
+    /// A domain crossing of `ray` at `t0` over `chord`: light estimation, the reflection
+    /// branches, and the lines the ray carries on through (added to `lines`).
+    #[allow(clippy::too_many_arguments)]
+    fn cross_domain(
+        &mut self,
+        ray: &Ray,
+        t0: f32,
+        chord: f32,
+        domain: u32,
+        weight: f32,
+        lines: &mut Lines,
+        splits: u32,
+        level: u32,
+        rng: &mut Rng,
+        acc: &mut [f64; 3],
+        bins: &mut [f32],
+    ) {
+        let stone = self.stone;
+        let dir = ray.direction;
+        self.lines.clear();
+        stone.lines(domain, dir, chord, &mut self.lines);
+        if self.lines.is_empty() {
+            return;
+        }
+        let x = ray.at(t0 + EPSILON_MM);
+        self.light_at_domain(x, dir, domain, lines, weight, rng, acc, bins);
+        // The branches below refill `self.lines`: this crossing keeps its own.
+        let here = std::mem::take(&mut self.lines);
+        let face = ray.at(t0);
+        if splits > 0 {
+            // Every reflection as a branch of its own.
+            for line in &here {
+                self.branch(
+                    face, dir, domain, line, weight, *lines, level, rng, acc, bins,
+                );
+            }
+        } else {
+            // One reflection, drawn with twice the lines' share of white light (at most ¼),
+            // as a branch: its weight is about 1/(2 × its share), never large against what
+            // its line passes.
+            let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
+            for (e, l) in energy.iter_mut().zip(&here) {
+                *e = line_energy(&l.line);
+            }
+            let energy = &energy[..here.len().min(MAX_LINES_PER_CROSSING)];
+            let total: f64 = energy.iter().sum();
+            let p_branch = (2.0 * total).min(MAX_BRANCH_PROBABILITY);
+            if rng.uniform() < p_branch {
+                let mut u = rng.uniform() * total;
+                let mut pick = here.len() - 1;
+                for (i, e) in energy.iter().enumerate() {
+                    if u < *e {
+                        pick = i;
+                        break;
+                    }
+                    u -= e;
+                }
+                let w = weight / (p_branch * energy[pick] / total) as f32;
+                self.branch(
+                    face,
+                    dir,
+                    domain,
+                    &here[pick],
+                    w,
+                    *lines,
+                    level,
+                    rng,
+                    acc,
+                    bins,
+                );
+            }
+        }
+        // The ray goes on through the planes, carrying 1 − R of each line.
+        for l in &here {
+            lines.transmit(l.line);
+        }
+        self.lines = here;
     }
 
     /// Follow the reflection of the ray along `dir` by `line` of `domain` at its face `face`
@@ -399,18 +504,15 @@ impl<'a> Tracer<'a> {
         if let Some((d, l)) = self.reflection(domain, line, dir, rng) {
             let mut branch = lines;
             branch.reflect(l);
-            self.inside(
-                face,
-                d,
+            let state = PathState {
+                pos: face,
+                dir: d,
                 weight,
-                branch,
-                Some(domain),
-                0,
-                level + 1,
-                rng,
-                acc,
-                bins,
-            );
+                lines: branch,
+                skip: Some(domain),
+                region: Region::Opal,
+            };
+            self.inside(state, 0, level + 1, rng, acc, bins);
         }
     }
 
@@ -445,10 +547,20 @@ impl<'a> Tracer<'a> {
 
     /// The light reaching `x` straight: `(direction towards the light inside, irradiance across
     /// the beam, distance to the entry point)`.
+    ///
+    /// The one refracted path is solved through the outer surface into the opal: under a
+    /// triplet's cap (two refractions) there is none, and light from under a backing is
+    /// blocked.
     fn light_inside(&self, x: Vec3) -> Option<(Vec3, f32, f32)> {
         let light = self.setup.light?;
+        if self.stone.cap.is_some() {
+            return None;
+        }
         let (entry, d, irradiance) =
             refracted_entry(&self.stone.shape, &light.source, self.n_eff, x, None)?;
+        if self.stone.back.is_some_and(|b| entry.z <= b.z + EPSILON_MM) {
+            return None;
+        }
         Some((-d, irradiance * light.intensity, (entry - x).length()))
     }
 
@@ -504,11 +616,13 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// Next-event estimation of the light at a potch scattering event (isotropic phase).
+    /// Next-event estimation of the light at a scattering event of a path travelling along
+    /// `dir` (Henyey–Greenstein phase).
     #[allow(clippy::too_many_arguments)]
     fn light_at_potch(
         &mut self,
         x: Vec3,
+        dir: Vec3,
         path: &Lines,
         weight: f32,
         rng: &mut Rng,
@@ -525,10 +639,45 @@ impl<'a> Tracer<'a> {
         for n in &notches {
             lines.transmit(*n);
         }
-        // π × (E/4π) × phase 1: the in-scattered value.
+        // π × E × phase: light travelling along −to_light turned into −dir.
+        let phase = hg_phase(self.stone.potch.anisotropy, to_light.dot(dir));
         self.add(
             &lines,
-            weight * irradiance * transmitted / 4.0,
+            weight * PI * irradiance * transmitted * phase,
+            rng,
+            acc,
+            bins,
+        );
+    }
+
+    /// Next-event estimation of the light at the backing (Lambert, facing +z).
+    fn light_at_back(
+        &mut self,
+        x: Vec3,
+        path: &Lines,
+        weight: f32,
+        rng: &mut Rng,
+        acc: &mut [f64; 3],
+        bins: &mut [f32],
+    ) {
+        let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
+            return;
+        };
+        let cos = to_light.z;
+        if cos <= 0.0 {
+            return;
+        }
+        let Some((transmitted, notches)) = self.towards_light(x, to_light, distance, None) else {
+            return;
+        };
+        let mut lines = *path;
+        for n in &notches {
+            lines.transmit(*n);
+        }
+        // π × ρ E cos / π (ρ is in the weight or the path's tint).
+        self.add(
+            &lines,
+            weight * irradiance * transmitted * cos,
             rng,
             acc,
             bins,
@@ -554,8 +703,12 @@ impl<'a> Tracer<'a> {
             let span = self.light_spans[k];
             match span.domain {
                 None => optical_depth += self.stone.potch.extinction_per_mm * (span.t1 - span.t0),
-                Some(d) if Some(d) == skip => {}
+                Some(d) if Some(d) == skip => {
+                    optical_depth += self.stone.potch.domain_scattering_per_mm * (span.t1 - span.t0)
+                }
                 Some(d) => {
+                    optical_depth +=
+                        self.stone.potch.domain_scattering_per_mm * (span.t1 - span.t0);
                     self.light_lines.clear();
                     self.stone
                         .lines(d, -to_light, span.t1 - span.t0, &mut self.light_lines);
@@ -575,6 +728,23 @@ fn line_energy(line: &BraggLine) -> f64 {
     let nu = 0.5 * (line.nu_s + line.nu_p);
     let area = nu * nu * line.center_nm / (line.layers * (1.0 + 0.5 * std::f64::consts::PI * nu));
     (area / 400.0).max(1e-9)
+}
+
+/// A new direction after scattering a path travelling along `dir` by the Henyey–Greenstein
+/// phase of anisotropy `g`.
+fn sample_hg(dir: Vec3, g: f32, rng: &mut Rng) -> Vec3 {
+    let cos = hg_cos(f64::from(g), rng.uniform()) as f32;
+    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+    let phi = 2.0 * PI * rng.uniform_f32();
+    let (t, b) = dir.any_orthonormal_pair();
+    (dir * cos + (t * phi.cos() + b * phi.sin()) * sin).normalize()
+}
+
+/// A direction drawn with density `cos θ / π` about +z.
+fn cosine_about_z(rng: &mut Rng) -> Vec3 {
+    let r = rng.uniform_f32().sqrt();
+    let phi = 2.0 * PI * rng.uniform_f32();
+    Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - r * r).max(0.0).sqrt())
 }
 
 /// A normal drawn about `n` with a Gaussian tilt of standard deviation `sigma` (radians).

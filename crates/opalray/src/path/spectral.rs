@@ -17,6 +17,7 @@ use crate::color::{cmf_at, illuminant_samples};
 use crate::optics::BraggLine;
 use crate::scene::Illuminant;
 use crate::spectrum::WavelengthGrid;
+use crate::stone::ironstone_reflectance;
 
 /// Most lines one contribution carries.
 pub const MAX_LINES: usize = 24;
@@ -26,6 +27,8 @@ const RESERVED: usize = 8;
 const TABLE_STEP_NM: f64 = 0.25;
 /// Share of wavelength draws from the line's law (the rest uniform over the range).
 const LINE_SHARE: f64 = 0.9;
+/// Most ironstone reflections a path carries.
+pub const MAX_TINTS: usize = 3;
 
 /// The Bragg lines of one path, each reflected by or passed through.
 #[derive(Clone, Copy, Debug)]
@@ -37,6 +40,8 @@ pub struct Lines {
     first_reflection: Option<usize>,
     /// A reflection found no room: the path's spectrum is unknown and it adds nothing.
     lost: bool,
+    /// Diffuse reflections by ironstone (factor [`ironstone_reflectance`] each).
+    tints: u8,
 }
 
 impl Default for Lines {
@@ -47,6 +52,7 @@ impl Default for Lines {
             len: 0,
             first_reflection: None,
             lost: false,
+            tints: 0,
         }
     }
 }
@@ -73,6 +79,13 @@ impl Lines {
         }
     }
 
+    /// A diffuse reflection by ironstone. Past [`MAX_TINTS`] the path is dropped (it then
+    /// carries under 0.22⁴ = 0.2 % of the light).
+    pub fn tint(&mut self) {
+        self.lost |= usize::from(self.tints) == MAX_TINTS;
+        self.tints = self.tints.saturating_add(1);
+    }
+
     /// Whether the path was reflected by any line.
     pub fn reflects(&self) -> bool {
         self.first_reflection.is_some()
@@ -82,6 +95,9 @@ impl Lines {
     #[inline]
     pub fn factor(&self, wavelength_nm: f64) -> f64 {
         let mut f = 1.0;
+        if self.tints > 0 {
+            f = ironstone_reflectance(wavelength_nm).powi(i32::from(self.tints));
+        }
         for ((line, reflect), (lo, hi)) in self.lines[..self.len].iter().zip(&self.windows) {
             let inside = (*lo..=*hi).contains(&wavelength_nm);
             if *reflect {
@@ -112,6 +128,8 @@ pub struct SpectralSampler {
     /// The spectral image's grid.
     pub grid: WavelengthGrid,
     draws: usize,
+    /// XYZ and bins of the light after k = 1 ..= [`MAX_TINTS`] ironstone reflections.
+    tinted: Vec<([f64; 3], Vec<f32>)>,
 }
 
 /// What one contribution adds to its pixel.
@@ -161,6 +179,37 @@ impl SpectralSampler {
                     / k as f32
             })
             .collect();
+        let tinted = (1..=MAX_TINTS as i32)
+            .map(|k| {
+                let tinted: Vec<[f64; 4]> = raw
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| {
+                        let r = ironstone_reflectance(lo + i as f64 * TABLE_STEP_NM).powi(k);
+                        v.map(|c| c * r)
+                    })
+                    .collect();
+                let xyz = [
+                    integral(0, &tinted),
+                    integral(1, &tinted),
+                    integral(2, &tinted),
+                ];
+                let bins = (0..grid.bins)
+                    .map(|b| {
+                        let (a, z) = grid.edges_nm(b);
+                        let n = 64;
+                        (0..n)
+                            .map(|j| {
+                                let w = a + (z - a) * (j as f64 + 0.5) / n as f64;
+                                lookup(&tinted, lo, w)[3]
+                            })
+                            .sum::<f64>() as f32
+                            / n as f32
+                    })
+                    .collect();
+                (xyz, bins)
+            })
+            .collect();
         SpectralSampler {
             lo_nm: lo,
             hi_nm: hi,
@@ -169,6 +218,7 @@ impl SpectralSampler {
             white_bins,
             grid: *grid,
             draws,
+            tinted,
         }
     }
 
@@ -187,10 +237,17 @@ impl SpectralSampler {
             return;
         }
         let Some(first) = lines.first_reflection else {
-            for (v, w) in xyz.iter_mut().zip(&self.white_xyz) {
+            let (white_xyz, white_bins) = match lines.tints {
+                0 => (&self.white_xyz, &self.white_bins),
+                k => {
+                    let (x, b) = &self.tinted[usize::from(k) - 1];
+                    (x, b)
+                }
+            };
+            for (v, w) in xyz.iter_mut().zip(white_xyz) {
                 *v += weight * w;
             }
-            for (b, w) in bins.iter_mut().zip(&self.white_bins) {
+            for (b, w) in bins.iter_mut().zip(white_bins) {
                 *b += (weight * f64::from(*w)) as f32;
             }
             return;

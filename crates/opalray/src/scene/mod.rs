@@ -4,12 +4,14 @@
 //! errors naming their path; [`Scene::validate`] checks ranges, NaN and the memory a grid
 //! would need before anything is allocated. Field tables: `docs/scene-format.md`.
 
+mod body;
 mod look;
 mod presets;
 mod shape;
 mod stone;
 mod studio;
 
+pub use body::{Backing, BodyConfig, Cut};
 pub use look::{
     CameraConfig, ColorConfig, ColorSpaceChoice, GamutMapping, Illuminant, LightConfig, LightKind,
     RenderConfig, BODY_EXTINCTION_PER_MM,
@@ -82,6 +84,8 @@ pub struct Scene {
     pub color: ColorConfig,
     /// The domains as geometry (path integrator).
     pub domains: DomainsConfig,
+    /// The stone's cut, backing and potch (path integrator).
+    pub body: BodyConfig,
     /// Light from every direction (path integrator).
     pub environment: EnvironmentConfig,
     /// Which renderer, and its sampling.
@@ -173,10 +177,13 @@ impl Scene {
         self.render.validate()?;
         self.color.validate()?;
         self.domains.validate()?;
+        self.body.validate(self.structure.semi_axes_mm)?;
         self.environment.validate()?;
         self.integrator.validate()?;
         if self.domains.pattern == Pattern::Grains {
-            let grains = self.domains.grain_count(self.structure.semi_axes_mm);
+            let grains = self
+                .domains
+                .grain_count(self.body.box_semi_axes(self.structure.semi_axes_mm));
             if grains > MAX_GRAINS as f64 {
                 let smallest = self.domains.grain_size_mm * (grains / MAX_GRAINS as f64).cbrt();
                 return Err(Error::field(

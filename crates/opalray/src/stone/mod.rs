@@ -9,15 +9,16 @@
 //! it reflects by every family whose first-order line can fall in the spectral range.
 
 pub mod balls;
+pub mod body;
 pub mod grains;
 
 use glam::{Quat, Vec3};
 
 use crate::error::Result;
-use crate::geometry::Ellipsoid;
+use crate::geometry::{Cabochon, Ellipsoid, Outline, Ray};
 use crate::optics::{rocking_fwhm_rad, BraggLine, Families};
 use crate::sampling::{stage, Rng};
-use crate::scene::{FamilyChoice, OrientationLaw, Pattern, Scene, BODY_EXTINCTION_PER_MM};
+use crate::scene::{Backing, Cut, FamilyChoice, OrientationLaw, Pattern, Scene};
 use crate::structure::orientation::jitter;
 
 use balls::Balls;
@@ -55,8 +56,68 @@ pub struct Domain {
 pub struct Potch {
     /// Extinction coefficient, per mm.
     pub extinction_per_mm: f32,
-    /// Single-scattering albedo (from the body tone).
+    /// Single-scattering albedo (from the body tone, [`body::potch_albedo`]).
     pub albedo: f32,
+    /// Henyey–Greenstein anisotropy of its scattering.
+    pub anisotropy: f32,
+    /// Scattering coefficient inside the domains (no absorption there), per mm.
+    pub domain_scattering_per_mm: f32,
+}
+
+/// The surface a flat back is glued on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BackSurface {
+    /// Height of the back plane, mm.
+    pub z: f32,
+    /// What it is.
+    pub kind: Backing,
+}
+
+impl BackSurface {
+    /// Its diffuse (Lambertian) reflectance at `wavelength_nm`.
+    pub fn reflectance(&self, wavelength_nm: f64) -> f64 {
+        match self.kind {
+            Backing::None => 0.0,
+            Backing::Black => 0.03,
+            Backing::Ironstone => ironstone_reflectance(wavelength_nm),
+        }
+    }
+}
+
+/// Diffuse reflectance of ironstone (a boulder opal's matrix) at `wavelength_nm`: iron oxides
+/// reflect little blue and more red, 6 % at 400 nm rising to 22 % at 700 nm — a brown.
+pub fn ironstone_reflectance(wavelength_nm: f64) -> f64 {
+    let x = ((wavelength_nm - 400.0) / 300.0).clamp(0.0, 1.0);
+    0.06 + 0.16 * x * x
+}
+
+/// A triplet's clear cap: the dome above the plane `z`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cap {
+    /// Height of the plane between the opal slice and the cap, mm.
+    pub z: f32,
+    /// The cap's refractive index.
+    pub n: f32,
+}
+
+/// The region of the stone a point lies in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Region {
+    /// The opal.
+    Opal,
+    /// A triplet's clear cap.
+    Cap,
+}
+
+/// Where a ray inside a region leaves it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Boundary {
+    /// The stone's outer surface.
+    Surface,
+    /// The backing under a flat back.
+    Back,
+    /// The plane between a triplet's slice and its cap.
+    CapPlane,
 }
 
 /// A family's line met by a ray crossing a domain.
@@ -85,8 +146,16 @@ enum Layout {
 /// The stone: shape, domains and their optics.
 #[derive(Debug)]
 pub struct Stone {
-    /// The stone's shape.
-    pub shape: Ellipsoid,
+    /// The stone's outer surface.
+    pub shape: Outline,
+    /// What the flat back sits on, if anything.
+    pub back: Option<BackSurface>,
+    /// A triplet's cap.
+    pub cap: Option<Cap>,
+    /// A colour bar: the domains lie only outside this inner surface (in the stone's frame).
+    bar_inner: Option<Ellipsoid>,
+    /// Centre of `bar_inner`.
+    bar_centre: Vec3,
     /// Effective index of the stone (and every domain).
     pub n_eff: f32,
     /// The potch between domains.
@@ -113,7 +182,8 @@ impl Stone {
     pub fn new(scene: &Scene) -> Result<Stone> {
         let s = &scene.structure;
         let d = &scene.domains;
-        let axes = Vec3::from_array(s.semi_axes_mm.map(|v| v as f32));
+        let body = &scene.body;
+        let axes = Vec3::from_array(body.box_semi_axes(s.semi_axes_mm).map(|v| v as f32));
         let seed = s.seed;
         let draw_diameter = |index: u64| {
             let mut rng = Rng::new(seed, stage::STONE, (1 << 40) + index);
@@ -217,12 +287,60 @@ impl Stone {
                 })
             })
             .collect();
+        let n_eff = families.n_eff as f32;
+        let girdle = (s.semi_axes_mm[0] as f32, s.semi_axes_mm[1] as f32);
+        let dome = body.dome_height_mm as f32;
+        let (shape, cabochon) = match body.cut {
+            Cut::Ellipsoid => (Outline::Ellipsoid(Ellipsoid::new(axes)), None),
+            Cut::Cabochon | Cut::Doublet | Cut::Triplet => {
+                let back = if body.cut == Cut::Cabochon {
+                    body.back_height_mm as f32
+                } else {
+                    0.0
+                };
+                let c = Cabochon::new(girdle.0, girdle.1, dome, back);
+                (Outline::Cabochon(c), Some(c))
+            }
+        };
+        let back = cabochon
+            .filter(|c| c.flat_back() && body.backing() != Backing::None)
+            .map(|c| BackSurface {
+                z: c.bottom_z(),
+                kind: body.backing(),
+            });
+        let cap = cabochon.filter(|_| body.cut == Cut::Triplet).map(|c| Cap {
+            z: c.bottom_z() + body.slice_mm as f32,
+            n: body.cap_index as f32,
+        });
+        // A colour bar: the inner surface a bar's thickness under the outer one.
+        let t = body.colour_bar_mm as f32;
+        let (bar_inner, bar_centre) = match (t > 0.0 && cap.is_none(), body.cut) {
+            (false, _) => (None, Vec3::ZERO),
+            (true, Cut::Ellipsoid) => {
+                let inner = (axes - Vec3::splat(t)).max(Vec3::splat(1e-3));
+                (Some(Ellipsoid::new(inner)), Vec3::ZERO)
+            }
+            (true, _) => {
+                let c = cabochon.expect("a cabochon cut");
+                let inner = Vec3::new(girdle.0 - t, girdle.1 - t, dome - t).max(Vec3::splat(1e-3));
+                (Some(Ellipsoid::new(inner)), Vec3::Z * c.girdle_z())
+            }
+        };
+        let potch_albedo =
+            body::potch_albedo(scene.render.body_tone, body.anisotropy, f64::from(n_eff));
+        let sigma = body.potch_extinction_per_mm as f32;
         Ok(Stone {
-            shape: Ellipsoid::new(axes),
-            n_eff: families.n_eff as f32,
+            shape,
+            back,
+            cap,
+            bar_inner,
+            bar_centre,
+            n_eff,
             potch: Potch {
-                extinction_per_mm: BODY_EXTINCTION_PER_MM,
-                albedo: scene.render.body_albedo(),
+                extinction_per_mm: sigma,
+                albedo: potch_albedo,
+                anisotropy: body.anisotropy as f32,
+                domain_scattering_per_mm: body.domain_haze as f32 * sigma * potch_albedo,
             },
             domains,
             families,
@@ -263,10 +381,15 @@ impl Stone {
         self.slot_kind.len()
     }
 
-    /// The domain at `p` (mm), `None` in potch (or outside the stone).
+    /// The domain at `p` (mm), `None` in potch (or outside the stone, or in a cap).
     pub fn domain_at(&self, p: Vec3) -> Option<u32> {
-        if !self.shape.contains(p) {
+        if !self.shape.contains(p) || self.region_at(p) == Region::Cap {
             return None;
+        }
+        if let Some(inner) = &self.bar_inner {
+            if inner.contains(p - self.bar_centre) {
+                return None;
+            }
         }
         match &self.layout {
             Layout::Single => Some(0),
@@ -281,6 +404,61 @@ impl Stone {
     /// `hint` is the value `walk` returned for a walk that ended where this one starts (a
     /// cheaper start); it returns the same for its end.
     pub fn walk(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        t0: f32,
+        t1: f32,
+        hint: Option<u32>,
+        visit: &mut dyn FnMut(Span),
+    ) -> Option<u32> {
+        let Some(inner) = &self.bar_inner else {
+            return self.walk_domains(origin, dir, t0, t1, hint, visit);
+        };
+        // Under the colour bar the domains are potch: split the spans at the inner surface.
+        let ray = Ray {
+            origin: origin - self.bar_centre,
+            direction: dir,
+        };
+        let Some((a, b)) = inner.intersect(&ray).filter(|&(a, b)| b > t0 && a < t1) else {
+            return self.walk_domains(origin, dir, t0, t1, hint, visit);
+        };
+        let mut pending: Option<Span> = None;
+        let mut emit = |span: Span, visit: &mut dyn FnMut(Span)| match pending.as_mut() {
+            Some(p) if p.domain == span.domain => p.t1 = span.t1,
+            _ => {
+                if let Some(p) = pending.replace(span) {
+                    visit(p);
+                }
+            }
+        };
+        let end = self.walk_domains(origin, dir, t0, t1, hint, &mut |span| {
+            for (lo, hi, masked) in [
+                (span.t0, span.t1.min(a), false),
+                (span.t0.max(a), span.t1.min(b), true),
+                (span.t0.max(b), span.t1, false),
+            ] {
+                if hi > lo {
+                    let domain = if masked { None } else { span.domain };
+                    emit(
+                        Span {
+                            t0: lo,
+                            t1: hi,
+                            domain,
+                        },
+                        visit,
+                    );
+                }
+            }
+        });
+        if let Some(p) = pending {
+            visit(p);
+        }
+        end
+    }
+
+    /// [`Stone::walk`] without the colour bar.
+    fn walk_domains(
         &self,
         origin: Vec3,
         dir: Vec3,
@@ -324,6 +502,59 @@ impl Stone {
                 last
             }
         }
+    }
+
+    /// The region `p` (inside the stone) lies in.
+    #[inline]
+    pub fn region_at(&self, p: Vec3) -> Region {
+        match self.cap {
+            Some(cap) if p.z > cap.z => Region::Cap,
+            _ => Region::Opal,
+        }
+    }
+
+    /// The refractive index of `region`.
+    #[inline]
+    pub fn index_of(&self, region: Region) -> f32 {
+        match (region, self.cap) {
+            (Region::Cap, Some(cap)) => cap.n,
+            _ => self.n_eff,
+        }
+    }
+
+    /// Where `ray`, inside the stone in `region`, leaves that region: `(t, boundary)`, or
+    /// `None` if it does not meet the surface (numerically outside).
+    #[inline]
+    pub fn exit(&self, ray: &Ray, region: Region) -> Option<(f32, Boundary)> {
+        let (_, t_far) = self.shape.intersect(ray)?;
+        let mut best = (t_far.max(0.0), Boundary::Surface);
+        let dz = ray.direction.z;
+        let oz = ray.origin.z;
+        // A plane closer than the surface, or as close (the flat back lies on it).
+        let mut plane = |z: f32, boundary: Boundary, downwards: bool| {
+            if (downwards && dz < 0.0) || (!downwards && dz > 0.0) {
+                let t = ((z - oz) / dz).max(0.0);
+                if t <= best.0 + 1e-4 {
+                    best = (t.min(best.0), boundary);
+                }
+            }
+        };
+        match region {
+            Region::Opal => {
+                if let Some(back) = self.back {
+                    plane(back.z, Boundary::Back, true);
+                }
+                if let Some(cap) = self.cap {
+                    plane(cap.z, Boundary::CapPlane, false);
+                }
+            }
+            Region::Cap => {
+                if let Some(cap) = self.cap {
+                    plane(cap.z, Boundary::CapPlane, true);
+                }
+            }
+        }
+        Some(best)
     }
 
     /// The lines of domain `domain` that a ray along `dir` (unit) crossing it over `chord_mm`
