@@ -267,6 +267,7 @@ impl<'a> Tracer<'a> {
             mut region,
         } = state;
         let mut hint = None;
+        let mut first_in_cap = region == Region::Cap;
         for level in depth..self.setup.max_depth {
             let ray = Ray {
                 origin: pos,
@@ -395,7 +396,11 @@ impl<'a> Tracer<'a> {
                     hint = None;
                 }
             }
-            splits = 0;
+            // The camera ray's first segment in the opal splits (after a triplet's cap).
+            if !(region == Region::Opal && first_in_cap) {
+                splits = 0;
+            }
+            first_in_cap = false;
             if weight < ROULETTE_BELOW {
                 let survive = weight / ROULETTE_BELOW;
                 if rng.uniform_f32() >= survive {

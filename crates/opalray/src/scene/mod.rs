@@ -16,7 +16,7 @@ pub use look::{
     CameraConfig, ColorConfig, ColorSpaceChoice, GamutMapping, Illuminant, LightConfig, LightKind,
     RenderConfig, BODY_EXTINCTION_PER_MM,
 };
-pub use presets::{preset, PRESET_NAMES};
+pub use presets::{preset, DEFAULT_RENDER_PRESET, PRESET_NAMES};
 pub use stone::{CrystalConfig, StructureConfig, MAX_CELLS};
 pub use studio::{
     DomainsConfig, EnvironmentConfig, EnvironmentKind, FamilyChoice, IntegratorConfig, Method,

@@ -1,38 +1,59 @@
 //! Named scenes. Each preset is also shipped as `scenes/NAME.toml`.
 
 use super::{
-    DomainsConfig, EnvironmentKind, IntegratorConfig, LightKind, Method, OrientationLaw, Pattern,
-    Scene,
+    Backing, BodyConfig, Cut, DomainsConfig, EnvironmentKind, IntegratorConfig, LightKind, Method,
+    OrientationLaw, Pattern, Scene,
 };
 use crate::error::{Error, Result};
 
 /// Names accepted by [`preset`].
 pub const PRESET_NAMES: &[&str] = &[
-    "paper",
-    "paper-path",
+    "black-opal",
     "harlequin",
     "pinfire",
     "broad-flash",
     "ribbon",
+    "white",
+    "crystal",
+    "boulder",
+    "doublet",
+    "triplet",
+    "paper",
+    "paper-path",
 ];
+
+/// The preset `opalray render` renders when given no scene.
+pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 
 /// The scene called `name`.
 ///
+/// The gem presets are cabochons 20 × 15 mm under the studio environment, rendered by the
+/// path tracer at exposure 0 (the environment is bright enough: a Bragg line reflects about
+/// 1 % of white light), the potch calibrated to its body tone:
+///
+/// - `black-opal`: a fine black opal: body tone N1, a 1.5 mm colour bar of plate-like grains
+///   2 mm across over black potch, under a 4 mm dome.
+/// - `harlequin`: a black opal of large angular grains (3 mm), each its own orientation.
+/// - `pinfire`: a black opal of grains 0.6 mm across: pin-points of colour.
+/// - `broad-flash`: grains 4 mm across whose orientations follow parents 12 mm across: broad
+///   sheets of colour that flash together.
+/// - `ribbon`: grains stretched six times along y: ribbons of colour.
+/// - `white`: a white opal (N9): milky potch and milky domains, colour throughout.
+/// - `crystal`: a crystal opal with rolling flash: clear body (N5 potch of long mean free
+///   path), large correlated grains whose colour rolls across the face as it tilts.
+/// - `boulder`: a thin layer of opal (dome 1.6 mm) on brown ironstone.
+/// - `doublet`: a 1.5 mm opal slice (N6) glued on black.
+/// - `triplet`: a 0.8 mm opal slice on black under a clear quartz dome.
 /// - `paper`: the paper's figures: ellipsoid of 100 × 75 × 25 cells, R = 6, void ratio 0.2,
 ///   light at 30° to the view direction (fig. 10), 640 × 480, the two-pass renderer.
 /// - `paper-path`: the paper's stone and light rendered by the path tracer on the stone model
 ///   (domains as the growth's balls, every plane family, the rocking width, the half-vector
 ///   law, a 3 % spread of sphere sizes).
-/// - `harlequin`: a black opal (body tone N1) of angular grains 3 mm across, each its own
-///   orientation, under the studio environment.
-/// - `pinfire`: a black opal of grains 0.8 mm across: pin-points of colour.
-/// - `broad-flash`: grains 4 mm across whose orientations follow parents 12 mm across: broad
-///   sheets of colour that flash together.
-/// - `ribbon`: grains stretched six times along y: ribbons of colour.
 pub fn preset(name: &str) -> Result<Scene> {
-    let studio = |domains: DomainsConfig| {
+    let gem = |domains: DomainsConfig, body: BodyConfig, tone: u8| {
         let mut scene = Scene {
             domains,
+            body,
             integrator: IntegratorConfig {
                 method: Method::Path,
                 ..IntegratorConfig::default()
@@ -40,15 +61,17 @@ pub fn preset(name: &str) -> Result<Scene> {
             ..Scene::default()
         };
         scene.environment.kind = EnvironmentKind::Studio;
-        // A Bragg line reflects about 1 % of white light: exposed for the flashes, as a gem
-        // photographer exposes a black opal on black velvet (the softbox's gloss clips).
-        scene.color.exposure_ev = 3.5;
+        // The studio's lights at 11 × the luminance of the light's white: a line of 1 % of
+        // white light then shows at about a tenth of full scale, as a gem photographer
+        // exposes an opal on black velvet (the softbox's gloss clips).
+        scene.environment.intensity = 11.0;
+        scene.color.exposure_ev = 0.0;
         // Under the studio's lights θ_h is 15–22°: D = 265 nm flashes orange-red there, and a
         // 7 % spread of sphere sizes across the stone brings greens and blues beside it.
         scene.crystal.sphere_diameter_nm = 265.0;
         scene.domains.sphere_diameter_spread = 0.07;
         scene.light.kind = LightKind::None;
-        scene.render.body_tone = 1;
+        scene.render.body_tone = tone;
         scene.crystal.diffuse_fraction = 0.0;
         scene
     };
@@ -56,7 +79,18 @@ pub fn preset(name: &str) -> Result<Scene> {
         pattern: Pattern::Grains,
         grain_size_mm: size,
         void_fraction: 0.05,
+        mosaic_spread_deg: 1.5,
         ..DomainsConfig::default()
+    };
+    let cabochon = |dome: f64, bar: f64| BodyConfig {
+        cut: Cut::Cabochon,
+        dome_height_mm: dome,
+        colour_bar_mm: bar,
+        ..BodyConfig::default()
+    };
+    let plates = |size: f64| DomainsConfig {
+        stretch: [1.0, 1.0, 0.35],
+        ..grains(size)
     };
     match name {
         "paper" => Ok(Scene::default()),
@@ -69,18 +103,77 @@ pub fn preset(name: &str) -> Result<Scene> {
             scene.domains.mosaic_spread_deg = 4.0;
             Ok(scene)
         }
-        "harlequin" => Ok(studio(grains(3.0))),
-        "pinfire" => Ok(studio(grains(0.8))),
-        "broad-flash" => Ok(studio(DomainsConfig {
-            orientation: OrientationLaw::Correlated,
-            correlation_mm: 12.0,
-            orientation_spread_deg: 12.0,
-            ..grains(4.0)
-        })),
-        "ribbon" => Ok(studio(DomainsConfig {
-            stretch: [1.0, 6.0, 1.0],
-            ..grains(1.5)
-        })),
+        "black-opal" => Ok(gem(plates(2.0), cabochon(4.0, 1.5), 1)),
+        "harlequin" => Ok(gem(plates(3.0), cabochon(4.0, 2.0), 1)),
+        "pinfire" => Ok(gem(grains(0.6), cabochon(4.0, 1.5), 1)),
+        "broad-flash" => Ok(gem(
+            DomainsConfig {
+                orientation: OrientationLaw::Correlated,
+                correlation_mm: 12.0,
+                orientation_spread_deg: 12.0,
+                ..plates(4.0)
+            },
+            cabochon(4.0, 2.0),
+            1,
+        )),
+        "ribbon" => Ok(gem(
+            DomainsConfig {
+                stretch: [1.0, 6.0, 0.5],
+                ..grains(1.5)
+            },
+            cabochon(4.0, 2.0),
+            1,
+        )),
+        "white" => Ok(gem(
+            grains(1.5),
+            BodyConfig {
+                potch_extinction_per_mm: 6.0,
+                domain_haze: 0.5,
+                ..cabochon(4.0, 0.0)
+            },
+            9,
+        )),
+        "crystal" => Ok(gem(
+            DomainsConfig {
+                orientation: OrientationLaw::Correlated,
+                correlation_mm: 20.0,
+                orientation_spread_deg: 6.0,
+                mosaic_spread_deg: 3.0,
+                ..grains(5.0)
+            },
+            BodyConfig {
+                potch_extinction_per_mm: 0.05,
+                ..cabochon(4.0, 0.0)
+            },
+            5,
+        )),
+        "boulder" => Ok(gem(
+            grains(1.5),
+            BodyConfig {
+                backing: Some(Backing::Ironstone),
+                ..cabochon(1.6, 0.0)
+            },
+            3,
+        )),
+        "doublet" => Ok(gem(
+            plates(2.0),
+            BodyConfig {
+                cut: Cut::Doublet,
+                potch_extinction_per_mm: 1.0,
+                ..cabochon(1.5, 0.0)
+            },
+            6,
+        )),
+        "triplet" => Ok(gem(
+            plates(2.0),
+            BodyConfig {
+                cut: Cut::Triplet,
+                slice_mm: 0.8,
+                potch_extinction_per_mm: 1.0,
+                ..cabochon(3.0, 0.0)
+            },
+            6,
+        )),
         other => Err(Error::argument(
             "--preset",
             format!(

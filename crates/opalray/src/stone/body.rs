@@ -23,6 +23,7 @@ use crate::geometry::fresnel_dielectric;
 use crate::sampling::{stage, Rng};
 
 /// Walks of the stored calibration: R's standard error is below 0.5/√N = 0.0025.
+#[cfg(test)]
 const WALKS: usize = 40_000;
 /// Walks of a calibration made while preparing a stone (another `g` or index): standard
 /// error below 0.005, about 0.5 s, once per process.

@@ -423,6 +423,8 @@ impl Stone {
         let Some((a, b)) = inner.intersect(&ray).filter(|&(a, b)| b > t0 && a < t1) else {
             return self.walk_domains(origin, dir, t0, t1, hint, visit);
         };
+        // Walk the domains only outside the inner surface: under it is one span of potch.
+        let (a, b) = (a.max(t0), b.min(t1));
         let mut pending: Option<Span> = None;
         let mut emit = |span: Span, visit: &mut dyn FnMut(Span)| match pending.as_mut() {
             Some(p) if p.domain == span.domain => p.t1 = span.t1,
@@ -432,25 +434,22 @@ impl Stone {
                 }
             }
         };
-        let end = self.walk_domains(origin, dir, t0, t1, hint, &mut |span| {
-            for (lo, hi, masked) in [
-                (span.t0, span.t1.min(a), false),
-                (span.t0.max(a), span.t1.min(b), true),
-                (span.t0.max(b), span.t1, false),
-            ] {
-                if hi > lo {
-                    let domain = if masked { None } else { span.domain };
-                    emit(
-                        Span {
-                            t0: lo,
-                            t1: hi,
-                            domain,
-                        },
-                        visit,
-                    );
-                }
-            }
-        });
+        if a > t0 {
+            self.walk_domains(origin, dir, t0, a, hint, &mut |span| emit(span, visit));
+        }
+        emit(
+            Span {
+                t0: a,
+                t1: b,
+                domain: None,
+            },
+            visit,
+        );
+        // The hint is of the walk that ends at `t1`.
+        let mut end = None;
+        if t1 > b {
+            end = self.walk_domains(origin, dir, b, t1, None, &mut |span| emit(span, visit));
+        }
         if let Some(p) = pending {
             visit(p);
         }
