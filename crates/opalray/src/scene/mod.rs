@@ -18,7 +18,7 @@ pub use presets::{preset, PRESET_NAMES};
 pub use stone::{CrystalConfig, StructureConfig, MAX_CELLS};
 pub use studio::{
     DomainsConfig, EnvironmentConfig, EnvironmentKind, FamilyChoice, IntegratorConfig, Method,
-    OrientationLaw, Pattern,
+    OrientationLaw, Pattern, MAX_SPP,
 };
 
 use std::path::Path;
@@ -340,6 +340,10 @@ mod tests {
         scene.structure.seed = u64::MAX;
         let err = scene.validate().unwrap_err().to_string();
         assert!(err.contains("structure.seed"), "{err}");
+        let mut scene = Scene::default();
+        scene.integrator.seed = u64::MAX;
+        let err = scene.validate().unwrap_err().to_string();
+        assert!(err.contains("integrator.seed"), "{err}");
     }
 
     #[test]
