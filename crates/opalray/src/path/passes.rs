@@ -40,7 +40,7 @@ pub struct Passes<'a> {
     /// mean more reports, not another image).
     pub max_pass_spp: Option<u32>,
     /// Called after every pass (on the calling thread).
-    pub on_pass: Option<&'a dyn Fn(&PassReport)>,
+    pub on_pass: Option<&'a (dyn Fn(&PassReport) + Sync)>,
 }
 
 /// Where a render stands after a pass.
