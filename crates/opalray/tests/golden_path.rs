@@ -314,12 +314,22 @@ fn noise_from_half_sums_agrees_with_the_samples_variance() {
         .render_path_image(s.light.angle_deg, &Passes::default())
         .unwrap();
     let noise = image.noise(m).unwrap();
-    let stone: Vec<usize> = (0..image.xyz.len()).filter(|&i| image.on_stone[i]).collect();
+    let stone: Vec<usize> = (0..image.xyz.len())
+        .filter(|&i| image.on_stone[i])
+        .collect();
     assert_eq!(noise.pixels, stone.len());
     assert!(stone.len() > 400, "{} stone pixels", stone.len());
     let count = stone.len() as f64;
-    let mean_y = stone.iter().map(|&i| f64::from(image.xyz[i][1])).sum::<f64>() / count;
-    let var_y = stone.iter().map(|&i| f64::from(image.variance[i][1])).sum::<f64>() / count;
+    let mean_y = stone
+        .iter()
+        .map(|&i| f64::from(image.xyz[i][1]))
+        .sum::<f64>()
+        / count;
+    let var_y = stone
+        .iter()
+        .map(|&i| f64::from(image.variance[i][1]))
+        .sum::<f64>()
+        / count;
     let from_variance = var_y.sqrt() / mean_y;
     let from_halves = noise.relative_rms.unwrap();
     assert!(
