@@ -54,10 +54,68 @@ fn render_writes_an_image_and_its_statistics() {
     assert!(void_ratio > 0.1 && void_ratio < 0.2, "{void_ratio}");
     assert!(stats["light_rays"].as_u64().unwrap() > 19_000);
     assert!(stats["peak_memory_mb"].as_f64().unwrap() > 1.0);
+    assert!(
+        stats["path"].is_null(),
+        "the two passes have no samples per pixel"
+    );
     // The stage times are printed, as the paper reported them.
     for stage in ["structure", "optics", "light pass", "view pass", "colour"] {
         assert!(stderr(&out).contains(stage), "{}", stderr(&out));
     }
+}
+
+#[test]
+fn time_limited_render_is_the_render_with_the_spp_it_reached() {
+    // A limit of a millisecond stops after the first pass (2 spp): its image is the bytes of
+    // `--spp 2`, and the stats say how many samples it reached and its noise.
+    let dir = tempfile::tempdir().unwrap();
+    let tiny = ["--preset", "harlequin", "--width", "32", "--height", "24"];
+    let limited = opalray(
+        dir.path(),
+        &args(
+            &[
+                "render",
+                "-o",
+                "a.png",
+                "--stats",
+                "a.json",
+                "--time-limit",
+                "0.001",
+            ],
+            &tiny,
+        ),
+        None,
+    );
+    assert!(limited.status.success(), "{}", stderr(&limited));
+    let fixed = opalray(
+        dir.path(),
+        &args(
+            &["render", "-o", "b.png", "--stats", "b.json", "--spp", "2"],
+            &tiny,
+        ),
+        Some("3"),
+    );
+    assert!(fixed.status.success(), "{}", stderr(&fixed));
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert!(read("a.png") == read("b.png"), "time-limited vs --spp 2");
+    let stats = |name: &str| -> serde_json::Value { serde_json::from_slice(&read(name)).unwrap() };
+    let (a, b) = (stats("a.json"), stats("b.json"));
+    assert_eq!(a["path"]["spp"], 2);
+    assert_eq!(a["path"]["stopped_by_time_limit"], true);
+    assert_eq!(a["path"]["time_limit_s"], 0.001);
+    assert_eq!(a["path"]["same_image_with"], "--spp 2 (integrator.spp)");
+    assert_eq!(b["path"]["stopped_by_time_limit"], false);
+    assert_eq!(b["path"]["target_spp"], 2);
+    assert_eq!(a["path"]["noise"], b["path"]["noise"]);
+    let noise = &b["path"]["noise"];
+    assert!(noise["pixels"].as_u64().unwrap() > 100, "{noise}");
+    assert!(noise["relative_rms"].as_f64().unwrap() > 0.0, "{noise}");
+    assert_eq!(noise["relative_rms_rgb"].as_array().unwrap().len(), 3);
+    assert!(
+        stderr(&limited).contains("2 samples per pixel"),
+        "{}",
+        stderr(&limited)
+    );
 }
 
 #[test]

@@ -14,7 +14,10 @@ use crate::light_pass::{
     trace_light, ClusterOptics, EnergyLedger, LightSetup, LightSource, StoneCells, Termination,
 };
 use crate::optics::{build_optics, OpticsTables};
-use crate::path::{trace_paths, Environment, PathLight, PathSetup, SpectralSampler};
+use crate::path::{
+    trace_passes, Environment, Noise, Passes, PathImage, PathLight, PathSetup, SpectralSampler,
+};
+use crate::sampling::mix64;
 use crate::scene::{LightKind, Method, Scene, BODY_EXTINCTION_PER_MM};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
@@ -85,6 +88,26 @@ pub struct Frame {
     pub times: StageTimes,
     /// Void ratio of the structure (void cells / inside cells).
     pub void_ratio: f64,
+    /// The path integrator's samples and noise (`None` for the two passes).
+    pub path: Option<PathStats>,
+}
+
+/// What the path integrator rendered: its samples, passes and noise.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PathStats {
+    /// Samples per pixel rendered. The image is the same bytes as a render of the same scene
+    /// with `integrator.spp` set to this, with or without a time limit.
+    pub spp: u32,
+    /// Samples per pixel asked for (`integrator.spp`).
+    pub target_spp: u32,
+    /// Passes rendered.
+    pub passes: u32,
+    /// The time limit, seconds, if any.
+    pub time_limit_s: Option<f64>,
+    /// Whether the time limit stopped the render short of `target_spp`.
+    pub stopped_by_time_limit: bool,
+    /// The image's noise over the stone (`None` below two samples per pixel).
+    pub noise: Option<Noise>,
 }
 
 fn seconds(since: Instant) -> f64 {
@@ -167,8 +190,14 @@ impl Prepared {
     /// Light pass, view pass and colour for one light angle. (Laying out the stone's cells
     /// for the passes is timed with the light pass.)
     pub fn render(&self, light_angle_deg: f64) -> Frame {
+        self.render_progressive(light_angle_deg, &Passes::default())
+    }
+
+    /// [`Prepared::render`], the path integrator's passes as `passes` says (a time limit, a
+    /// report after each pass); the two passes ignore `passes`.
+    pub fn render_progressive(&self, light_angle_deg: f64, passes: &Passes) -> Frame {
         if let Some(stone) = &self.stone {
-            return self.render_path(stone, light_angle_deg);
+            return self.render_path(stone, light_angle_deg, passes);
         }
         let start = Instant::now();
         let cells = StoneCells::new(&self.structure);
@@ -182,7 +211,7 @@ impl Prepared {
     /// `cells` must be [`StoneCells::new`] of this structure.
     pub fn render_in(&self, cells: &StoneCells, light_angle_deg: f64) -> Frame {
         if let Some(stone) = &self.stone {
-            return self.render_path(stone, light_angle_deg);
+            return self.render_path(stone, light_angle_deg, &Passes::default());
         }
         let s = &self.scene;
         let mut times = self.times;
@@ -250,47 +279,20 @@ impl Prepared {
             ledger: light.ledger,
             times,
             void_ratio: self.structure.stats.void_ratio,
+            path: None,
         }
     }
 }
 
 impl Prepared {
     /// The path integrator's frame for light angle `light_angle_deg`.
-    fn render_path(&self, stone: &Stone, light_angle_deg: f64) -> Frame {
+    fn render_path(&self, stone: &Stone, light_angle_deg: f64, passes: &Passes) -> Frame {
         let s = &self.scene;
         let mut times = self.times;
-        let (camera, source) = self.placement(light_angle_deg);
         let start = Instant::now();
-        let sampler = SpectralSampler::new(
-            s.light.illuminant,
-            &s.spectrum,
-            s.integrator.wavelengths as usize,
-        );
-        let light = (s.light.kind != LightKind::None).then_some(PathLight {
-            source,
-            intensity: s.light.intensity as f32,
-            disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
-        });
-        let image = trace_paths(
-            stone,
-            &PathSetup {
-                camera,
-                width: s.render.width as usize,
-                height: s.render.height as usize,
-                spp: s.integrator.spp,
-                max_depth: s.integrator.max_depth,
-                light,
-                environment: Environment::new(&s.environment, s.render.background as f32),
-                gloss: s.render.gloss as f32,
-                seed: s.structure.seed,
-                spectral: &sampler,
-            },
-        );
+        let (image, m) = self.trace_path(stone, light_angle_deg, passes);
         times.view_pass = seconds(start);
         let start = Instant::now();
-        let m = xyz_to_rgb_adapted(RgbSpace::of(s.color.space), sampler.white_xyz)
-            * 2f64.powf(s.color.exposure_ev);
-        let m = m.as_mat3();
         let data = image
             .xyz
             .iter()
@@ -302,6 +304,15 @@ impl Prepared {
             data,
         };
         times.color = seconds(start);
+        let time_limit_s = passes.time_limit.map(|t| t.as_secs_f64());
+        let path = PathStats {
+            spp: image.spp,
+            target_spp: s.integrator.spp,
+            passes: image.passes,
+            time_limit_s,
+            stopped_by_time_limit: time_limit_s.is_some() && image.spp < s.integrator.spp,
+            noise: image.noise(m),
+        };
         Frame {
             spectral: image.spectral,
             rgb,
@@ -309,8 +320,68 @@ impl Prepared {
             ledger: EnergyLedger::default(),
             times,
             void_ratio: self.structure.stats.void_ratio,
+            path: Some(path),
         }
     }
+
+    /// The path integrator's image for light angle `light_angle_deg`, in passes as `passes`
+    /// says, with the map from its XYZ to the frame's linear RGB (colour space and exposure);
+    /// `None` for the two passes. The per-pixel variance and half differences it carries are
+    /// for statistical comparisons of renders.
+    pub fn render_path_image(
+        &self,
+        light_angle_deg: f64,
+        passes: &Passes,
+    ) -> Option<(PathImage, glam::Mat3)> {
+        let stone = self.stone.as_ref()?;
+        Some(self.trace_path(stone, light_angle_deg, passes))
+    }
+
+    /// [`Prepared::render_path_image`] of `stone`.
+    fn trace_path(
+        &self,
+        stone: &Stone,
+        light_angle_deg: f64,
+        passes: &Passes,
+    ) -> (PathImage, glam::Mat3) {
+        let s = &self.scene;
+        let (camera, source) = self.placement(light_angle_deg);
+        let sampler = SpectralSampler::new(
+            s.light.illuminant,
+            &s.spectrum,
+            s.integrator.wavelengths as usize,
+        );
+        let light = (s.light.kind != LightKind::None).then_some(PathLight {
+            source,
+            intensity: s.light.intensity as f32,
+            disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
+        });
+        let image = trace_passes(
+            stone,
+            &PathSetup {
+                camera,
+                width: s.render.width as usize,
+                height: s.render.height as usize,
+                spp: s.integrator.spp,
+                max_depth: s.integrator.max_depth,
+                light,
+                environment: Environment::new(&s.environment, s.render.background as f32),
+                gloss: s.render.gloss as f32,
+                seed: sample_seed(s.structure.seed, s.integrator.seed),
+                spectral: &sampler,
+            },
+            passes,
+        );
+        let m = xyz_to_rgb_adapted(RgbSpace::of(s.color.space), sampler.white_xyz)
+            * 2f64.powf(s.color.exposure_ev);
+        (image, m.as_mat3())
+    }
+}
+
+/// The path integrator's sample seed: `integrator.seed` mixed with `structure.seed`, so that
+/// either changes every sample stream.
+fn sample_seed(structure_seed: u64, integrator_seed: u64) -> u64 {
+    mix64(structure_seed ^ mix64(integrator_seed))
 }
 
 /// Angular radius of the scene light's disc as the path integrator's gloss shows it, degrees

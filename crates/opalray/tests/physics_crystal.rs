@@ -166,34 +166,76 @@ fn a_double_reflection_is_the_mean_of_r_squared_not_the_square_of_the_bin_mean()
 
 #[test]
 fn path_tracer_is_identical_at_one_two_and_three_threads() {
+    // And however the passes fall: 5 spp as passes of 2 + 2 + 1, or five of 1, are the same
+    // bytes; a time limit that stops after the first pass gives the 2 spp image.
+    use opalray::path::Passes;
+    use std::time::Duration;
     let mut scene = preset("harlequin").unwrap();
     scene.render.width = 48;
     scene.render.height = 36;
-    scene.integrator.spp = 2;
+    scene.integrator.spp = 5;
     let prepared = prepare(&scene).unwrap();
-    let runs: Vec<Vec<u32>> = [1, 2, 3]
+    let bits = |frame: &opalray::Frame| -> Vec<u32> {
+        frame
+            .rgb
+            .data
+            .iter()
+            .flatten()
+            .chain(frame.spectral.data.iter())
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    let threads = |n: usize, passes: Passes| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+            .install(|| prepared.render_progressive(scene.light.angle_deg, &passes))
+    };
+    let runs: Vec<_> = [1, 2, 3]
         .into_iter()
-        .map(|n| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .unwrap()
-                .install(|| {
-                    let frame = prepared.render(scene.light.angle_deg);
-                    frame
-                        .rgb
-                        .data
-                        .iter()
-                        .flatten()
-                        .chain(frame.spectral.data.iter())
-                        .map(|v| v.to_bits())
-                        .collect()
-                })
-        })
+        .map(|n| threads(n, Passes::default()))
         .collect();
-    assert!(runs[0].iter().any(|&v| v != 0), "the image is not black");
-    assert_eq!(runs[0], runs[1], "1 vs 2 threads");
-    assert_eq!(runs[0], runs[2], "1 vs 3 threads");
+    assert!(
+        bits(&runs[0]).iter().any(|&v| v != 0),
+        "the image is not black"
+    );
+    assert_eq!(runs[0].path.unwrap().passes, 3);
+    assert_eq!(bits(&runs[0]), bits(&runs[1]), "1 vs 2 threads");
+    assert_eq!(bits(&runs[0]), bits(&runs[2]), "1 vs 3 threads");
+    assert_eq!(runs[0].path, runs[2].path, "the noise estimate too");
+    for n in [1, 3] {
+        let single = threads(
+            n,
+            Passes {
+                max_pass_spp: Some(1),
+                ..Passes::default()
+            },
+        );
+        assert_eq!(single.path.unwrap().passes, 5);
+        assert_eq!(
+            bits(&runs[0]),
+            bits(&single),
+            "passes of 1 spp, {n} threads"
+        );
+    }
+    let limited = threads(
+        2,
+        Passes {
+            time_limit: Some(Duration::from_nanos(1)),
+            ..Passes::default()
+        },
+    );
+    let stats = limited.path.unwrap();
+    assert!(stats.stopped_by_time_limit && stats.spp == 2, "{stats:?}");
+    let mut two = scene.clone();
+    two.integrator.spp = 2;
+    let two = prepare(&two).unwrap().render(scene.light.angle_deg);
+    assert_eq!(
+        bits(&limited),
+        bits(&two),
+        "time-limited = rendered with the spp reached"
+    );
 }
 
 #[test]

@@ -5,6 +5,12 @@ use std::path::PathBuf;
 use anyhow::Result;
 use serde_json::json;
 
+use std::time::Duration;
+
+use opalray::path::{PassReport, Passes};
+use opalray::scene::{Method, MAX_SPP};
+use opalray::Scene;
+
 use super::common::{peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
 use crate::outputs::Outputs;
 
@@ -14,7 +20,7 @@ use crate::outputs::Outputs;
 /// direction) and prints the time of each stage, as the paper reports them.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_long_help = "Examples:\n  opalray render\n  opalray render --light-angle -45 --output flash.png\n  opalray render my-opal.toml --width 1280 --height 960 --stats stats.json\n  opalray render --diameter 220 --output linear.exr --spectral cube.exr"
+    after_long_help = "Examples:\n  opalray render\n  opalray render --light-angle -45 --output flash.png\n  opalray render my-opal.toml --width 1280 --height 960 --stats stats.json\n  opalray render --diameter 220 --output linear.exr --spectral cube.exr\n  opalray render --preset harlequin --time-limit 60 --stats stats.json"
 )]
 pub struct Args {
     #[command(flatten)]
@@ -31,10 +37,19 @@ pub struct Args {
     /// Also write the spectral image as OpenEXR, one channel per wavelength bin.
     #[arg(long, value_name = "FILE.exr")]
     pub spectral: Option<PathBuf>,
-    /// Write stage timings and statistics as JSON.
+    /// Write stage timings and statistics as JSON (the path integrator's: samples per pixel
+    /// rendered and the noise over the stone).
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
+    /// Path integrator: stop after the pass (of doubling samples per pixel) in which this many
+    /// seconds have passed, even short of --spp (default then the most, 65536); the image is
+    /// the one `--spp N` gives for the N reached (see --stats).
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+    pub time_limit: Option<f64>,
 }
+
+/// Longest `--time-limit`, seconds (a week).
+const MAX_TIME_LIMIT_S: f64 = 7.0 * 24.0 * 3600.0;
 
 /// Run `opalray render`.
 pub fn run(args: Args) -> Result<()> {
@@ -58,14 +73,40 @@ pub fn run(args: Args) -> Result<()> {
         }
         scene.light.angle_deg = angle;
     }
+    let time_limit = match args.time_limit {
+        Some(limit) => {
+            if !(limit.is_finite() && limit > 0.0 && limit <= MAX_TIME_LIMIT_S) {
+                anyhow::bail!(
+                    "--time-limit {limit}: must be more than 0 and at most {MAX_TIME_LIMIT_S} \
+                     seconds; try 60"
+                );
+            }
+            if scene.integrator.method != Method::Path {
+                anyhow::bail!(
+                    "--time-limit: only the path integrator renders in passes; set \
+                     integrator.method = \"path\" (e.g. --preset harlequin) or drop the flag"
+                );
+            }
+            if args.look.spp.is_none() {
+                scene.integrator.spp = MAX_SPP;
+            }
+            Some(Duration::from_secs_f64(limit))
+        }
+        None => None,
+    };
     args.look.apply(&mut scene)?;
     super::memory::check(&scene, super::memory::Extra::default())?;
-    let bar = progress(2, "structure");
-    let prepared = opalray::render::prepare(&scene)?;
-    bar.set_message("light, view");
-    bar.inc(1);
-    let frame = prepared.render(scene.light.angle_deg);
-    bar.finish_and_clear();
+    let frame = if scene.integrator.method == Method::Path {
+        render_in_passes(&scene, time_limit)?
+    } else {
+        let bar = progress(2, "structure");
+        let prepared = opalray::render::prepare(&scene)?;
+        bar.set_message("light, view");
+        bar.inc(1);
+        let frame = prepared.render(scene.light.angle_deg);
+        bar.finish_and_clear();
+        frame
+    };
     let is_exr = args
         .output
         .extension()
@@ -92,6 +133,24 @@ pub fn run(args: Args) -> Result<()> {
         t.color * 1e3,
         t.total() * 1e3
     ));
+    if let Some(path) = &frame.path {
+        let noise = path
+            .noise
+            .and_then(|n| n.relative_rms)
+            .map_or("unknown (one sample per pixel)".to_string(), |n| {
+                format!("{:.2} %", 100.0 * n)
+            });
+        crate::stdio::note(format_args!(
+            "{} samples per pixel in {} passes{} | noise over the stone {noise}",
+            path.spp,
+            path.passes,
+            if path.stopped_by_time_limit {
+                " (time limit)"
+            } else {
+                ""
+            }
+        ));
+    }
     if let Some(stats) = stats {
         let value = json!({
             "time_s": {"structure": t.structure, "optics": t.optics, "light_pass": t.light_pass,
@@ -102,6 +161,16 @@ pub fn run(args: Args) -> Result<()> {
             "void_ratio": frame.void_ratio,
             "light_rays": frame.light_rays,
             "energy": frame.ledger,
+            "path": frame.path.map(|p| json!({
+                "spp": p.spp,
+                "target_spp": p.target_spp,
+                "passes": p.passes,
+                "time_limit_s": p.time_limit_s,
+                "stopped_by_time_limit": p.stopped_by_time_limit,
+                "deterministic_given_spp": true,
+                "same_image_with": format!("--spp {} (integrator.spp)", p.spp),
+                "noise": p.noise,
+            })),
             "peak_memory_mb": peak_memory_mb(),
         });
         outputs.write(stats, |path| write_json(path, &value))?;
@@ -112,4 +181,38 @@ pub fn run(args: Args) -> Result<()> {
         crate::stdio::out(format_args!("wrote {}", path.display()))?;
     }
     Ok(())
+}
+
+/// Prepare and render `scene` with the path integrator in passes, a progress bar showing the
+/// samples per pixel (or, with a time limit, the seconds) and the noise so far.
+fn render_in_passes(scene: &Scene, time_limit: Option<Duration>) -> Result<opalray::Frame> {
+    let bar = progress(1, "structure");
+    let prepared = opalray::render::prepare(scene)?;
+    let (len, unit) = match time_limit {
+        Some(limit) => (limit.as_secs_f64().ceil() as u64, "s"),
+        None => (u64::from(scene.integrator.spp), "spp"),
+    };
+    bar.set_length(len.max(1));
+    bar.set_position(0);
+    bar.set_message(format!("paths ({unit})"));
+    let report = |r: &PassReport| {
+        let noise = r
+            .noise
+            .map_or(String::new(), |n| format!(", noise {:.1} %", 100.0 * n));
+        bar.set_message(format!("{} spp{noise}", r.spp));
+        bar.set_position(match time_limit {
+            Some(_) => (r.elapsed_s as u64).min(len),
+            None => u64::from(r.spp),
+        });
+    };
+    let frame = prepared.render_progressive(
+        scene.light.angle_deg,
+        &Passes {
+            time_limit,
+            on_pass: Some(&report),
+            ..Passes::default()
+        },
+    );
+    bar.finish_and_clear();
+    Ok(frame)
 }

@@ -36,6 +36,10 @@ for sub in ["render", "sweep", "bench"]:
 for v in ["90", "-90", "nan", "1e308", "abc"]:
     case(f"render --light-angle {v}", "--light-angle")
 
+for v in ["0", "-1", "nan", "inf", "1e9", "abc"]:
+    case(f"render --preset harlequin --time-limit {v} {TINY}", "--time-limit")
+case(f"render --time-limit 5 {TINY}", "only the path integrator")
+
 for flag, v in [("--frames", "0"), ("--frames", "1001"), ("--frames", "-1"), ("--frames", "x"),
                 ("--from", "90"), ("--from", "nan"), ("--to", "-90"), ("--to", "inf"),
                 ("--columns", "0"), ("--columns", "100"), ("--delay-ms", "70000"),

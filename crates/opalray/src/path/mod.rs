@@ -2,7 +2,8 @@
 //! plane families and the potch, to the environment and the scene's light.
 //!
 //! Input: a [`Stone`] and a [`PathSetup`] → output: a [`PathImage`] (XYZ per pixel and the
-//! binned spectral image). Per pixel, `spp` camera rays stratified over the pixel; each path:
+//! binned spectral image). Per pixel, `spp` camera rays, each uniform over the pixel, rendered
+//! in passes ([`passes`]); each path:
 //!
 //! - **Surface** (Fresnel, unpolarised): the gloss reflection is followed to the environment
 //!   and the light's disc at once; the refracted part enters with `(1 − F)/n²` (radiance in a
@@ -26,29 +27,31 @@
 //!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals.
 //! - Russian roulette below a weight of 0.02; at most `max_depth` events.
 //!
-//! Spectra: see [`spectral`]. Every pixel draws from its own stream `(seed, PATH, pixel)`; rows
-//! are rendered in parallel into pre-sized buffers, so the image does not depend on the
-//! number of threads.
+//! Spectra: see [`spectral`]. Every sample of every pixel draws from its own stream; rows are
+//! rendered in parallel into pre-sized buffers, so the image does not depend on the number of
+//! threads nor on how the passes fall ([`passes`]). Its noise: [`noise`].
 
 pub mod env;
+pub mod noise;
+pub mod passes;
 pub mod spectral;
 
 use std::f32::consts::PI;
-
-use glam::Vec3;
-use rayon::prelude::*;
 
 use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, Ray};
 use crate::light_pass::direct::refracted_entry;
 use crate::light_pass::LightSource;
 use crate::optics::BraggLine;
-use crate::sampling::{stage, Rng};
+use crate::sampling::Rng;
 use crate::scene::Backing;
 use crate::spectrum::SpectralImage;
 use crate::stone::body::{hg_cos, hg_phase};
 use crate::stone::{ActiveLine, Boundary, Region, Span, Stone};
+use glam::Vec3;
 
 pub use env::Environment;
+pub use noise::Noise;
+pub use passes::{trace_passes, PassReport, Passes};
 pub use spectral::{Lines, SpectralSampler};
 
 /// Paths whose weight falls below this play Russian roulette.
@@ -83,7 +86,7 @@ pub struct PathSetup<'a> {
     pub width: usize,
     /// Image height, pixels.
     pub height: usize,
-    /// Samples per pixel.
+    /// Samples per pixel (1 ..= [`crate::scene::MAX_SPP`]); with a time limit, the most.
     pub spp: u32,
     /// Most events per path.
     pub max_depth: u32,
@@ -93,7 +96,7 @@ pub struct PathSetup<'a> {
     pub environment: Environment,
     /// Scale of the surface's gloss.
     pub gloss: f32,
-    /// The scene's seed.
+    /// Seed of the sample streams.
     pub seed: u64,
     /// Wavelength sampling and colour matching.
     pub spectral: &'a SpectralSampler,
@@ -101,46 +104,29 @@ pub struct PathSetup<'a> {
 
 /// The path integrator's image.
 pub struct PathImage {
-    /// CIE XYZ per pixel, row-major (Y = 1: a white diffuser under the light).
+    /// CIE XYZ per pixel, row-major (Y = 1: a white diffuser under the light): the mean of
+    /// its samples.
     pub xyz: Vec<[f32; 3]>,
     /// The spectral image (bin averages).
     pub spectral: SpectralImage,
+    /// Samples per pixel rendered.
+    pub spp: u32,
+    /// Passes rendered.
+    pub passes: u32,
+    /// Per pixel, the XYZ mean of its even samples minus that of its odd ones ([`noise`]);
+    /// empty below two samples per pixel.
+    pub half_difference: Vec<[f32; 3]>,
+    /// Per pixel, the variance of its XYZ mean: the samples' variance over `spp` (infinite
+    /// with one sample).
+    pub variance: Vec<[f32; 3]>,
+    /// Per pixel, whether its centre sees the stone.
+    pub on_stone: Vec<bool>,
 }
 
-/// Render `stone` as `setup` says.
+/// Render `stone` as `setup` says: all `setup.spp` samples per pixel, no report
+/// ([`trace_passes`] with [`Passes::default`]).
 pub fn trace_paths(stone: &Stone, setup: &PathSetup) -> PathImage {
-    let (w, h) = (setup.width, setup.height);
-    let bins = setup.spectral.grid.bins;
-    let mut xyz = vec![[0.0f32; 3]; w * h];
-    let mut spectral = SpectralImage::new(w, h, setup.spectral.grid);
-    xyz.par_chunks_mut(w)
-        .zip(spectral.data.par_chunks_mut(w * bins))
-        .enumerate()
-        .for_each(|(y, (row, row_bins))| {
-            let mut tracer = Tracer::new(stone, setup);
-            for x in 0..w {
-                let pixel = (y * w + x) as u64;
-                let mut rng = Rng::new(setup.seed, stage::PATH, pixel);
-                let mut acc = [0.0f64; 3];
-                let px_bins = &mut row_bins[x * bins..(x + 1) * bins];
-                let spp = setup.spp;
-                let side = (f64::from(spp).sqrt().ceil() as u32).max(1);
-                for s in 0..spp {
-                    let (sx, sy) = (s % side, s / side);
-                    let rows = spp.div_ceil(side);
-                    let jx = (sx as f32 + rng.uniform_f32()) / side as f32;
-                    let jy = (sy as f32 + rng.uniform_f32()) / rows as f32;
-                    let ray = setup.camera.ray(x as f32 + jx, y as f32 + jy);
-                    tracer.sample(ray, &mut rng, &mut acc, px_bins);
-                }
-                let k = 1.0 / f64::from(spp);
-                row[x] = acc.map(|v| (v * k) as f32);
-                for b in px_bins.iter_mut() {
-                    *b *= k as f32;
-                }
-            }
-        });
-    PathImage { xyz, spectral }
+    trace_passes(stone, setup, &Passes::default())
 }
 
 /// What happens next on a path inside the stone.

@@ -20,7 +20,7 @@ pub use presets::{preset, DEFAULT_RENDER_PRESET, PRESET_NAMES};
 pub use stone::{CrystalConfig, StructureConfig, MAX_CELLS};
 pub use studio::{
     DomainsConfig, EnvironmentConfig, EnvironmentKind, FamilyChoice, IntegratorConfig, Method,
-    OrientationLaw, Pattern,
+    OrientationLaw, Pattern, MAX_SPP,
 };
 
 use std::path::Path;
@@ -347,6 +347,10 @@ mod tests {
         scene.structure.seed = u64::MAX;
         let err = scene.validate().unwrap_err().to_string();
         assert!(err.contains("structure.seed"), "{err}");
+        let mut scene = Scene::default();
+        scene.integrator.seed = u64::MAX;
+        let err = scene.validate().unwrap_err().to_string();
+        assert!(err.contains("integrator.seed"), "{err}");
     }
 
     #[test]

@@ -232,6 +232,9 @@ pub enum Method {
     Path,
 }
 
+/// Most samples per pixel of the path integrator (`integrator.spp`).
+pub const MAX_SPP: u32 = 65_536;
+
 /// The integrator.
 ///
 /// | field       | unit | default    | valid               |
@@ -240,17 +243,22 @@ pub enum Method {
 /// | `spp`       | –    | 16         | 1 ..= 65536         |
 /// | `max_depth` | –    | 8          | 1 ..= 256           |
 /// | `wavelengths` | –  | 4          | 1 ..= 64            |
+/// | `seed`      | –    | 0          | 0 ..= 2⁶³ − 1       |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct IntegratorConfig {
     /// The renderer.
     pub method: Method,
-    /// Path: samples per pixel, stratified over the pixel (anti-aliasing).
+    /// Path: samples per pixel (camera rays, each uniform over the pixel: anti-aliasing);
+    /// with a time limit, the most that are rendered.
     pub spp: u32,
     /// Path: most scattering events (surface, domain or potch) on one path.
     pub max_depth: u32,
     /// Path: wavelengths drawn per contribution, stratified over its spectral proposal.
     pub wavelengths: u32,
+    /// Path: seed of the sample streams, mixed with `structure.seed` (which grows the stone):
+    /// another value renders the same stone with independent samples.
+    pub seed: u64,
 }
 
 impl Default for IntegratorConfig {
@@ -260,6 +268,7 @@ impl Default for IntegratorConfig {
             spp: 16,
             max_depth: 8,
             wavelengths: 4,
+            seed: 0,
         }
     }
 }
@@ -268,7 +277,7 @@ impl IntegratorConfig {
     /// Check ranges.
     pub fn validate(&self) -> Result<()> {
         for (field, v, hi, example) in [
-            ("integrator.spp", self.spp, 65_536, 16),
+            ("integrator.spp", self.spp, MAX_SPP, 16),
             ("integrator.max_depth", self.max_depth, 256, 8),
             ("integrator.wavelengths", self.wavelengths, 64, 4),
         ] {
@@ -278,6 +287,16 @@ impl IntegratorConfig {
                     format!("must be in 1..={hi}, got {v}; try {example}"),
                 ));
             }
+        }
+        if i64::try_from(self.seed).is_err() {
+            return Err(Error::field(
+                "integrator.seed",
+                format!(
+                    "must be at most {} (TOML integers are signed 64-bit), got {}; try 0",
+                    i64::MAX,
+                    self.seed
+                ),
+            ));
         }
         Ok(())
     }

@@ -1,0 +1,250 @@
+//! The path integrator's pixel and sample loop, in passes: input a [`Stone`] and a
+//! [`PathSetup`] (and [`Passes`]: a time limit, a report after each pass) → output a
+//! [`PathImage`].
+//!
+//! A render is a sequence of passes of samples per pixel: the first pass 2 (1 if only one is
+//! asked for), then each pass as many as all before it (doubling the total), cut so as not to
+//! pass `spp`, [`Passes::max_pass_spp`] nor, by the passes' measured pace, the time limit. Sample `s` of pixel `p` draws
+//! from its own stream `(seed, PATH, p · 2^SAMPLE_BITS + s)` (its jitter over the pixel,
+//! uniform, and its path), and every pixel's sums take its samples in the order of `s`,
+//! whatever the passes; so the image for `n` samples per pixel is the same bytes however the
+//! passes fall and at any thread count — a time-limited render is the render with the `spp`
+//! it reached. Rows are rendered in parallel into pre-sized buffers.
+//!
+//! Each pixel keeps the sums of its even and of its odd samples (for the noise estimate,
+//! [`super::noise`]) and of the squares of the samples' XYZ (for its variance).
+
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+
+use super::noise::{relative_rms, PixelNoise};
+use super::{PathImage, PathSetup, Tracer};
+use crate::sampling::{stage, Rng};
+use crate::scene::MAX_SPP;
+use crate::spectrum::SpectralImage;
+use crate::stone::Stone;
+
+/// Bits of a stream index given to the sample number (`spp` ≤ [`MAX_SPP`] = 2¹⁶ < 2¹⁷).
+const SAMPLE_BITS: u32 = 17;
+/// Samples per pixel of the first pass: two, so that the noise can be estimated from the first.
+const FIRST_PASS_SPP: u32 = 2;
+
+/// How a render's passes run: when to stop early, and what to tell after each pass.
+#[derive(Clone, Copy, Default)]
+pub struct Passes<'a> {
+    /// Stop after the pass in which this much time has passed since the render began, even
+    /// short of `spp` (`None`: render all `spp`).
+    pub time_limit: Option<Duration>,
+    /// Most samples per pixel in one pass (`None`: no limit but the doubling; more passes
+    /// mean more reports, not another image).
+    pub max_pass_spp: Option<u32>,
+    /// Called after every pass (on the calling thread).
+    pub on_pass: Option<&'a (dyn Fn(&PassReport) + Sync)>,
+}
+
+/// Where a render stands after a pass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PassReport {
+    /// Passes done.
+    pub passes: u32,
+    /// Samples per pixel done.
+    pub spp: u32,
+    /// Samples per pixel asked for (the most a time-limited render renders).
+    pub target_spp: u32,
+    /// Seconds since the render began.
+    pub elapsed_s: f64,
+    /// The relative RMS noise of the luminance over the stone so far ([`super::Noise`]);
+    /// `None` before two samples per pixel or without stone pixels.
+    pub noise: Option<f64>,
+}
+
+/// One pixel's sums over its samples.
+#[derive(Clone, Copy, Default)]
+struct PixelSums {
+    /// XYZ summed over the even (`[0]`) and the odd (`[1]`) samples.
+    halves: [[f64; 3]; 2],
+    /// The squares of the samples' XYZ, summed.
+    squares: [f64; 3],
+}
+
+impl PixelSums {
+    fn mean(&self, n: u32) -> [f64; 3] {
+        std::array::from_fn(|c| (self.halves[0][c] + self.halves[1][c]) / f64::from(n))
+    }
+
+    /// The mean of the even samples minus the mean of the odd ones (`n` ≥ 2).
+    fn half_difference(&self, n: u32) -> [f64; 3] {
+        let (n_even, n_odd) = (f64::from(n.div_ceil(2)), f64::from(n / 2));
+        std::array::from_fn(|c| self.halves[0][c] / n_even - self.halves[1][c] / n_odd)
+    }
+
+    /// The variance of the pixel's mean, `s²/n` with `s²` the samples' variance (`n − 1` in
+    /// the denominator); infinite with one sample.
+    fn variance_of_mean(&self, n: u32) -> [f64; 3] {
+        let mean = self.mean(n);
+        let n = f64::from(n);
+        std::array::from_fn(|c| {
+            if n < 2.0 {
+                return f64::INFINITY;
+            }
+            ((self.squares[c] - n * mean[c] * mean[c]) / (n - 1.0)).max(0.0) / n
+        })
+    }
+}
+
+/// Render `stone` as `setup` says, in passes as `passes` says.
+pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathImage {
+    let start = Instant::now();
+    let (w, h) = (setup.width, setup.height);
+    let target = setup.spp.clamp(1, MAX_SPP);
+    let on_stone = stone_mask(stone, setup);
+    let mut sums = vec![PixelSums::default(); w * h];
+    let mut spectral = SpectralImage::new(w, h, setup.spectral.grid);
+    let (mut done, mut count) = (0u32, 0u32);
+    while done < target {
+        // The pass: doubling the samples so far, within the target and the time left.
+        let mut size = if done == 0 { FIRST_PASS_SPP } else { done };
+        size = size
+            .min(target - done)
+            .min(passes.max_pass_spp.unwrap_or(u32::MAX).max(1));
+        if let Some(limit) = passes.time_limit.filter(|_| done > 0) {
+            let per_spp = start.elapsed().as_secs_f64() / f64::from(done);
+            let left = limit.as_secs_f64() - start.elapsed().as_secs_f64();
+            let fits = (left / per_spp.max(1e-9)).floor().max(1.0);
+            size = size.min(fits.min(f64::from(u32::MAX)) as u32);
+        }
+        trace_pass(
+            stone,
+            setup,
+            done..done + size,
+            &mut sums,
+            &mut spectral.data,
+        );
+        done += size;
+        count += 1;
+        let elapsed = start.elapsed();
+        if let Some(report) = passes.on_pass {
+            report(&PassReport {
+                passes: count,
+                spp: done,
+                target_spp: target,
+                elapsed_s: elapsed.as_secs_f64(),
+                noise: noise_of_sums(&sums, &on_stone, done),
+            });
+        }
+        if passes.time_limit.is_some_and(|limit| elapsed >= limit) {
+            break;
+        }
+    }
+    // The means.
+    let k = 1.0 / done as f32;
+    for v in &mut spectral.data {
+        *v *= k;
+    }
+    let to_f32 = |v: [f64; 3]| v.map(|c| c as f32);
+    PathImage {
+        xyz: sums.iter().map(|p| to_f32(p.mean(done))).collect(),
+        spectral,
+        spp: done,
+        passes: count,
+        half_difference: if done >= 2 {
+            sums.iter()
+                .map(|p| to_f32(p.half_difference(done)))
+                .collect()
+        } else {
+            Vec::new()
+        },
+        variance: sums
+            .iter()
+            .map(|p| to_f32(p.variance_of_mean(done)))
+            .collect(),
+        on_stone,
+    }
+}
+
+/// Samples `range` of every pixel, added to its sums and its spectral bins.
+fn trace_pass(
+    stone: &Stone,
+    setup: &PathSetup,
+    range: std::ops::Range<u32>,
+    sums: &mut [PixelSums],
+    spectral: &mut [f32],
+) {
+    let w = setup.width;
+    let bins = setup.spectral.grid.bins;
+    sums.par_chunks_mut(w)
+        .zip(spectral.par_chunks_mut(w * bins))
+        .enumerate()
+        .for_each(|(y, (row, row_bins))| {
+            let mut tracer = Tracer::new(stone, setup);
+            for (x, px) in row.iter_mut().enumerate() {
+                let pixel = (y * w + x) as u64;
+                let px_bins = &mut row_bins[x * bins..(x + 1) * bins];
+                for s in range.clone() {
+                    let mut rng = Rng::new(
+                        setup.seed,
+                        stage::PATH,
+                        (pixel << SAMPLE_BITS) | u64::from(s),
+                    );
+                    let jx = rng.uniform_f32();
+                    let jy = rng.uniform_f32();
+                    let ray = setup.camera.ray(x as f32 + jx, y as f32 + jy);
+                    let mut acc = [0.0f64; 3];
+                    tracer.sample(ray, &mut rng, &mut acc, px_bins);
+                    let half = &mut px.halves[(s % 2) as usize];
+                    for c in 0..3 {
+                        half[c] += acc[c];
+                        px.squares[c] += acc[c] * acc[c];
+                    }
+                }
+            }
+        });
+}
+
+/// Whether each pixel's centre sees the stone.
+fn stone_mask(stone: &Stone, setup: &PathSetup) -> Vec<bool> {
+    let (w, h) = (setup.width, setup.height);
+    (0..w * h)
+        .map(|i| {
+            let ray = setup.camera.ray((i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
+            stone.shape.intersect(&ray).is_some_and(|(t0, _)| t0 > 0.0)
+        })
+        .collect()
+}
+
+/// The relative RMS noise of Y over the stone from the sums after `n` samples.
+fn noise_of_sums(sums: &[PixelSums], on_stone: &[bool], n: u32) -> Option<f64> {
+    if n < 2 {
+        return None;
+    }
+    let pixels = sums
+        .iter()
+        .zip(on_stone)
+        .filter(|(_, &on)| on)
+        .map(|(p, _)| PixelNoise {
+            mean: p.mean(n)[1],
+            half_difference: p.half_difference(n)[1],
+        });
+    relative_rms(pixels, n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn variance_of_mean_is_the_sample_variance_over_n() {
+        // Samples 1, 2, 3, 6 (Y): mean 3, s² = (4 + 1 + 0 + 9)/3 = 14/3, s²/n = 7/6.
+        let mut p = PixelSums::default();
+        for (s, v) in [1.0, 2.0, 3.0, 6.0].into_iter().enumerate() {
+            p.halves[s % 2][1] += v;
+            p.squares[1] += v * v;
+        }
+        assert!((p.mean(4)[1] - 3.0).abs() < 1e-12);
+        assert!((p.variance_of_mean(4)[1] - 7.0 / 6.0).abs() < 1e-12);
+        // Even samples 1, 3 (mean 2), odd 2, 6 (mean 4).
+        assert!((p.half_difference(4)[1] + 2.0).abs() < 1e-12);
+        assert!(p.variance_of_mean(1)[1].is_infinite());
+    }
+}
