@@ -13,8 +13,9 @@ pub struct SceneArgs {
     /// Scene file (TOML); see `opalray scene` for a complete example.
     #[arg(value_name = "SCENE.toml")]
     pub scene: Option<PathBuf>,
-    /// Start from a named preset instead of a file (paper, paper-path, harlequin, pinfire,
-    /// broad-flash, ribbon).
+    /// Start from a named preset instead of a file: black-opal, harlequin, pinfire,
+    /// broad-flash, ribbon, white, crystal, boulder, doublet, triplet (gem stones, path
+    /// tracer), paper (the paper's model), paper-path.
     #[arg(long, value_name = "NAME", conflicts_with = "scene")]
     pub preset: Option<String>,
     /// Seed of every random stream (overrides structure.seed), 0 to 2^63 − 1.
@@ -26,13 +27,18 @@ pub struct SceneArgs {
 impl SceneArgs {
     /// Load the scene: the file if given, else the preset (default `paper`), then the seed.
     pub fn load(&self) -> Result<Scene> {
+        self.load_or("paper")
+    }
+
+    /// [`SceneArgs::load`] with preset `default` when neither a file nor a preset is given.
+    pub fn load_or(&self, default: &str) -> Result<Scene> {
         let mut scene = match (&self.scene, &self.preset) {
             (Some(path), _) => {
                 let text = read_input("scene file", path, MAX_SCENE_BYTES)?;
                 Scene::from_toml_str(&text, &path.display().to_string())?
             }
             (None, Some(name)) => opalray::scene::preset(name)?,
-            (None, None) => opalray::scene::preset("paper")?,
+            (None, None) => opalray::scene::preset(default)?,
         };
         if let Some(seed) = self.seed {
             scene.structure.seed = seed;

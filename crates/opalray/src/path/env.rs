@@ -11,6 +11,7 @@
 //! - `window`: a window 50° wide and 40° high, 20–60° above the horizon towards −x and +y,
 //!   value 1, in a room of 0.04 over a floor of 0.02.
 //! - `overcast`: the CIE overcast sky, `(1 + 2 sin h)/3` at elevation h, over ground of 0.1.
+//! - `uniform`: 1 everywhere (a furnace).
 //! - `none`: black, but for the backdrop (`render.background`) behind the stone (z < 0).
 
 use glam::Vec3;
@@ -74,6 +75,7 @@ impl Environment {
                     0.04
                 }
             }
+            EnvironmentKind::Uniform => 1.0,
             EnvironmentKind::Overcast => {
                 if d.z < 0.0 {
                     0.1

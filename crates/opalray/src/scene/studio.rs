@@ -53,7 +53,7 @@ pub enum FamilyChoice {
 /// | `orientation`            | –    | "independent"  | "independent", "correlated" |
 /// | `correlation_mm`         | mm   | 6.0            | [0.1, 100]                |
 /// | `orientation_spread_deg` | deg  | 20.0           | [0, 180]                  |
-/// | `void_fraction`          | –    | 0.15           | [0, 0.95]                 |
+/// | `void_fraction`          | –    | 0.15           | [0, 1] (1: potch only)    |
 /// | `sphere_diameter_spread` | –    | 0.03           | [0, 0.3]                  |
 /// | `mosaic_spread_deg`      | deg  | 0.5            | [0, 20]                   |
 /// | `families`               | –    | "all"          | "all", "111"              |
@@ -145,7 +145,7 @@ impl DomainsConfig {
             180.0,
             20.0,
         )?;
-        check_range("domains.void_fraction", self.void_fraction, 0.0, 0.95, 0.15)?;
+        check_range("domains.void_fraction", self.void_fraction, 0.0, 1.0, 0.15)?;
         check_range(
             "domains.sphere_diameter_spread",
             self.sphere_diameter_spread,
@@ -176,13 +176,15 @@ pub enum EnvironmentKind {
     Window,
     /// An overcast sky over dark ground.
     Overcast,
+    /// The same value from every direction (a furnace: tests and body-tone checks).
+    Uniform,
 }
 
 /// Light from every direction (path integrator only).
 ///
 /// | field          | unit | default | valid                                |
 /// |----------------|------|---------|--------------------------------------|
-/// | `kind`         | –    | "none"  | "none", "studio", "window", "overcast" |
+/// | `kind`         | –    | "none"  | "none", "studio", "window", "overcast", "uniform" |
 /// | `intensity`    | –    | 1.0     | [0, 1000]                            |
 /// | `rotation_deg` | deg  | 0.0     | [−360, 360]                          |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
