@@ -107,3 +107,10 @@ def test_dask_sweep_on_worker_processes(tmp_path, small):
         np.testing.assert_array_equal(a, b)
     np.testing.assert_array_equal(images[0].srgb8, opalray.render(small).srgb8)
     assert images[0].stats["energy"] == opalray.render(small).stats["energy"]
+
+
+def test_a_folder_of_other_angles_is_refused(tmp_path, small):
+    out = tmp_path / "out"
+    opalray.sweep(small, [0.0], out_dir=out)
+    with pytest.raises(ValueError, match="other angles"):
+        opalray.sweep(small, [10.0], out_dir=out)
