@@ -106,7 +106,7 @@ def main():
             for times, fn in (four if k % 2 == 0 else four[::-1]):
                 times.append(timed(fn))
             print(f"round {k + 1}: load {loads[-1]:.1f}, local {local[-1]:.3f} s, LocalCluster "
-                  f"{dask_times[-1]:.3f} s (+{100 * (dask_times[-1] / local[-1] - 1):.0f} %), "
+                  f"{dask_times[-1]:.3f} s ({100 * (dask_times[-1] / local[-1] - 1):+.0f} %), "
                   f"untailed {dask_untailed[-1]:.3f} s, cli {cli_sweep[-1]:.3f} s", flush=True)
 
     rows = []
