@@ -64,14 +64,18 @@ def _tail_split(client: Any, frames: int) -> tuple[int, int | None]:
     of the cluster's threads would leave most of them idle at the end (9 frames on two
     single-threaded workers: 5 frame-times instead of 4.5); spread over the threads left,
     they keep every core busy. ``threads`` is at most what the workers on one host have
-    between them (the cores the idle workers leave), so it never oversubscribes a host;
+    between them, so a tail frame asks for no more cores than its host's workers hold;
     ``(0, None)`` where nothing is gained."""
-    workers = client.scheduler_info(n_workers=-1).get("workers", {}).values()
+    try:
+        info = client.scheduler_info(n_workers=-1)  # every worker, not the first few
+    except TypeError:
+        info = client.scheduler_info()
+    workers = list(info.get("workers", {}).values())
     per_host: dict[str, int] = {}
     for w in workers:
         per_host[w.get("host", "")] = per_host.get(w.get("host", ""), 0) + int(w.get("nthreads", 1))
     total = sum(per_host.values())
-    if total < 2 or not per_host:
+    if total < 2:
         return 0, None
     tail = frames % total
     threads = min(-(-total // tail), min(per_host.values())) if tail else 1
