@@ -10,8 +10,10 @@ The API is documented in docs/python.md.
 """
 
 from ._opalray import __version__
-from ._render import Image, Optics, Stages, Structure, prepare, render
+from ._light import StoredLight
+from ._render import Image, Optics, Stages, Structure, light_pass, prepare, render
 from ._scene import Scene
+from ._stone import Stone
 from ._sweep import Sweep, map, sweep, sweep_angles
 
 __all__ = [
@@ -19,9 +21,12 @@ __all__ = [
     "Optics",
     "Scene",
     "Stages",
+    "Stone",
+    "StoredLight",
     "Structure",
     "Sweep",
     "__version__",
+    "light_pass",
     "map",
     "prepare",
     "render",

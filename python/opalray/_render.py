@@ -12,9 +12,11 @@ from typing import Any, Callable
 import numpy as np
 
 from . import _opalray
+from ._light import StoredLight
 from ._scene import Scene, as_scene
+from ._stone import Stone
 
-__all__ = ["Image", "Stages", "Structure", "Optics", "prepare", "render"]
+__all__ = ["Image", "Stages", "Structure", "Optics", "light_pass", "prepare", "render"]
 
 Progress = Callable[[str, int, int], None]
 
@@ -25,8 +27,8 @@ def _progress_of(progress: Progress | bool | None, total: int, desc: str) -> tup
     if progress is True:
         try:
             from tqdm.auto import tqdm
-        except ImportError:  # pragma: no cover - tqdm is optional
-            return None, lambda: None
+        except ImportError as e:
+            raise ImportError("progress=True draws a tqdm bar: pip install tqdm, or pass a callable") from e
         bar = tqdm(total=total, desc=desc)
 
         def update(stage: str, done: int, total: int) -> None:
@@ -181,6 +183,7 @@ class Stages:
         self.scene = scene
         self._structure: Structure | None = None
         self._optics: Optics | None = None
+        self._stone: Stone | None = None
 
     @property
     def times(self) -> dict:
@@ -221,6 +224,23 @@ class Stages:
             )
         return self._optics
 
+    @property
+    def stone(self) -> Stone:
+        """The stone model (the path integrator's: domains as geometry, each with its
+        orientation and sphere diameter), built on first use for a two-pass scene."""
+        if self._stone is None:
+            self._stone = Stone(self._stages.stone())
+        return self._stone
+
+    def light_pass(self, light_angle_deg: float | None = None, *, threads: int | None = None) -> StoredLight:
+        """The light pass alone at ``light_angle_deg`` (default: the scene's): the light
+        stored in every inside cell, as the view pass of :meth:`render` at that angle reads
+        it (the same on any number of threads). The two-pass method's; for a scene of the
+        path integrator it is the light pass its two passes would run."""
+        angle = self.scene["light"]["angle_deg"] if light_angle_deg is None else light_angle_deg
+        stored = self._stages.light_pass(float(angle), threads)
+        return StoredLight._of(stored, self.structure, angle)
+
     def render(self, light_angle_deg: float | None = None, *, threads: int | None = None) -> Image:
         """Render one frame at ``light_angle_deg`` (default: the scene's ``light.angle_deg``),
         on ``threads`` threads (default: every core); the same bytes as a fresh ``render`` of
@@ -239,6 +259,18 @@ def prepare(scene: Scene | dict | str | os.PathLike | None = None, **overrides: 
     ``scene`` and ``overrides`` may be)."""
     scene = as_scene(scene, **overrides)
     return Stages(_opalray.prepare(scene.to_dict()), scene)
+
+
+def light_pass(
+    scene: Scene | dict | str | os.PathLike | None = None,
+    light_angle_deg: float | None = None,
+    *,
+    threads: int | None = None,
+    **overrides: Any,
+) -> StoredLight:
+    """The light pass of ``scene`` alone at ``light_angle_deg`` (default: the scene's):
+    ``prepare(scene, **overrides).light_pass(light_angle_deg, threads=threads)``."""
+    return prepare(scene, **overrides).light_pass(light_angle_deg, threads=threads)
 
 
 def render(

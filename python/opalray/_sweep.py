@@ -51,11 +51,37 @@ def _worker_threads() -> int | None:
         return None
 
 
-def _render_frame(scene: Scene, angle: float) -> bytes:
-    """One sweep frame's display codes: a Dask task. It renders on as many threads as its
-    worker has, so that single-threaded workers run one frame per core instead of each
-    spreading its frame over every core of the machine."""
-    return _stages_for(scene).render_rgb8(angle, threads=_worker_threads())
+def _render_frame(scene: Scene, angle: float, threads: int | None = None) -> bytes:
+    """One sweep frame's display codes: a Dask task. It renders on ``threads`` threads, by
+    default as many as its worker has, so that single-threaded workers run one frame per
+    core instead of each spreading its frame over every core of the machine."""
+    return _stages_for(scene).render_rgb8(angle, threads=threads or _worker_threads())
+
+
+def _tail_split(client: Any, frames: int) -> tuple[int, int | None]:
+    """``(tail, threads)``: the last ``tail`` frames of a sweep render on ``threads`` threads
+    each, after the others. With one frame per worker thread, the frames beyond a multiple
+    of the cluster's threads would leave most of them idle at the end (9 frames on two
+    single-threaded workers: 5 frame-times instead of 4.5); spread over the threads left,
+    they keep every core busy. ``threads`` is at most what the workers on one host have
+    between them, so a tail frame asks for no more cores than its host's workers hold;
+    ``(0, None)`` where nothing is gained."""
+    try:
+        info = client.scheduler_info(n_workers=-1)  # every worker, not the first few
+    except TypeError:
+        info = client.scheduler_info()
+    workers = list(info.get("workers", {}).values())
+    per_host: dict[str, int] = {}
+    for w in workers:
+        per_host[w.get("host", "")] = per_host.get(w.get("host", ""), 0) + int(w.get("nthreads", 1))
+    total = sum(per_host.values())
+    if total < 2:
+        return 0, None
+    tail = frames % total
+    threads = min(-(-total // tail), min(per_host.values())) if tail else 1
+    if threads <= max(int(w.get("nthreads", 1)) for w in workers):
+        return 0, None
+    return tail, threads
 
 
 def sweep_angles(frames: int = 9, start_deg: float = -60.0, stop_deg: float = 60.0) -> list[float]:
@@ -191,9 +217,17 @@ def sweep(
             # A key of its own (hash=False): a content-hashed key can name data that the last
             # sweep's release is still deleting ("lost dependencies").
             scene_future = client.scatter(scene, broadcast=True, hash=False)
+            tail, tail_threads = _tail_split(client, len(missing))
+            body = missing[: len(missing) - tail]
             futures = {
-                client.submit(_render_frame, scene_future, angles[k], pure=False): k for k in missing
+                client.submit(_render_frame, scene_future, angles[k], pure=False): k for k in body
             }
+            # The tail after the rest (a lower priority), each frame on more threads.
+            futures.update({
+                client.submit(_render_frame, scene_future, angles[k], tail_threads, pure=False,
+                              priority=-1): k
+                for k in missing[len(body):]
+            })
             for future in as_completed(futures):
                 finish(futures[future], future.result())
     finally:

@@ -160,3 +160,28 @@ def test_ctrl_c_interrupts_a_render_at_once():
     assert waited < 1.0, waited
     # The package still works afterwards.
     assert opalray.render(small_scene()).srgb8.shape == (48, 64, 3)
+
+
+def test_progress_true_draws_a_tqdm_bar_to_its_end(small, monkeypatch):
+    # tqdm writes to sys.stderr unless told otherwise: a StringIO there holds the bar.
+    pytest.importorskip("tqdm")
+    import io
+    import sys
+
+    for run, total in [(lambda: opalray.render(small, progress=True), 2),
+                       (lambda: opalray.sweep(small, [-30.0, 0.0, 30.0], progress=True), 3)]:
+        out = io.StringIO()
+        monkeypatch.setattr(sys, "stderr", out)
+        run()
+        monkeypatch.undo()
+        text = out.getvalue()
+        # The last state of the bar: every step of its total done.
+        assert f"{total}/{total}" in text.split("\r")[-1], text
+        assert "100%" in text and f"0/{total}" in text, text
+
+
+def test_prepared_renders_are_the_same_on_one_thread_and_scenes_hash(small):
+    stages = opalray.prepare(small)
+    assert stages.render(10.0, threads=1).srgb8.tobytes() == stages.render_rgb8(10.0)
+    assert hash(small) == hash(opalray.Scene(small.to_dict()))
+    assert len({small, opalray.Scene(small.to_dict()), small.replace(light={"rays": 8192})}) == 2

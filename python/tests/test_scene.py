@@ -117,3 +117,14 @@ def test_malformed_toml_and_unknown_preset():
         opalray.Scene.preset("nonesuch")
     with pytest.raises(ValueError, match="dict"):
         opalray.Scene([1, 2])  # type: ignore[arg-type]
+
+
+def test_none_leaves_a_field_at_its_default_and_a_path_is_a_scene(tmp_path):
+    base = opalray.Scene.preset()
+    wide = base.replace(render={"width": 100})
+    assert wide.replace(render={"width": None}) == base
+    assert opalray.Scene({"render": {"width": None}}) == base
+    wide.save(tmp_path / "wide.toml")
+    assert opalray.prepare(tmp_path / "wide.toml").scene == wide
+    assert opalray.prepare(str(tmp_path / "wide.toml"), render={"height": 50}).scene == wide.replace(
+        render={"height": 50})

@@ -107,3 +107,25 @@ def test_dask_sweep_on_worker_processes(tmp_path, small):
         np.testing.assert_array_equal(a, b)
     np.testing.assert_array_equal(images[0].srgb8, opalray.render(small).srgb8)
     assert images[0].stats["energy"] == opalray.render(small).stats["energy"]
+
+
+def test_a_folder_of_other_angles_is_refused(tmp_path, small):
+    out = tmp_path / "out"
+    opalray.sweep(small, [0.0], out_dir=out)
+    with pytest.raises(ValueError, match="other angles"):
+        opalray.sweep(small, [10.0], out_dir=out)
+
+
+def test_dask_sweep_spreads_its_tail_over_the_idle_threads(dask_client, small):
+    # Two single-threaded workers: of 3 frames the last renders on both threads, after the
+    # others; with an even count every frame has a thread of its own.
+    from opalray._sweep import _tail_split
+
+    assert _tail_split(dask_client, 3) == (1, 2)
+    assert _tail_split(dask_client, 9) == (1, 2)
+    assert _tail_split(dask_client, 4) == (0, None)
+    angles = [-60.0, 0.0, 60.0]
+    remote = opalray.sweep(small, angles, client=dask_client)
+    local = opalray.sweep(small, angles)
+    for a, b in zip(local.frames, remote.frames):
+        np.testing.assert_array_equal(a, b)

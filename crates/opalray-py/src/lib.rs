@@ -7,14 +7,18 @@
 //! - [`scene`]: dict ↔ `Scene`, errors as `ValueError`.
 //! - [`stages`]: `prepare` and `render`, the structure and optics as arrays.
 //! - [`frame`]: a rendered frame's arrays and files.
+//! - [`light`]: the light pass's stored light as arrays.
+//! - [`stone`]: the stone model's domains as arrays.
 //! - [`sweep`]: a sweep's frames, contact sheet and animation.
 // PyO3's macros expand to `unsafe` calls into the CPython C API (module and class
 // registration, argument extraction); this crate itself writes no `unsafe` block.
 #![allow(unsafe_code)]
 
 pub mod frame;
+pub mod light;
 pub mod scene;
 pub mod stages;
+pub mod stone;
 pub mod sweep;
 
 use pyo3::prelude::*;
@@ -25,6 +29,8 @@ fn _opalray(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<frame::Frame>()?;
     m.add_class::<stages::Stages>()?;
+    m.add_class::<light::StoredLight>()?;
+    m.add_class::<stone::StoneModel>()?;
     m.add_function(wrap_pyfunction!(scene::normalize, m)?)?;
     m.add_function(wrap_pyfunction!(scene::preset, m)?)?;
     m.add_function(wrap_pyfunction!(scene::parse_toml, m)?)?;

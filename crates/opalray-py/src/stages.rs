@@ -9,20 +9,23 @@ use std::time::{Duration, Instant};
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use opalray::light_pass::StoneCells;
+use opalray::stone::Stone;
 use opalray::Prepared;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::frame::Frame;
+use crate::light::StoredLight;
 use crate::scene::{dict_of, scene_of, to_py_err};
+use crate::stone::StoneModel;
 
 /// How often a waiting call looks for Ctrl-C (and other signals).
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
 /// Run `job` on a new thread and wait for it without the GIL, checking for signals: a
 /// `KeyboardInterrupt` returns at once (the job finishes in the background and is dropped).
-fn run_detached<T: Send + 'static>(
+pub(crate) fn run_detached<T: Send + 'static>(
     py: Python<'_>,
     job: impl FnOnce() -> T + Send + 'static,
 ) -> PyResult<T> {
@@ -53,9 +56,42 @@ pub struct Stages {
     prepared: Arc<Prepared>,
     /// The stone's cells laid out for the passes, built by the first render.
     cells: Arc<OnceLock<StoneCells>>,
+    /// The stone model: the prepared one (`integrator.method = "path"`) or one built on
+    /// first use.
+    stone: OnceLock<Arc<Stone>>,
+}
+
+/// Run `job` detached (as [`run_detached`]) on a pool of `threads` threads, or on rayon's
+/// global pool (every core) when `None`.
+fn run_on<T: Send + 'static>(
+    py: Python<'_>,
+    threads: Option<usize>,
+    job: impl FnOnce() -> T + Send + 'static,
+) -> PyResult<T> {
+    match threads {
+        None => run_detached(py, job),
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n.max(1))
+                .build()
+                .map_err(|e| PyRuntimeError::new_err(format!("threads {n}: {e}")))?;
+            run_detached(py, move || pool.install(job))
+        }
+    }
 }
 
 impl Stages {
+    /// `light_angle_deg`, or the scene's, checked.
+    fn angle(&self, light_angle_deg: Option<f64>) -> PyResult<f64> {
+        let angle = light_angle_deg.unwrap_or(self.prepared.scene.light.angle_deg);
+        if !(angle.is_finite() && (-89.0..=89.0).contains(&angle)) {
+            return Err(PyValueError::new_err(format!(
+                "light_angle_deg {angle}: the light angle must be within −89° … 89°; try 30"
+            )));
+        }
+        Ok(angle)
+    }
+
     /// Render at `light_angle_deg` (default: the scene's), on `threads` threads (default:
     /// rayon's global pool, every core).
     fn frame(
@@ -64,21 +100,7 @@ impl Stages {
         light_angle_deg: Option<f64>,
         threads: Option<usize>,
     ) -> PyResult<Frame> {
-        let angle = light_angle_deg.unwrap_or(self.prepared.scene.light.angle_deg);
-        if !(angle.is_finite() && (-89.0..=89.0).contains(&angle)) {
-            return Err(PyValueError::new_err(format!(
-                "light_angle_deg {angle}: the light angle must be within −89° … 89°; try 30"
-            )));
-        }
-        let pool = match threads {
-            None => None,
-            Some(n) => Some(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(n.max(1))
-                    .build()
-                    .map_err(|e| PyRuntimeError::new_err(format!("threads {n}: {e}")))?,
-            ),
-        };
+        let angle = self.angle(light_angle_deg)?;
         let (prepared, cells) = (self.prepared.clone(), self.cells.clone());
         let job = move || {
             // As `Prepared::render`, the light pass's time includes laying out the cells
@@ -93,10 +115,7 @@ impl Stages {
             Frame::new(&scene, frame, angle)
         };
         // The same bytes on any number of threads (the core's determinism).
-        match pool {
-            None => run_detached(py, job),
-            Some(pool) => run_detached(py, move || pool.install(job)),
-        }
+        run_on(py, threads, job)
     }
 }
 
@@ -108,6 +127,7 @@ pub fn prepare(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Stages> {
     Ok(Stages {
         prepared: Arc::new(prepared),
         cells: Arc::new(OnceLock::new()),
+        stone: OnceLock::new(),
     })
 }
 
@@ -154,6 +174,46 @@ impl Stages {
         let frame = self.frame(py, Some(light_angle_deg), threads)?;
         let codes = opalray::to_display_rgb8(&frame.rgb, &frame.color);
         Ok(PyBytes::new(py, &codes))
+    }
+
+    /// The light pass alone at `light_angle_deg` (default: the scene's), on `threads`
+    /// threads: the light stored in every inside cell.
+    #[pyo3(signature = (light_angle_deg=None, threads=None))]
+    fn light_pass(
+        &self,
+        py: Python<'_>,
+        light_angle_deg: Option<f64>,
+        threads: Option<usize>,
+    ) -> PyResult<StoredLight> {
+        let angle = self.angle(light_angle_deg)?;
+        let (prepared, cells) = (self.prepared.clone(), self.cells.clone());
+        run_on(py, threads, move || {
+            let cells = cells.get_or_init(|| StoneCells::new(&prepared.structure));
+            StoredLight {
+                field: prepared.light_pass_in(cells, angle),
+                cell_of_slot: cells.cell_of_slot.clone(),
+                spectrum: prepared.light_spectrum(),
+            }
+        })
+    }
+
+    /// The stone model of the scene (the path integrator's: domains as geometry), built on
+    /// first use unless the scene was prepared for the path integrator.
+    fn stone(&self, py: Python<'_>) -> PyResult<StoneModel> {
+        if let Some(stone) = self.stone.get() {
+            return Ok(StoneModel {
+                stone: stone.clone(),
+            });
+        }
+        let stone = match &self.prepared.stone {
+            Some(stone) => stone.clone(),
+            None => {
+                let scene = self.prepared.scene.clone();
+                Arc::new(run_detached(py, move || Stone::new(&scene))?.map_err(to_py_err)?)
+            }
+        };
+        let stone = self.stone.get_or_init(|| stone).clone();
+        Ok(StoneModel { stone })
     }
 
     /// Seconds of the structure and optics stages, as JSON.

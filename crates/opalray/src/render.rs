@@ -11,7 +11,8 @@ use crate::color::{xyz_to_rgb_adapted, RgbSpace};
 use crate::error::Result;
 use crate::geometry::Camera;
 use crate::light_pass::{
-    trace_light, ClusterOptics, EnergyLedger, LightSetup, LightSource, StoneCells, Termination,
+    trace_light, ClusterOptics, EnergyLedger, LightField, LightSetup, LightSource, StoneCells,
+    Termination,
 };
 use crate::optics::{build_optics, OpticsTables};
 use crate::path::{
@@ -220,20 +221,7 @@ impl Prepared {
         let body_albedo = s.render.body_albedo();
 
         let start = Instant::now();
-        let mut light = trace_light(
-            &self.structure,
-            cells,
-            &self.optics,
-            &LightSetup {
-                source,
-                spectrum: &spectrum,
-                rays: s.light.rays,
-                seed: s.structure.seed,
-                body_albedo,
-                body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
-                termination: Termination::of(s.light.cutoff, s.light.roulette),
-            },
-        );
+        let mut light = self.trace_light_in(cells, source, &spectrum);
         times.light_pass = seconds(start);
 
         let start = Instant::now();
@@ -285,6 +273,40 @@ impl Prepared {
 }
 
 impl Prepared {
+    /// The light pass alone (paper §3.2) for light angle `light_angle_deg`: the light stored
+    /// in every inside cell, as the view pass of [`Prepared::render_in`] would receive it.
+    /// `cells` must be [`StoneCells::new`] of this structure. Defined for the two passes
+    /// only: with `integrator.method = "path"` there is no stored light, and the result is
+    /// that of the same scene's two passes.
+    pub fn light_pass_in(&self, cells: &StoneCells, light_angle_deg: f64) -> LightField {
+        let (_, source) = self.placement(light_angle_deg);
+        self.trace_light_in(cells, source, &self.light_spectrum())
+    }
+
+    /// [`trace_light`] with this scene's light settings, from `source` with `spectrum`.
+    fn trace_light_in(
+        &self,
+        cells: &StoneCells,
+        source: LightSource,
+        spectrum: &[f32],
+    ) -> LightField {
+        let s = &self.scene;
+        trace_light(
+            &self.structure,
+            cells,
+            &self.optics,
+            &LightSetup {
+                source,
+                spectrum,
+                rays: s.light.rays,
+                seed: s.structure.seed,
+                body_albedo: s.render.body_albedo(),
+                body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
+                termination: Termination::of(s.light.cutoff, s.light.roulette),
+            },
+        )
+    }
+
     /// The path integrator's frame for light angle `light_angle_deg`.
     fn render_path(&self, stone: &Stone, light_angle_deg: f64, passes: &Passes) -> Frame {
         let s = &self.scene;
@@ -387,3 +409,22 @@ fn sample_seed(structure_seed: u64, integrator_seed: u64) -> u64 {
 /// Angular radius of the scene light's disc as the path integrator's gloss shows it, degrees
 /// (a small lamp or the sun: 0.5°).
 pub const LIGHT_DISC_RADIUS_DEG: f32 = 0.5;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn light_pass_in_is_the_light_the_render_stores() {
+        let (prepared, cells) = StoneCells::of_default_scene([24, 18, 6]);
+        let light = prepared.light_pass_in(&cells, -20.0);
+        let frame = prepared.render_in(&cells, -20.0);
+        assert_eq!(light.ledger, frame.ledger);
+        assert_eq!(light.slot_of_cell, cells.slot_of_cell);
+        let bins = prepared.optics.grid.bins;
+        assert_eq!(
+            light.fluence.len(),
+            cells.slots() * crate::light_pass::LOBES * (bins + 4)
+        );
+    }
+}
