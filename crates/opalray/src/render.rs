@@ -14,7 +14,7 @@ use crate::light_pass::{
     trace_light, ClusterOptics, EnergyLedger, LightSetup, LightSource, StoneCells, Termination,
 };
 use crate::optics::{build_optics, OpticsTables};
-use crate::path::{trace_paths, Environment, PathLight, PathSetup, SpectralSampler};
+use crate::path::{trace_paths, AreaLight, Environment, PathLight, PathSetup, SpectralSampler};
 use crate::scene::{LightKind, Method, Scene, BODY_EXTINCTION_PER_MM};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
@@ -66,6 +66,8 @@ pub struct Prepared {
     pub optics: OpticsTables,
     /// The stone model of the path integrator (`integrator.method = "path"`).
     pub stone: Option<std::sync::Arc<Stone>>,
+    /// The path integrator's environment, its map read and its sampling distribution built.
+    pub environment: Option<Environment>,
     /// Time of the structure and optics stages.
     pub times: StageTimes,
 }
@@ -101,13 +103,17 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
     let start = Instant::now();
     let optics = build_optics(&scene.crystal, &scene.spectrum)?;
     times.optics = seconds(start);
-    let stone = match scene.integrator.method {
-        Method::TwoPass => None,
+    let (stone, environment) = match scene.integrator.method {
+        Method::TwoPass => (None, None),
         Method::Path => {
             let start = Instant::now();
             let stone = Stone::new(scene)?;
             times.structure += seconds(start);
-            Some(std::sync::Arc::new(stone))
+            // The lights are built once, for every frame: timed as the light pass.
+            let start = Instant::now();
+            let environment = Environment::new(&scene.environment, scene.render.background as f32)?;
+            times.light_pass = seconds(start);
+            (Some(std::sync::Arc::new(stone)), Some(environment))
         }
     };
     Ok(Prepared {
@@ -115,6 +121,7 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
         structure,
         optics,
         stone,
+        environment,
         times,
     })
 }
@@ -148,7 +155,8 @@ impl Prepared {
             LightKind::Directional | LightKind::None => {
                 LightSource::Directional { direction: travel }
             }
-            LightKind::Point => LightSource::Point {
+            // A sphere or rect light is placed as the point light; `area_light` makes it.
+            LightKind::Point | LightKind::Sphere | LightKind::Rect => LightSource::Point {
                 position: -travel * s.light.distance_mm as f32,
             },
         };
@@ -167,8 +175,8 @@ impl Prepared {
     /// Light pass, view pass and colour for one light angle. (Laying out the stone's cells
     /// for the passes is timed with the light pass.)
     pub fn render(&self, light_angle_deg: f64) -> Frame {
-        if let Some(stone) = &self.stone {
-            return self.render_path(stone, light_angle_deg);
+        if let (Some(stone), Some(environment)) = (&self.stone, &self.environment) {
+            return self.render_path(stone, environment, light_angle_deg);
         }
         let start = Instant::now();
         let cells = StoneCells::new(&self.structure);
@@ -181,8 +189,8 @@ impl Prepared {
     /// [`Prepared::render`] with the stone's cells laid out once, for many frames (a sweep):
     /// `cells` must be [`StoneCells::new`] of this structure.
     pub fn render_in(&self, cells: &StoneCells, light_angle_deg: f64) -> Frame {
-        if let Some(stone) = &self.stone {
-            return self.render_path(stone, light_angle_deg);
+        if let (Some(stone), Some(environment)) = (&self.stone, &self.environment) {
+            return self.render_path(stone, environment, light_angle_deg);
         }
         let s = &self.scene;
         let mut times = self.times;
@@ -256,7 +264,7 @@ impl Prepared {
 
 impl Prepared {
     /// The path integrator's frame for light angle `light_angle_deg`.
-    fn render_path(&self, stone: &Stone, light_angle_deg: f64) -> Frame {
+    fn render_path(&self, stone: &Stone, environment: &Environment, light_angle_deg: f64) -> Frame {
         let s = &self.scene;
         let mut times = self.times;
         let (camera, source) = self.placement(light_angle_deg);
@@ -266,11 +274,14 @@ impl Prepared {
             &s.spectrum,
             s.integrator.wavelengths as usize,
         );
-        let light = (s.light.kind != LightKind::None).then_some(PathLight {
-            source,
-            intensity: s.light.intensity as f32,
-            disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
-        });
+        let light = matches!(s.light.kind, LightKind::Directional | LightKind::Point).then_some(
+            PathLight {
+                source,
+                intensity: s.light.intensity as f32,
+                disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
+            },
+        );
+        let area_light = self.area_light(source, camera_up(s));
         let image = trace_paths(
             stone,
             &PathSetup {
@@ -280,7 +291,8 @@ impl Prepared {
                 spp: s.integrator.spp,
                 max_depth: s.integrator.max_depth,
                 light,
-                environment: Environment::new(&s.environment, s.render.background as f32),
+                environment: environment.clone(),
+                area_light,
                 gloss: s.render.gloss as f32,
                 seed: s.structure.seed,
                 spectral: &sampler,
@@ -311,6 +323,37 @@ impl Prepared {
             void_ratio: self.structure.stats.void_ratio,
         }
     }
+}
+
+impl Prepared {
+    /// The scene's sphere or rect light centred where `source` (its point light) is, the
+    /// rect's height along `up`; `None` for other lights.
+    pub fn area_light(&self, source: LightSource, up: Vec3) -> Option<AreaLight> {
+        let light = &self.scene.light;
+        let LightSource::Point { position } = source else {
+            return None;
+        };
+        let intensity = light.intensity as f32;
+        match light.kind {
+            LightKind::Sphere => Some(AreaLight::sphere(
+                position,
+                light.radius_mm as f32,
+                intensity,
+            )),
+            LightKind::Rect => Some(AreaLight::rect(
+                position,
+                light.size_mm.map(|v| v as f32),
+                up,
+                intensity,
+            )),
+            _ => None,
+        }
+    }
+}
+
+/// The camera's up axis in the opal's frame (the picture's up).
+fn camera_up(s: &Scene) -> Vec3 {
+    Quat::from_rotation_x(-(s.camera.tilt_deg as f32).to_radians()) * Vec3::Y
 }
 
 /// Angular radius of the scene light's disc as the path integrator's gloss shows it, degrees

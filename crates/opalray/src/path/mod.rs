@@ -30,7 +30,9 @@
 //! are rendered in parallel into pre-sized buffers, so the image does not depend on the
 //! number of threads.
 
+pub mod emitters;
 pub mod env;
+pub mod env_map;
 pub mod spectral;
 
 use std::f32::consts::PI;
@@ -46,7 +48,8 @@ use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::{ActiveLine, Span, Stone};
 
-pub use env::Environment;
+pub use emitters::{AreaLight, LightSample};
+pub use env::{EnvSample, Environment};
 pub use spectral::{Lines, SpectralSampler};
 
 /// Paths whose weight falls below this play Russian roulette.
@@ -89,6 +92,8 @@ pub struct PathSetup<'a> {
     pub light: Option<PathLight>,
     /// The environment.
     pub environment: Environment,
+    /// The scene's sphere or rect light, if any (seen by the rays that leave the stone).
+    pub area_light: Option<AreaLight>,
     /// Scale of the surface's gloss.
     pub gloss: f32,
     /// The scene's seed.
@@ -180,11 +185,11 @@ impl<'a> Tracer<'a> {
 
     /// One camera ray's path.
     fn sample(&mut self, ray: Ray, rng: &mut Rng, acc: &mut [f64; 3], bins: &mut [f32]) {
-        let env = self.setup.environment;
         let plain = Lines::default();
         let shape = self.stone.shape;
         let Some((t0, _)) = shape.intersect(&ray).filter(|&(t0, _)| t0 > 0.0) else {
-            self.add(&plain, env.value(ray.direction), rng, acc, bins);
+            let v = self.escaped(ray.origin, ray.direction);
+            self.add(&plain, v, rng, acc, bins);
             return;
         };
         // The surface: gloss to the environment and the light's disc, the rest refracts in.
@@ -193,7 +198,7 @@ impl<'a> Tracer<'a> {
         let cos_i = -ray.direction.dot(normal);
         let fresnel = fresnel_dielectric(cos_i, 1.0, self.n_eff);
         let mirror = reflect(ray.direction, normal);
-        let gloss = fresnel * self.setup.gloss * (env.value(mirror) + self.disc(mirror));
+        let gloss = fresnel * self.setup.gloss * (self.escaped(p, mirror) + self.disc(mirror));
         self.add(&plain, gloss, rng, acc, bins);
         let Some(dir) = refract(ray.direction, normal, 1.0, self.n_eff) else {
             return;
@@ -211,6 +216,17 @@ impl<'a> Tracer<'a> {
             acc,
             bins,
         );
+    }
+
+    /// What a ray leaving the stone at `origin` along `dir` sees: the environment, or the area
+    /// light where it meets it.
+    fn escaped(&self, origin: Vec3, dir: Vec3) -> f32 {
+        emitters::seen(
+            &self.setup.environment,
+            self.setup.area_light.as_ref(),
+            origin,
+            dir,
+        )
     }
 
     /// The light's disc seen along `dir` from outside, in image units.
@@ -358,7 +374,7 @@ impl<'a> Tracer<'a> {
                     let f = fresnel_dielectric(cos, self.n_eff, 1.0);
                     if f < 1.0 {
                         if let Some(out) = refract(dir, normal, self.n_eff, 1.0) {
-                            let v = self.setup.environment.value(out);
+                            let v = self.escaped(exit, out);
                             if v > 0.0 {
                                 self.add(&lines, weight * (1.0 - f) * n2 * v, rng, acc, bins);
                             }
