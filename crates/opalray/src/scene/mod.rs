@@ -450,6 +450,62 @@ mod tests {
     }
 
     #[test]
+    fn the_lights_new_fields_are_refused_by_name_on_one_line() {
+        // `true`: under the path integrator (the two-pass refusals need the default).
+        for (path, text, field) in [
+            (true, "[light]\nradius_mm = 0.0", "light.radius_mm"),
+            (true, "[light]\nradius_mm = nan", "light.radius_mm"),
+            (true, "[light]\nsize_mm = [100.0, -1.0]", "light.size_mm"),
+            (true, "[light]\nsize_mm = [1e9, 10.0]", "light.size_mm"),
+            (true, "[light]\nkind = \"disc\"", "light.kind"),
+            (false, "[light]\nkind = \"sphere\"", "light.kind"),
+            (false, "[light]\nkind = \"rect\"", "light.kind"),
+            (
+                true,
+                "[light]\nkind = \"sphere\"\nradius_mm = 95.0",
+                "light.radius_mm",
+            ),
+            (
+                true,
+                "[light]\nkind = \"rect\"\ndistance_mm = 5.0",
+                "light.distance_mm",
+            ),
+            (true, "[environment]\nkind = \"file\"", "environment.path"),
+            (
+                true,
+                "[environment]\nkind = \"file\"\npath = \"studio.png\"",
+                "environment.path",
+            ),
+            (
+                true,
+                "[environment]\nkind = \"studio\"\npath = \"studio.hdr\"",
+                "environment.path",
+            ),
+            (true, "[environment]\nkind = \"map\"", "environment.kind"),
+            (true, "[environment]\npath = 3", "environment.path"),
+        ] {
+            let prefix = if path {
+                "[integrator]\nmethod = \"path\"\n"
+            } else {
+                ""
+            };
+            let text = format!("{prefix}{text}");
+            let err = Scene::from_toml_str(&text, "t").unwrap_err().to_string();
+            assert!(err.contains(field), "{text}: {err}");
+            assert!(!err.contains('\n'), "one line: {err}");
+        }
+        // What is valid passes.
+        for text in [
+            "[light]\nkind = \"sphere\"\nradius_mm = 20.0",
+            "[light]\nkind = \"rect\"\nsize_mm = [300.0, 150.0]",
+            "[environment]\nkind = \"file\"\npath = \"maps/studio.EXR\"",
+        ] {
+            let text = format!("[integrator]\nmethod = \"path\"\n{text}");
+            Scene::from_toml_str(&text, "t").unwrap();
+        }
+    }
+
+    #[test]
     fn out_of_range_values_are_refused() {
         for (text, field) in [
             ("[structure]\nvoid_ratio = 1.5", "structure.void_ratio"),
