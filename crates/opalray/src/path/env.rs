@@ -34,6 +34,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 use super::env_map::{read_map, LuminanceMap};
 use crate::error::{Error, Result};
@@ -164,9 +165,10 @@ impl Environment {
     fn rasterise(&self) -> Vec<f32> {
         let (w, h) = BUILT_IN_GRID;
         let n = BUILT_IN_SUBSAMPLES;
-        let mut out = Vec::with_capacity(w * h);
-        for row in 0..h {
-            for column in 0..w {
+        let mut out = vec![0.0f32; w * h];
+        // Rows in parallel into their own slices: the same values at any thread count.
+        out.par_chunks_mut(w).enumerate().for_each(|(row, texels)| {
+            for (column, texel) in texels.iter_mut().enumerate() {
                 let mut sum = 0.0f64;
                 for k in 0..n * n {
                     let u = (column as f64 + ((k % n) as f64 + 0.5) / n as f64) / w as f64;
@@ -176,9 +178,9 @@ impl Environment {
                     // alone, which the turn keeps.
                     sum += f64::from(self.built_in(d, d));
                 }
-                out.push((sum / (n * n) as f64) as f32);
+                *texel = (sum / (n * n) as f64) as f32;
             }
-        }
+        });
         out
     }
 
