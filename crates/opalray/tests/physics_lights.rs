@@ -104,7 +104,7 @@ fn importance_sampling_agrees_with_uniform_sampling_and_has_less_variance() {
     let normals = [
         Vec3::Z,
         Vec3::new(0.0, 0.6, 0.8),
-        Vec3::new(-0.5, 0.5, 0.7071).normalize(),
+        Vec3::new(-0.5, 0.5, 0.6).normalize(),
         spot_dir,
     ];
     let draws = 40_000;
