@@ -50,6 +50,12 @@ pub fn luminance(rgb: [f32; 3]) -> f32 {
 /// Read `path` as `.hdr` / `.pic` (Radiance) or `.exr` (OpenEXR) by its extension. The error
 /// is one line: what is wrong with the file and what to do.
 pub fn read_map(path: &Path) -> Result<LuminanceMap, String> {
+    if let Err(e) = std::fs::File::open(path) {
+        return Err(format!(
+            "cannot open ({e}); give an existing map (a relative path is taken from the scene \
+             file's folder)"
+        ));
+    }
     match map_format(path) {
         Some(MapFormat::Radiance) => read_hdr(path),
         Some(MapFormat::OpenExr) => read_exr(path),
