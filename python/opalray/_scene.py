@@ -58,14 +58,20 @@ class Scene:
 
     @classmethod
     def from_toml(cls, path: str | os.PathLike) -> Scene:
-        """Read a TOML scene file; errors name the file, the field and the line."""
+        """Read a TOML scene file; errors name the file, the field and the line. A relative
+        ``environment.path`` is taken from the file's folder."""
         path = os.fspath(path)
         try:
             with open(path, encoding="utf-8") as f:
                 text = f.read()
         except OSError as e:
             raise OSError(f"{path}: {e.strerror}") from e
-        return cls._of(_opalray.parse_toml(text, path))
+        complete = _opalray.parse_toml(text, path)
+        # A map named in the file lies beside it (as for `opalray render scene.toml`).
+        environment = complete["environment"]
+        if environment["path"] and not os.path.isabs(environment["path"]):
+            environment["path"] = os.path.join(os.path.dirname(path), environment["path"])
+        return cls._of(complete)
 
     @classmethod
     def from_toml_str(cls, text: str, origin: str = "scene text") -> Scene:

@@ -31,6 +31,18 @@ def test_dict_round_trips_through_toml(tmp_path):
     assert pickle.loads(pickle.dumps(scene)) == scene
 
 
+def test_a_map_is_taken_from_the_scene_files_folder(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(
+        '[integrator]\nmethod = "path"\n[environment]\nkind = "file"\npath = "studio.hdr"\n',
+        encoding="utf-8",
+    )
+    scene = opalray.Scene.from_toml(path)
+    assert scene["environment"]["path"] == str(tmp_path / "studio.hdr")
+    text = path.read_text(encoding="utf-8")
+    assert opalray.Scene.from_toml_str(text)["environment"]["path"] == "studio.hdr"
+
+
 def test_partial_dict_takes_the_defaults():
     scene = opalray.Scene({"render": {"width": 100}})
     d = scene.to_dict()

@@ -16,7 +16,8 @@ use crate::light_pass::{
 };
 use crate::optics::{build_optics, OpticsTables};
 use crate::path::{
-    trace_passes, Environment, Noise, Passes, PathImage, PathLight, PathSetup, SpectralSampler,
+    trace_passes, AreaLight, Environment, Noise, Passes, PathImage, PathLight, PathSetup,
+    SpectralSampler,
 };
 use crate::sampling::mix64;
 use crate::scene::{LightKind, Method, Scene, BODY_EXTINCTION_PER_MM};
@@ -70,6 +71,8 @@ pub struct Prepared {
     pub optics: OpticsTables,
     /// The stone model of the path integrator (`integrator.method = "path"`).
     pub stone: Option<std::sync::Arc<Stone>>,
+    /// The path integrator's environment, its map read and its sampling distribution built.
+    pub environment: Option<Environment>,
     /// Time of the structure and optics stages.
     pub times: StageTimes,
 }
@@ -125,13 +128,17 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
     let start = Instant::now();
     let optics = build_optics(&scene.crystal, &scene.spectrum)?;
     times.optics = seconds(start);
-    let stone = match scene.integrator.method {
-        Method::TwoPass => None,
+    let (stone, environment) = match scene.integrator.method {
+        Method::TwoPass => (None, None),
         Method::Path => {
             let start = Instant::now();
             let stone = Stone::new(scene)?;
             times.structure += seconds(start);
-            Some(std::sync::Arc::new(stone))
+            // The lights are built once, for every frame: timed as the light pass.
+            let start = Instant::now();
+            let environment = Environment::new(&scene.environment, scene.render.background as f32)?;
+            times.light_pass = seconds(start);
+            (Some(std::sync::Arc::new(stone)), Some(environment))
         }
     };
     Ok(Prepared {
@@ -139,6 +146,7 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
         structure,
         optics,
         stone,
+        environment,
         times,
     })
 }
@@ -172,7 +180,8 @@ impl Prepared {
             LightKind::Directional | LightKind::None => {
                 LightSource::Directional { direction: travel }
             }
-            LightKind::Point => LightSource::Point {
+            // A sphere or rect light is placed as the point light; `area_light` makes it.
+            LightKind::Point | LightKind::Sphere | LightKind::Rect => LightSource::Point {
                 position: -travel * s.light.distance_mm as f32,
             },
         };
@@ -197,8 +206,8 @@ impl Prepared {
     /// [`Prepared::render`], the path integrator's passes as `passes` says (a time limit, a
     /// report after each pass); the two passes ignore `passes`.
     pub fn render_progressive(&self, light_angle_deg: f64, passes: &Passes) -> Frame {
-        if let Some(stone) = &self.stone {
-            return self.render_path(stone, light_angle_deg, passes);
+        if let (Some(stone), Some(environment)) = (&self.stone, &self.environment) {
+            return self.render_path(stone, environment, light_angle_deg, passes);
         }
         let start = Instant::now();
         let cells = StoneCells::new(&self.structure);
@@ -211,8 +220,8 @@ impl Prepared {
     /// [`Prepared::render`] with the stone's cells laid out once, for many frames (a sweep):
     /// `cells` must be [`StoneCells::new`] of this structure.
     pub fn render_in(&self, cells: &StoneCells, light_angle_deg: f64) -> Frame {
-        if let Some(stone) = &self.stone {
-            return self.render_path(stone, light_angle_deg, &Passes::default());
+        if let (Some(stone), Some(environment)) = (&self.stone, &self.environment) {
+            return self.render_path(stone, environment, light_angle_deg, &Passes::default());
         }
         let s = &self.scene;
         let mut times = self.times;
@@ -308,11 +317,17 @@ impl Prepared {
     }
 
     /// The path integrator's frame for light angle `light_angle_deg`.
-    fn render_path(&self, stone: &Stone, light_angle_deg: f64, passes: &Passes) -> Frame {
+    fn render_path(
+        &self,
+        stone: &Stone,
+        environment: &Environment,
+        light_angle_deg: f64,
+        passes: &Passes,
+    ) -> Frame {
         let s = &self.scene;
         let mut times = self.times;
         let start = Instant::now();
-        let (image, m) = self.trace_path(stone, light_angle_deg, passes);
+        let (image, m) = self.trace_path(stone, environment, light_angle_deg, passes);
         times.view_pass = seconds(start);
         let start = Instant::now();
         let data = image
@@ -356,13 +371,15 @@ impl Prepared {
         passes: &Passes,
     ) -> Option<(PathImage, glam::Mat3)> {
         let stone = self.stone.as_ref()?;
-        Some(self.trace_path(stone, light_angle_deg, passes))
+        let environment = self.environment.as_ref()?;
+        Some(self.trace_path(stone, environment, light_angle_deg, passes))
     }
 
     /// [`Prepared::render_path_image`] of `stone`.
     fn trace_path(
         &self,
         stone: &Stone,
+        environment: &Environment,
         light_angle_deg: f64,
         passes: &Passes,
     ) -> (PathImage, glam::Mat3) {
@@ -373,11 +390,14 @@ impl Prepared {
             &s.spectrum,
             s.integrator.wavelengths as usize,
         );
-        let light = (s.light.kind != LightKind::None).then_some(PathLight {
-            source,
-            intensity: s.light.intensity as f32,
-            disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
-        });
+        let light = matches!(s.light.kind, LightKind::Directional | LightKind::Point).then_some(
+            PathLight {
+                source,
+                intensity: s.light.intensity as f32,
+                disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
+            },
+        );
+        let area_light = self.area_light(source, camera_up(s));
         let image = trace_passes(
             stone,
             &PathSetup {
@@ -387,7 +407,8 @@ impl Prepared {
                 spp: s.integrator.spp,
                 max_depth: s.integrator.max_depth,
                 light,
-                environment: Environment::new(&s.environment, s.render.background as f32),
+                environment: environment.clone(),
+                area_light,
                 gloss: s.render.gloss as f32,
                 seed: sample_seed(s.structure.seed, s.integrator.seed),
                 spectral: &sampler,
@@ -404,6 +425,37 @@ impl Prepared {
 /// either changes every sample stream.
 fn sample_seed(structure_seed: u64, integrator_seed: u64) -> u64 {
     mix64(structure_seed ^ mix64(integrator_seed))
+}
+
+impl Prepared {
+    /// The scene's sphere or rect light centred where `source` (its point light) is, the
+    /// rect's height along `up`; `None` for other lights.
+    pub fn area_light(&self, source: LightSource, up: Vec3) -> Option<AreaLight> {
+        let light = &self.scene.light;
+        let LightSource::Point { position } = source else {
+            return None;
+        };
+        let intensity = light.intensity as f32;
+        match light.kind {
+            LightKind::Sphere => Some(AreaLight::sphere(
+                position,
+                light.radius_mm as f32,
+                intensity,
+            )),
+            LightKind::Rect => Some(AreaLight::rect(
+                position,
+                light.size_mm.map(|v| v as f32),
+                up,
+                intensity,
+            )),
+            _ => None,
+        }
+    }
+}
+
+/// The camera's up axis in the opal's frame (the picture's up).
+fn camera_up(s: &Scene) -> Vec3 {
+    Quat::from_rotation_x(-(s.camera.tilt_deg as f32).to_radians()) * Vec3::Y
 }
 
 /// Angular radius of the scene light's disc as the path integrator's gloss shows it, degrees

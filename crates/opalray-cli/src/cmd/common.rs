@@ -35,7 +35,10 @@ impl SceneArgs {
         let mut scene = match (&self.scene, &self.preset) {
             (Some(path), _) => {
                 let text = read_input("scene file", path, MAX_SCENE_BYTES)?;
-                Scene::from_toml_str(&text, &path.display().to_string())?
+                let mut scene = Scene::from_toml_str(&text, &path.display().to_string())?;
+                // A map named in the file lies beside it.
+                scene.resolve_paths(path.parent().unwrap_or(Path::new("")));
+                scene
             }
             (None, Some(name)) => opalray::scene::preset(name)?,
             (None, None) => opalray::scene::preset(default)?,

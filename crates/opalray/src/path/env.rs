@@ -1,9 +1,11 @@
-//! Built-in environments: radiance from every direction, no file needed.
+//! The environment: radiance from every direction, built in or read from a map, and its
+//! importance sampling.
 //!
 //! The environment's zenith is +z, the side of the stone's broad face where the camera
 //! stands (a gem photographed from above, lying on a table); `rotation_deg` turns it about that
-//! axis. Values are in the image's units (π × radiance, relative to the light's spectrum): a
-//! white diffuser facing an emitter of value 1 that fills its view shows 1.
+//! axis (counter-clockwise seen from above). Values are in the image's units (π × radiance,
+//! relative to the light's spectrum): a white diffuser facing an emitter of value 1 that fills
+//! its view shows 1.
 //!
 //! - `studio`: a softbox 50° from the zenith towards the top of the picture (+y), 22° in
 //!   angular radius, value 1; two strip lights low at the left and right (15° × 60°, value
@@ -13,31 +15,101 @@
 //! - `overcast`: the CIE overcast sky, `(1 + 2 sin h)/3` at elevation h, over ground of 0.1.
 //! - `uniform`: 1 everywhere (a furnace).
 //! - `none`: black, but for the backdrop (`render.background`) behind the stone (z < 0).
+//! - `file`: an equirectangular (latitude–longitude) map ([`env_map`](super::env_map)), twice
+//!   as wide as high. Row 0 looks at the zenith (+z), the last row at the nadir; the centre
+//!   column looks towards +y (the top of the picture), and the picture's right runs clockwise
+//!   seen from above (towards +x, then −y at the edges): pixel `(u, v)` ∈ [0, 1)² looks along
+//!   θ = π v from +z, azimuth φ = 3π/2 − 2π u from +x. A pixel's value is its luminance Y
+//!   (nearest pixel, no filtering) times `intensity`: the map's colour beyond its luminance
+//!   is not used (the light's spectrum, `light.illuminant`, colours every emitter).
+//!
+//! **Sampling.** A piecewise-constant density over the equirectangular square (pbrt-v4
+//! §12.5.2): a marginal over rows and a conditional over each row's columns, the weight of
+//! a texel its value (plus a floor of 1 % of the mean) times sin θ at its centre; the
+//! density per steradian is `p(u, v) / (2π² sin θ)`. A map's raster is the map itself; a
+//! built-in environment is rasterised on [`BUILT_IN_GRID`] texels, each the mean of
+//! [`BUILT_IN_SUBSAMPLES`]² values, while its value stays analytic: the floor keeps the
+//! density positive wherever the value is, so an estimate `value / pdf` stays unbiased.
 
-use glam::Vec3;
+use std::f64::consts::PI;
+use std::sync::Arc;
 
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+
+use super::env_map::{read_map, LuminanceMap};
+use crate::error::{Error, Result};
+use crate::sampling::distribution::Distribution2D;
 use crate::scene::{EnvironmentConfig, EnvironmentKind};
 
-/// An environment ready to be looked up.
-#[derive(Clone, Copy, Debug)]
+/// Texels (width, height) of a built-in environment's sampling raster.
+pub const BUILT_IN_GRID: (usize, usize) = (256, 128);
+/// Values per texel side when a built-in environment is rasterised (4 × 4 a texel).
+pub const BUILT_IN_SUBSAMPLES: usize = 4;
+/// Floor of every texel's sampling weight, relative to the mean value over the sphere.
+const FLOOR: f64 = 0.01;
+
+/// An environment ready to be looked up and sampled. Cheap to clone (the map and its
+/// distribution are shared).
+#[derive(Clone)]
 pub struct Environment {
     kind: EnvironmentKind,
     intensity: f32,
     /// cos and sin of the rotation about z.
     turn: (f32, f32),
     background: f32,
+    map: Option<Arc<LuminanceMap>>,
+    distribution: Arc<Distribution2D>,
+}
+
+impl std::fmt::Debug for Environment {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Environment")
+            .field("kind", &self.kind)
+            .field("intensity", &self.intensity)
+            .field("map", &self.map.as_ref().map(|m| (m.width, m.height)))
+            .field("raster", &self.distribution.size())
+            .finish()
+    }
+}
+
+/// A direction drawn from the environment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnvSample {
+    /// Unit direction towards the environment, in the stone's frame.
+    pub direction: Vec3,
+    /// [`Environment::value`] along it.
+    pub value: f32,
+    /// Density per steradian it was drawn with (0: a degenerate draw at a pole; skip it).
+    pub pdf: f32,
 }
 
 impl Environment {
-    /// The environment of `config`; `background` is the backdrop of `none`.
-    pub fn new(config: &EnvironmentConfig, background: f32) -> Self {
+    /// The environment of `config`; `background` is the backdrop of `none`. A `file`
+    /// environment reads `config.path` (taken as it is: see [`crate::Scene::resolve_paths`]);
+    /// a missing, unreadable or not equirectangular file is an error naming
+    /// `environment.path`.
+    pub fn new(config: &EnvironmentConfig, background: f32) -> Result<Self> {
         let a = (config.rotation_deg as f32).to_radians();
-        Environment {
+        let mut env = Environment {
             kind: config.kind,
             intensity: config.intensity as f32,
             turn: (a.cos(), a.sin()),
             background,
-        }
+            map: None,
+            distribution: Arc::new(Distribution2D::new(&[1.0], 1, 1)),
+        };
+        let (weights, width, height) = if config.kind == EnvironmentKind::File {
+            let map = load_map(&config.path)?;
+            let weights = map.luminance.clone();
+            let (w, h) = (map.width, map.height);
+            env.map = Some(Arc::new(map));
+            (weights, w, h)
+        } else {
+            (env.rasterise(), BUILT_IN_GRID.0, BUILT_IN_GRID.1)
+        };
+        env.distribution = Arc::new(sampling_distribution(weights, width, height));
+        Ok(env)
     }
 
     /// Value seen looking along `dir` (unit, in the stone's frame).
@@ -45,10 +117,81 @@ impl Environment {
         // Into the environment's frame: undo its turn about z.
         let (c, s) = self.turn;
         let d = Vec3::new(c * dir.x + s * dir.y, -s * dir.x + c * dir.y, dir.z);
+        if let Some(map) = &self.map {
+            let [u, v] = square_of(d.as_dvec3());
+            let column = ((u * map.width as f64) as usize).min(map.width - 1);
+            let row = ((v * map.height as f64) as usize).min(map.height - 1);
+            return map.luminance[row * map.width + column] * self.intensity;
+        }
+        self.built_in(d, dir)
+    }
+
+    /// A direction drawn with `u ∈ [0, 1)²` in proportion to the sampling raster.
+    pub fn sample(&self, u: [f32; 2]) -> EnvSample {
+        let ([x, y], density) = self.distribution.sample([f64::from(u[0]), f64::from(u[1])]);
+        let d = direction_of([x, y]);
+        let sin_theta = (PI * y).sin();
+        let (c, s) = self.turn;
+        let (c, s) = (f64::from(c), f64::from(s));
+        let direction = DVec3::new(c * d.x - s * d.y, s * d.x + c * d.y, d.z).as_vec3();
+        let pdf = if sin_theta > 1e-9 {
+            (density / (2.0 * PI * PI * sin_theta)) as f32
+        } else {
+            0.0
+        };
+        EnvSample {
+            direction,
+            value: self.value(direction),
+            pdf,
+        }
+    }
+
+    /// The density per steradian with which [`Environment::sample`] draws `dir` (unit).
+    pub fn pdf(&self, dir: Vec3) -> f32 {
+        let (c, s) = self.turn;
+        let (c, s) = (f64::from(c), f64::from(s));
+        let dir = dir.as_dvec3();
+        let d = DVec3::new(c * dir.x + s * dir.y, -s * dir.x + c * dir.y, dir.z);
+        let [u, v] = square_of(d);
+        let sin_theta = (d.x * d.x + d.y * d.y).sqrt() / d.length();
+        if sin_theta > 1e-9 {
+            (self.distribution.density(u, v) / (2.0 * PI * PI * sin_theta)) as f32
+        } else {
+            0.0
+        }
+    }
+
+    /// The built-in environment's values averaged over each texel of [`BUILT_IN_GRID`]
+    /// (in the environment's frame: the distribution is turned with it).
+    fn rasterise(&self) -> Vec<f32> {
+        let (w, h) = BUILT_IN_GRID;
+        let n = BUILT_IN_SUBSAMPLES;
+        let mut out = vec![0.0f32; w * h];
+        // Rows in parallel into their own slices: the same values at any thread count.
+        out.par_chunks_mut(w).enumerate().for_each(|(row, texels)| {
+            for (column, texel) in texels.iter_mut().enumerate() {
+                let mut sum = 0.0f64;
+                for k in 0..n * n {
+                    let u = (column as f64 + ((k % n) as f64 + 0.5) / n as f64) / w as f64;
+                    let v = (row as f64 + ((k / n) as f64 + 0.5) / n as f64) / h as f64;
+                    let d = direction_of([u, v]).as_vec3();
+                    // `d` is in the environment's frame; the backdrop of `none` depends on z
+                    // alone, which the turn keeps.
+                    sum += f64::from(self.built_in(d, d));
+                }
+                *texel = (sum / (n * n) as f64) as f32;
+            }
+        });
+        out
+    }
+
+    /// A built-in environment along `d` (its frame); `dir` is the same direction in the
+    /// stone's frame.
+    fn built_in(&self, d: Vec3, dir: Vec3) -> f32 {
         let elevation = d.z.clamp(-1.0, 1.0).asin();
         let azimuth = d.y.atan2(d.x);
         let v = match self.kind {
-            EnvironmentKind::None => {
+            EnvironmentKind::None | EnvironmentKind::File => {
                 return if dir.z < 0.0 { self.background } else { 0.0 };
             }
             EnvironmentKind::Studio => {
@@ -88,6 +231,62 @@ impl Environment {
     }
 }
 
+/// The point of the equirectangular square `[0, 1)²` looking along `d` (the environment's
+/// frame; need not be unit).
+fn square_of(d: DVec3) -> [f64; 2] {
+    let theta = d.z.atan2((d.x * d.x + d.y * d.y).sqrt());
+    let v = (0.5 - theta / PI).clamp(0.0, 1.0);
+    let phi = d.y.atan2(d.x);
+    let u = (0.75 - phi / (2.0 * PI)).rem_euclid(1.0);
+    [u, v]
+}
+
+/// The unit direction (the environment's frame) of the square's point `(u, v)`.
+fn direction_of([u, v]: [f64; 2]) -> DVec3 {
+    let theta = PI * v;
+    let phi = 1.5 * PI - 2.0 * PI * u;
+    let (sin_theta, cos_theta) = theta.sin_cos();
+    DVec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta)
+}
+
+/// The sampling distribution of a raster of values: each texel's value plus the floor,
+/// times sin θ at its centre.
+fn sampling_distribution(mut weights: Vec<f32>, width: usize, height: usize) -> Distribution2D {
+    let sin_theta: Vec<f64> = (0..height)
+        .map(|row| (PI * (row as f64 + 0.5) / height as f64).sin())
+        .collect();
+    // The mean value over the sphere (solid-angle weighted).
+    let (mut sum, mut area) = (0.0f64, 0.0f64);
+    for (row, values) in weights.chunks(width).enumerate() {
+        let s: f64 = values.iter().map(|&v| f64::from(v.max(0.0))).sum();
+        sum += s * sin_theta[row];
+        area += width as f64 * sin_theta[row];
+    }
+    let floor = if sum > 0.0 { FLOOR * sum / area } else { 1.0 };
+    for (row, values) in weights.chunks_mut(width).enumerate() {
+        for v in values {
+            *v = ((f64::from(v.max(0.0)) + floor) * sin_theta[row]) as f32;
+        }
+    }
+    Distribution2D::new(&weights, width, height)
+}
+
+/// Read the map `path` (`environment.path`), twice as wide as high.
+fn load_map(path: &str) -> Result<LuminanceMap> {
+    let map = read_map(std::path::Path::new(path))
+        .map_err(|message| Error::field("environment.path", format!("{path}: {message}")))?;
+    if map.width != 2 * map.height {
+        return Err(Error::field(
+            "environment.path",
+            format!(
+                "{path}: {} × {} pixels is not an equirectangular (latitude–longitude) map,                  which is twice as wide as high; give a 2:1 map",
+                map.width, map.height
+            ),
+        ));
+    }
+    Ok(map)
+}
+
 /// The studio softbox's centre: 50° from the zenith towards +y.
 const SOFTBOX_AXIS: Vec3 = Vec3::new(0.0, 0.766_044_4, 0.642_787_6);
 /// The studio softbox's angular radius, degrees.
@@ -123,7 +322,8 @@ mod tests {
                 ..EnvironmentConfig::default()
             },
             0.0,
-        );
+        )
+        .unwrap();
         assert_eq!(env.value(SOFTBOX_AXIS), 1.0);
         assert!(env.value(-Vec3::Z) < 0.01);
     }
@@ -135,16 +335,91 @@ mod tests {
             rotation_deg: 90.0,
             ..EnvironmentConfig::default()
         };
-        let env = Environment::new(&config, 0.0);
+        let env = Environment::new(&config, 0.0).unwrap();
         let plain = Environment::new(
             &EnvironmentConfig {
                 rotation_deg: 0.0,
-                ..config
+                ..config.clone()
             },
             0.0,
-        );
+        )
+        .unwrap();
         let d = Vec3::new(-0.3, 0.7, 0.6).normalize();
         let turned = Vec3::new(-d.y, d.x, d.z);
         assert_eq!(plain.value(d), env.value(turned));
+    }
+
+    #[test]
+    fn the_square_and_the_sphere_map_into_each_other() {
+        // The centre column looks towards +y, the top row at the zenith, u = 0.75 towards +x.
+        let d = direction_of([0.5, 0.5]);
+        assert!((d - DVec3::Y).length() < 1e-12, "{d}");
+        assert!((direction_of([0.75, 0.5]) - DVec3::X).length() < 1e-12);
+        assert!((direction_of([0.3, 0.0]) - DVec3::Z).length() < 1e-12);
+        for (u, v) in [
+            (0.1, 0.2),
+            (0.5, 0.5),
+            (0.9, 0.7),
+            (0.0001, 0.999),
+            (0.75, 0.25),
+        ] {
+            let [u2, v2] = square_of(direction_of([u, v]));
+            assert!(
+                (u2 - u).abs() < 1e-9 && (v2 - v).abs() < 1e-9,
+                "{u} {v}: {u2} {v2}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_maps_pixel_is_seen_where_the_convention_says() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("spot.exr");
+        // 64 × 32; one bright pixel at column 48 (u ≈ 0.758: towards +x), row 16 (the horizon).
+        exr::prelude::write_rgb_file(&path, 64, 32, |x, y| {
+            let v = if (x, y) == (48, 16) { 10.0f32 } else { 0.5 };
+            (v, v, v)
+        })
+        .unwrap();
+        let config = EnvironmentConfig {
+            kind: EnvironmentKind::File,
+            path: path.display().to_string(),
+            intensity: 2.0,
+            rotation_deg: 90.0,
+        };
+        let env = Environment::new(&config, 0.0).unwrap();
+        let spot = direction_of([48.5 / 64.0, 16.5 / 32.0]).as_vec3();
+        // Turned by 90° counter-clockwise seen from above: +x goes to +y.
+        let turned = Vec3::new(-spot.y, spot.x, spot.z);
+        assert!(
+            (env.value(turned) - 20.0).abs() < 1e-4,
+            "{}",
+            env.value(turned)
+        );
+        assert!((env.value(-turned) - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_map_not_twice_as_wide_as_high_is_refused_by_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("square.exr");
+        exr::prelude::write_rgb_file(&path, 16, 16, |_, _| (1.0f32, 1.0f32, 1.0f32)).unwrap();
+        let mut config = EnvironmentConfig {
+            kind: EnvironmentKind::File,
+            path: path.display().to_string(),
+            ..EnvironmentConfig::default()
+        };
+        let err = Environment::new(&config, 0.0).unwrap_err().to_string();
+        assert!(
+            err.contains("environment.path") && err.contains("equirectangular"),
+            "{err}"
+        );
+        config.path = dir.path().join("missing.hdr").display().to_string();
+        let err = Environment::new(&config, 0.0).unwrap_err().to_string();
+        assert!(
+            err.contains("environment.path") && err.contains("missing.hdr"),
+            "{err}"
+        );
+        assert!(!err.contains('\n'), "{err}");
     }
 }

@@ -31,7 +31,9 @@
 //! rendered in parallel into pre-sized buffers, so the image does not depend on the number of
 //! threads nor on how the passes fall ([`passes`]). Its noise: [`noise`].
 
+pub mod emitters;
 pub mod env;
+pub mod env_map;
 pub mod noise;
 pub mod passes;
 pub mod spectral;
@@ -49,7 +51,8 @@ use crate::stone::body::{hg_cos, hg_phase};
 use crate::stone::{ActiveLine, Boundary, Region, Span, Stone};
 use glam::Vec3;
 
-pub use env::Environment;
+pub use emitters::{AreaLight, LightSample};
+pub use env::{EnvSample, Environment};
 pub use noise::Noise;
 pub use passes::{trace_passes, PassReport, Passes};
 pub use spectral::{Lines, SpectralSampler};
@@ -94,6 +97,8 @@ pub struct PathSetup<'a> {
     pub light: Option<PathLight>,
     /// The environment.
     pub environment: Environment,
+    /// The scene's sphere or rect light, if any (seen by the rays that leave the stone).
+    pub area_light: Option<AreaLight>,
     /// Scale of the surface's gloss.
     pub gloss: f32,
     /// Seed of the sample streams.
@@ -181,12 +186,12 @@ impl<'a> Tracer<'a> {
 
     /// One camera ray's path.
     fn sample(&mut self, ray: Ray, rng: &mut Rng, acc: &mut [f64; 3], bins: &mut [f32]) {
-        let env = self.setup.environment;
         let plain = Lines::default();
         let stone = self.stone;
         let shape = stone.shape;
         let Some((t0, _)) = shape.intersect(&ray).filter(|&(t0, _)| t0 > 0.0) else {
-            self.add(&plain, env.value(ray.direction), rng, acc, bins);
+            let v = self.escaped(ray.origin, ray.direction);
+            self.add(&plain, v, rng, acc, bins);
             return;
         };
         // The surface: gloss to the environment and the light's disc, the rest refracts in.
@@ -197,7 +202,7 @@ impl<'a> Tracer<'a> {
         let cos_i = -ray.direction.dot(normal);
         let fresnel = fresnel_dielectric(cos_i, 1.0, n);
         let mirror = reflect(ray.direction, normal);
-        let gloss = fresnel * self.setup.gloss * (env.value(mirror) + self.disc(mirror));
+        let gloss = fresnel * self.setup.gloss * (self.escaped(p, mirror) + self.disc(mirror));
         self.add(&plain, gloss, rng, acc, bins);
         let Some(dir) = refract(ray.direction, normal, 1.0, n) else {
             return;
@@ -212,6 +217,17 @@ impl<'a> Tracer<'a> {
             region,
         };
         self.inside(start, FIRST_SPLITS, 0, rng, acc, bins);
+    }
+
+    /// What a ray leaving the stone at `origin` along `dir` sees: the environment, or the area
+    /// light where it meets it.
+    fn escaped(&self, origin: Vec3, dir: Vec3) -> f32 {
+        emitters::seen(
+            &self.setup.environment,
+            self.setup.area_light.as_ref(),
+            origin,
+            dir,
+        )
     }
 
     /// The light's disc seen along `dir` from outside, in image units.
@@ -325,7 +341,7 @@ impl<'a> Tracer<'a> {
                     let f = fresnel_dielectric(cos, n, 1.0);
                     if f < 1.0 {
                         if let Some(out) = refract(dir, normal, n, 1.0) {
-                            let v = self.setup.environment.value(out);
+                            let v = self.escaped(exit, out);
                             if v > 0.0 {
                                 let value = weight * (1.0 - f) * n * n * v;
                                 self.add(&lines, value, rng, acc, bins);

@@ -5,6 +5,8 @@
 //! depend on threads or scheduling, so the same scene and seed give the same bytes at any
 //! thread count. The generator is PCG-XSH-RR 64/32 (O'Neill 2014) seeded through SplitMix64.
 
+pub mod distribution;
+
 use glam::{Quat, Vec3};
 
 /// Stage keys: each stage that draws random numbers has its own stream family.

@@ -15,6 +15,12 @@ pub enum LightKind {
     Directional,
     /// A point source at `distance_mm` from the opal's centre.
     Point,
+    /// A glowing ball of `radius_mm` centred where the point light would be (path integrator
+    /// only).
+    Sphere,
+    /// A rectangular softbox of `size_mm` centred where the point light would be, facing the
+    /// opal's centre (path integrator only).
+    Rect,
     /// No light of its own: the environment lights the stone (path integrator only).
     None,
 }
@@ -34,16 +40,23 @@ pub enum Illuminant {
 
 /// The light source (paper fig. 10).
 ///
-/// | field          | unit | default       | valid                 |
-/// |----------------|------|---------------|-----------------------|
-/// | `kind`         | –    | "directional" | "directional", "point"|
-/// | `angle_deg`    | deg  | 30            | [−89, 89]             |
-/// | `illuminant`   | –    | "D65"         | "D65", "A", "C", "E"  |
-/// | `intensity`    | –    | 1.0           | (0, 1e6]              |
-/// | `distance_mm`  | mm   | 100           | (0, 1e6]              |
-/// | `rays`         | –    | 65536         | 1 ..= 1e9             |
-/// | `cutoff`       | –    | 0.02          | [1e-4, 0.5]           |
-/// | `roulette`     | –    | false         | true, false           |
+/// | field          | unit | default       | valid                                     |
+/// |----------------|------|---------------|-------------------------------------------|
+/// | `kind`         | –    | "directional" | "directional", "point", "sphere", "rect", "none" |
+/// | `angle_deg`    | deg  | 30            | [−89, 89]                                 |
+/// | `illuminant`   | –    | "D65"         | "D65", "A", "C", "E"                      |
+/// | `intensity`    | –    | 1.0           | (0, 1e6]                                  |
+/// | `distance_mm`  | mm   | 100           | (0, 1e6]; beyond the stone (and the ball) |
+/// | `radius_mm`    | mm   | 10            | (0, 1e5]; "sphere"                        |
+/// | `size_mm`      | mm   | [100, 100]    | each (0, 1e5]; "rect": width, height      |
+/// | `rays`         | –    | 65536         | 1 ..= 1e9                                 |
+/// | `cutoff`       | –    | 0.02          | [1e-4, 0.5]                               |
+/// | `roulette`     | –    | false         | true, false                               |
+///
+/// Every light gives the irradiance `intensity` at the opal's centre on a plane facing it:
+/// a sphere or rect light's radiance is set so (a small, far one looks like the point
+/// light). The rect's width runs in the plane of the light angle (the camera's horizontal),
+/// its height along the picture's up.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct LightConfig {
@@ -56,8 +69,13 @@ pub struct LightConfig {
     pub illuminant: Illuminant,
     /// Scale of the light's irradiance (1 = the illuminant normalised to unit luminance).
     pub intensity: f64,
-    /// Distance of a point light from the opal's centre, mm.
+    /// Distance of a point light, or of the centre of a sphere or rect light, from the opal's
+    /// centre, mm.
     pub distance_mm: f64,
+    /// Radius of a sphere light, mm.
+    pub radius_mm: f64,
+    /// Width and height of a rect light, mm.
+    pub size_mm: [f64; 2],
     /// Cells of the light pass's ray lattice: one ray each, 2 × 2 where the light is trapped.
     pub rays: u64,
     /// Light below this fraction of its ray's entering power is cut (or plays roulette).
@@ -74,6 +92,8 @@ impl Default for LightConfig {
             illuminant: Illuminant::D65,
             intensity: 1.0,
             distance_mm: 100.0,
+            radius_mm: 10.0,
+            size_mm: [100.0, 100.0],
             rays: 65_536,
             cutoff: LightConfig::DEFAULT_CUTOFF,
             roulette: false,
@@ -90,6 +110,10 @@ impl LightConfig {
         check_range("light.angle_deg", self.angle_deg, -89.0, 89.0, 30.0)?;
         check_positive("light.intensity", self.intensity, 1e6, 1.0)?;
         check_positive("light.distance_mm", self.distance_mm, 1e6, 100.0)?;
+        check_positive("light.radius_mm", self.radius_mm, 1e5, 10.0)?;
+        for s in self.size_mm {
+            check_positive("light.size_mm", s, 1e5, 100.0)?;
+        }
         // Below 10⁻⁴ the weak tail makes the light pass run for minutes (10⁻⁷: 1.2 G cells
         // crossed for 4096 rays).
         check_range(

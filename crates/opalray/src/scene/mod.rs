@@ -19,8 +19,8 @@ pub use look::{
 pub use presets::{preset, DEFAULT_RENDER_PRESET, PRESET_NAMES};
 pub use stone::{CrystalConfig, StructureConfig, MAX_CELLS};
 pub use studio::{
-    DomainsConfig, EnvironmentConfig, EnvironmentKind, FamilyChoice, IntegratorConfig, Method,
-    OrientationLaw, Pattern, MAX_SPP,
+    map_format, DomainsConfig, EnvironmentConfig, EnvironmentKind, FamilyChoice, IntegratorConfig,
+    MapFormat, Method, OrientationLaw, Pattern, MAX_SPP,
 };
 
 use std::path::Path;
@@ -156,10 +156,13 @@ impl Scene {
         Ok(scene)
     }
 
-    /// Read and parse a TOML scene file of at most [`MAX_SCENE_FILE_BYTES`].
+    /// Read and parse a TOML scene file of at most [`MAX_SCENE_FILE_BYTES`]; a relative
+    /// `environment.path` is taken from the file's folder ([`Scene::resolve_paths`]).
     pub fn load(path: &Path) -> Result<Scene> {
         let text = read_text_limited(path, MAX_SCENE_FILE_BYTES)?;
-        Scene::from_toml_str(&text, &path.display().to_string())
+        let mut scene = Scene::from_toml_str(&text, &path.display().to_string())?;
+        scene.resolve_paths(path.parent().unwrap_or(Path::new("")));
+        Ok(scene)
     }
 
     /// The complete scene as TOML, every field written out.
@@ -197,6 +200,7 @@ impl Scene {
                 ));
             }
         }
+        self.validate_area_light()?;
         if self.integrator.method == Method::TwoPass && self.light.kind == LightKind::None {
             return Err(Error::field(
                 "light.kind",
@@ -232,6 +236,67 @@ impl Scene {
             ));
         }
         Ok(())
+    }
+}
+
+impl Scene {
+    /// A sphere or rect light needs the path integrator and must lie beyond the stone.
+    fn validate_area_light(&self) -> Result<()> {
+        let kind = self.light.kind;
+        if !matches!(kind, LightKind::Sphere | LightKind::Rect) {
+            return Ok(());
+        }
+        let name = if kind == LightKind::Sphere {
+            "sphere"
+        } else {
+            "rect"
+        };
+        if self.integrator.method == Method::TwoPass {
+            return Err(Error::field(
+                "light.kind",
+                format!(
+                    "a {name} light needs the path integrator; set integrator.method = \"path\" \
+                     or light.kind = \"point\""
+                ),
+            ));
+        }
+        let stone = self
+            .structure
+            .semi_axes_mm
+            .iter()
+            .fold(0.0f64, |a, &b| a.max(b));
+        let d = self.light.distance_mm;
+        if kind == LightKind::Sphere && self.light.radius_mm + stone >= d {
+            return Err(Error::field(
+                "light.radius_mm",
+                format!(
+                    "a ball of {} mm at {d} mm touches the stone (semi-axis up to {stone} mm); \
+                     use a radius below {:.3} mm or a larger light.distance_mm",
+                    self.light.radius_mm,
+                    d - stone
+                ),
+            ));
+        }
+        if kind == LightKind::Rect && stone >= d {
+            return Err(Error::field(
+                "light.distance_mm",
+                format!(
+                    "a rect light at {d} mm cuts the stone (semi-axis up to {stone} mm); place \
+                     it beyond {stone} mm"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Take a relative `environment.path` from the folder `base` (the scene file's): a scene
+    /// read from a file names its map relative to that file. An absolute or empty path is
+    /// left as it is.
+    pub fn resolve_paths(&mut self, base: &Path) {
+        let path = Path::new(&self.environment.path);
+        if !self.environment.path.is_empty() && path.is_relative() {
+            self.environment.path = base.join(path).display().to_string();
+        }
     }
 }
 
@@ -393,6 +458,62 @@ mod tests {
         assert!(err.starts_with("s.toml"), "{err}");
         assert!(err.contains("line"), "{err}");
         assert!(!err.contains('\n'), "one line: {err}");
+    }
+
+    #[test]
+    fn the_lights_new_fields_are_refused_by_name_on_one_line() {
+        // `true`: under the path integrator (the two-pass refusals need the default).
+        for (path, text, field) in [
+            (true, "[light]\nradius_mm = 0.0", "light.radius_mm"),
+            (true, "[light]\nradius_mm = nan", "light.radius_mm"),
+            (true, "[light]\nsize_mm = [100.0, -1.0]", "light.size_mm"),
+            (true, "[light]\nsize_mm = [1e9, 10.0]", "light.size_mm"),
+            (true, "[light]\nkind = \"disc\"", "light.kind"),
+            (false, "[light]\nkind = \"sphere\"", "light.kind"),
+            (false, "[light]\nkind = \"rect\"", "light.kind"),
+            (
+                true,
+                "[light]\nkind = \"sphere\"\nradius_mm = 95.0",
+                "light.radius_mm",
+            ),
+            (
+                true,
+                "[light]\nkind = \"rect\"\ndistance_mm = 5.0",
+                "light.distance_mm",
+            ),
+            (true, "[environment]\nkind = \"file\"", "environment.path"),
+            (
+                true,
+                "[environment]\nkind = \"file\"\npath = \"studio.png\"",
+                "environment.path",
+            ),
+            (
+                true,
+                "[environment]\nkind = \"studio\"\npath = \"studio.hdr\"",
+                "environment.path",
+            ),
+            (true, "[environment]\nkind = \"map\"", "environment.kind"),
+            (true, "[environment]\npath = 3", "environment.path"),
+        ] {
+            let prefix = if path {
+                "[integrator]\nmethod = \"path\"\n"
+            } else {
+                ""
+            };
+            let text = format!("{prefix}{text}");
+            let err = Scene::from_toml_str(&text, "t").unwrap_err().to_string();
+            assert!(err.contains(field), "{text}: {err}");
+            assert!(!err.contains('\n'), "one line: {err}");
+        }
+        // What is valid passes.
+        for text in [
+            "[light]\nkind = \"sphere\"\nradius_mm = 20.0",
+            "[light]\nkind = \"rect\"\nsize_mm = [300.0, 150.0]",
+            "[environment]\nkind = \"file\"\npath = \"maps/studio.EXR\"",
+        ] {
+            let text = format!("[integrator]\nmethod = \"path\"\n{text}");
+            Scene::from_toml_str(&text, "t").unwrap();
+        }
     }
 
     #[test]

@@ -2,6 +2,8 @@
 //! environment light (`[environment]`) and the integrator that renders them (`[integrator]`),
 //! each a parameter table with defaults and a `validate`.
 
+use std::path::Path;
+
 use serde::{Deserialize, Serialize};
 
 use super::check_range;
@@ -178,23 +180,35 @@ pub enum EnvironmentKind {
     Overcast,
     /// The same value from every direction (a furnace: tests and body-tone checks).
     Uniform,
+    /// An equirectangular map read from `path` (Radiance `.hdr` or OpenEXR `.exr`).
+    File,
 }
 
 /// Light from every direction (path integrator only).
 ///
-/// | field          | unit | default | valid                                |
-/// |----------------|------|---------|--------------------------------------|
-/// | `kind`         | –    | "none"  | "none", "studio", "window", "overcast", "uniform" |
-/// | `intensity`    | –    | 1.0     | [0, 1000]                            |
-/// | `rotation_deg` | deg  | 0.0     | [−360, 360]                          |
+/// | field          | unit | default | valid                                                     |
+/// |----------------|------|---------|-----------------------------------------------------------|
+/// | `kind`         | –    | "none"  | "none", "studio", "window", "overcast", "uniform", "file" |
+/// | `path`         | –    | ""      | a `.hdr` or `.exr` file, 2:1; only with "file" |
+/// | `intensity`    | –    | 1.0     | [0, 1000]                                      |
+/// | `rotation_deg` | deg  | 0.0     | [−360, 360]                                    |
+///
+/// A relative `path` is taken from the scene file's folder when the scene is read from a
+/// file ([`Scene::load`](super::Scene::load), the `opalray` command, `Scene.from_toml` in
+/// Python), else from the working directory.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct EnvironmentConfig {
     /// Which environment.
     pub kind: EnvironmentKind,
-    /// Scale of its radiance (1: its brightest emitter has luminance about 1).
+    /// `kind = "file"`: the equirectangular map, Radiance `.hdr` (RGBE) or OpenEXR `.exr`
+    /// (R, G, B half or float), twice as wide as high; its luminance is the value.
+    pub path: String,
+    /// Scale of its radiance (1: its brightest emitter has luminance about 1; a map's
+    /// luminance as it is stored).
     pub intensity: f64,
-    /// Turn of the environment about the stone's vertical (y) axis, degrees.
+    /// Turn of the environment about the zenith (z, towards the camera), degrees,
+    /// counter-clockwise seen from above.
     pub rotation_deg: f64,
 }
 
@@ -202,6 +216,7 @@ impl Default for EnvironmentConfig {
     fn default() -> Self {
         EnvironmentConfig {
             kind: EnvironmentKind::None,
+            path: String::new(),
             intensity: 1.0,
             rotation_deg: 0.0,
         }
@@ -209,9 +224,39 @@ impl Default for EnvironmentConfig {
 }
 
 impl EnvironmentConfig {
-    /// Check ranges.
+    /// Check ranges, and that a map is given exactly when `kind = "file"` (its contents are
+    /// checked when it is read).
     pub fn validate(&self) -> Result<()> {
         check_range("environment.intensity", self.intensity, 0.0, 1000.0, 1.0)?;
+        match (self.kind, self.path.is_empty()) {
+            (EnvironmentKind::File, true) => {
+                return Err(Error::field(
+                    "environment.path",
+                    "kind = \"file\" needs a map; set environment.path = \"studio.hdr\" (a \
+                     Radiance .hdr or OpenEXR .exr file)",
+                ))
+            }
+            (EnvironmentKind::File, false) => {
+                if map_format(Path::new(&self.path)).is_none() {
+                    return Err(Error::field(
+                        "environment.path",
+                        format!(
+                            "`{}` is not a .hdr or .exr file; give a Radiance .hdr or an \
+                             OpenEXR .exr map",
+                            self.path
+                        ),
+                    ));
+                }
+            }
+            (_, false) => {
+                return Err(Error::field(
+                    "environment.path",
+                    "a map is read only with environment.kind = \"file\"; set that kind or \
+                     remove environment.path",
+                ))
+            }
+            (_, true) => {}
+        }
         check_range(
             "environment.rotation_deg",
             self.rotation_deg,
@@ -219,6 +264,25 @@ impl EnvironmentConfig {
             360.0,
             0.0,
         )
+    }
+}
+
+/// The file formats of an environment map (`environment.path`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MapFormat {
+    /// Radiance RGBE (`.hdr`, `.pic`, `.rgbe`).
+    Radiance,
+    /// OpenEXR (`.exr`).
+    OpenExr,
+}
+
+/// The format of `path` by its extension (case-insensitive), `None` if neither.
+pub fn map_format(path: &Path) -> Option<MapFormat> {
+    let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+    match ext.as_str() {
+        "hdr" | "pic" | "rgbe" => Some(MapFormat::Radiance),
+        "exr" => Some(MapFormat::OpenExr),
+        _ => None,
     }
 }
 
