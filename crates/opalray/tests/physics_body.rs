@@ -40,7 +40,9 @@ fn face_y(stone: &Stone, scene: &Scene, n: usize, spp: u32, max_depth: u32, frac
                     ..EnvironmentConfig::default()
                 },
                 0.0,
-            ),
+            )
+            .unwrap(),
+            area_light: None,
             gloss: 1.0,
             seed: 5,
             spectral: &sampler,

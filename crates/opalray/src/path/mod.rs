@@ -270,6 +270,10 @@ impl<'a> Tracer<'a> {
         } = state;
         let mut hint = None;
         let mut first_in_cap = region == Region::Cap;
+        // The density (per steradian, inside) with which a scattering drew this segment's
+        // direction, when the environment was also sampled there: the MIS weight of its escape.
+        let mut drawn_with: Option<f32> = None;
+        let sample_env = stone.cap.is_none();
         for level in depth..self.setup.max_depth {
             let ray = Ray {
                 origin: pos,
@@ -328,8 +332,21 @@ impl<'a> Tracer<'a> {
                     pos = ray.at(t);
                     weight *= albedo;
                     self.light_at_potch(pos, dir, &lines, weight, rng, acc, bins);
-                    dir = sample_hg(dir, potch.anisotropy, rng);
+                    let g = potch.anisotropy;
+                    let incoming = dir;
+                    if sample_env {
+                        let phase = |to: Vec3| hg_phase(g, to.dot(incoming));
+                        self.environment_at(pos, &phase, &lines, weight, rng, acc, bins);
+                    }
+                    dir = sample_hg(dir, g, rng);
+                    drawn_with = sample_env.then(|| hg_phase(g, dir.dot(incoming)));
                     hint = None;
+                    first_in_cap = false;
+                    splits = 0;
+                    if !self.roulette(&mut weight, rng) {
+                        return;
+                    }
+                    continue;
                 }
                 Event::Boundary(Boundary::Surface) => {
                     // Both ways at once: what escapes is added now (its share 1 − F), the
@@ -341,7 +358,14 @@ impl<'a> Tracer<'a> {
                     let f = fresnel_dielectric(cos, n, 1.0);
                     if f < 1.0 {
                         if let Some(out) = refract(dir, normal, n, 1.0) {
-                            let v = self.escaped(exit, out);
+                            let mut v = self.escaped(exit, out);
+                            if let Some(p_dir) = drawn_with.filter(|_| v > 0.0) {
+                                // Drawn by a scattering that also sampled the environment:
+                                // the balance heuristic over external solid angle.
+                                let p_b = p_dir * out.dot(normal) / (n * n * cos.max(1e-6));
+                                let p_l = self.setup.environment.pdf(out);
+                                v *= p_b / (p_b + p_l);
+                            }
                             if v > 0.0 {
                                 let value = weight * (1.0 - f) * n * n * v;
                                 self.add(&lines, value, rng, acc, bins);
@@ -369,8 +393,19 @@ impl<'a> Tracer<'a> {
                         return;
                     }
                     self.light_at_back(pos, &lines, weight, rng, acc, bins);
+                    if sample_env {
+                        let lambert = |to: Vec3| to.z.max(0.0) / PI;
+                        self.environment_at(pos, &lambert, &lines, weight, rng, acc, bins);
+                    }
                     dir = cosine_about_z(rng);
+                    drawn_with = sample_env.then(|| dir.z / PI);
                     hint = None;
+                    first_in_cap = false;
+                    splits = 0;
+                    if !self.roulette(&mut weight, rng) {
+                        return;
+                    }
+                    continue;
                 }
                 Event::Boundary(Boundary::CapPlane) => {
                     // Between the opal slice and the cap: reflected with probability F,
@@ -398,19 +433,88 @@ impl<'a> Tracer<'a> {
                     hint = None;
                 }
             }
+            drawn_with = None;
             // The camera ray's first segment in the opal splits (after a triplet's cap).
             if !(region == Region::Opal && first_in_cap) {
                 splits = 0;
             }
             first_in_cap = false;
-            if weight < ROULETTE_BELOW {
-                let survive = weight / ROULETTE_BELOW;
-                if rng.uniform_f32() >= survive {
-                    return;
-                }
-                weight = ROULETTE_BELOW;
+            if !self.roulette(&mut weight, rng) {
+                return;
             }
         }
+    }
+
+    /// Russian roulette below [`ROULETTE_BELOW`]: `false` if the path ends.
+    fn roulette(&self, weight: &mut f32, rng: &mut Rng) -> bool {
+        if *weight < ROULETTE_BELOW {
+            if rng.uniform_f32() >= *weight / ROULETTE_BELOW {
+                return false;
+            }
+            *weight = ROULETTE_BELOW;
+        }
+        true
+    }
+
+    /// Next-event estimation of the environment (and an area light in front of it) at a
+    /// scattering point `x` in the opal whose scattering density towards a direction (per
+    /// steradian, inside) is `density`: one direction drawn from the environment's
+    /// distribution, refracted in through the surface ([`refracted_entry`]), weighted by the
+    /// balance heuristic against the scattering's own draw (see the escape in
+    /// [`Tracer::inside`]).
+    #[allow(clippy::too_many_arguments)]
+    fn environment_at(
+        &mut self,
+        x: Vec3,
+        density: &dyn Fn(Vec3) -> f32,
+        path: &Lines,
+        weight: f32,
+        rng: &mut Rng,
+        acc: &mut [f64; 3],
+        bins: &mut [f32],
+    ) {
+        let u = [rng.uniform_f32(), rng.uniform_f32()];
+        let sample = self.setup.environment.sample(u);
+        if sample.pdf <= 0.0 {
+            return;
+        }
+        let stone = self.stone;
+        let source = LightSource::Directional {
+            direction: -sample.direction,
+        };
+        let Some((entry, d, irradiance)) =
+            refracted_entry(&stone.shape, &source, self.n_eff, x, None)
+        else {
+            return;
+        };
+        if stone.back.is_some_and(|b| entry.z <= b.z + EPSILON_MM) {
+            return;
+        }
+        let to_light = -d;
+        let f = density(to_light);
+        if f <= 0.0 {
+            return;
+        }
+        let value = self.escaped(entry, sample.direction);
+        if value <= 0.0 {
+            return;
+        }
+        let normal = stone.shape.normal(entry);
+        let cos_out = sample.direction.dot(normal).max(0.0);
+        let cos_in = to_light.dot(normal).max(1e-6);
+        let n2 = self.n_eff * self.n_eff;
+        let p_b = f * cos_out / (n2 * cos_in);
+        let mis = sample.pdf / (sample.pdf + p_b);
+        let distance = (entry - x).length();
+        let Some((transmitted, notches)) = self.towards_light(x, to_light, distance, None) else {
+            return;
+        };
+        let mut lines = *path;
+        for n in &notches {
+            lines.transmit(*n);
+        }
+        let contribution = weight * f * value * irradiance * transmitted * mis / sample.pdf;
+        self.add(&lines, contribution, rng, acc, bins);
     }
 
     /// A domain crossing of `ray` at `t0` over `chord`: light estimation, the reflection
