@@ -4,11 +4,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --quiet
 bin=target/release/opalray
-"$bin" render --output docs/images/opal.png
+"$bin" render --preset paper --output docs/images/opal.png
 "$bin" sweep --frames 7 --width 240 --height 180 --sheet docs/images/sweep.png
 "$bin" structure --output docs/images/structure.png --scale 4
-"$bin" render --body-tone 8 --light-angle 45 --output docs/images/white-opal.png --width 320 --height 240
-"$bin" render --diameter 215 --light-angle 20 --output docs/images/blue-green.png --width 320 --height 240
+"$bin" render --preset paper --body-tone 8 --light-angle 45 --output docs/images/white-opal.png --width 320 --height 240
+"$bin" render --preset paper --diameter 215 --light-angle 20 --output docs/images/blue-green.png --width 320 --height 240
 "$bin" spectrum --angles 0,30,60 --plot docs/images/spectrum.png > /dev/null
 # The Python quick start's picture, by the README's own lines (needs `pip install .`).
 if python3 -c "import opalray" 2> /dev/null; then
@@ -18,11 +18,8 @@ scene = opalray.Scene.preset("paper").replace(render={"width": 320, "height": 24
 opalray.render(scene, light={"angle_deg": -45}).save("docs/images/python-flash.png")'
 fi
 # The path tracer on the stone model (minutes on two cores).
-for p in harlequin broad-flash; do
+for p in black-opal harlequin broad-flash ribbon white crystal boulder doublet triplet pinfire; do
     "$bin" render --preset "$p" --width 320 --height 240 --spp 8 --output "docs/images/$p.png"
-done
-for p in pinfire ribbon; do
-    "$bin" render --preset "$p" --width 320 --height 240 --spp 4 --output "docs/images/$p.png"
 done
 "$bin" sweep --preset paper-path --from -30 --to 30 --frames 3 --columns 3 --width 256 \
     --height 192 --spp 4 --sheet docs/images/paper-path-sweep.png

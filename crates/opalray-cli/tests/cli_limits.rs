@@ -40,11 +40,13 @@ fn runs_over_the_memory_limit_are_refused_before_work() {
     let limit = [("OPALRAY_MAX_MEMORY_MB", "512")];
     for (args, names) in [
         (
-            &["render", "--width", "4000", "--height", "4000"][..],
+            &[
+                "render", "--preset", "paper", "--width", "4000", "--height", "4000",
+            ][..],
             "the largest --width (render.width) that fits is",
         ),
         (
-            &["render", "--rays", "100000000"],
+            &["render", "--preset", "paper", "--rays", "100000000"],
             "the largest --rays (light.rays) that fits is",
         ),
         (
@@ -85,7 +87,12 @@ fn runs_over_the_memory_limit_are_refused_before_work() {
 #[test]
 fn the_documented_largest_image_is_refused_at_once_here() {
     // 16384 × 16384 at 40 bins is over the 4 GiB spectral-image limit.
-    let (code, err, took) = run(&["render", "--width", "16384", "--height", "16384"], &[]);
+    let (code, err, took) = run(
+        &[
+            "render", "--preset", "paper", "--width", "16384", "--height", "16384",
+        ],
+        &[],
+    );
     assert_eq!(code, Some(2));
     assert!(err.contains("--width"), "{err}");
     assert!(took < Duration::from_secs(5));

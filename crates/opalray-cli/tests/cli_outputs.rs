@@ -5,7 +5,9 @@ mod common;
 
 use common::{files_in, opalray, stderr};
 
-const TINY: [&str; 6] = ["--width", "8", "--height", "6", "--rays", "64"];
+const TINY: [&str; 8] = [
+    "--preset", "paper", "--width", "8", "--height", "6", "--rays", "64",
+];
 
 fn with_tiny<'a>(first: &[&'a str]) -> Vec<&'a str> {
     first.iter().copied().chain(TINY).collect()

@@ -15,7 +15,7 @@ fn opalray(dir: &Path, args: &[&str], threads: Option<&str>) -> Output {
 
 /// Small and quick: the renders here take a fraction of a second.
 const SMALL: &[&str] = &[
-    "--width", "64", "--height", "48", "--bins", "16", "--rays", "20000",
+    "--preset", "paper", "--width", "64", "--height", "48", "--bins", "16", "--rays", "20000",
 ];
 
 fn args<'a>(first: &[&'a str], rest: &[&'a str]) -> Vec<&'a str> {

@@ -38,7 +38,7 @@ for v in ["90", "-90", "nan", "1e308", "abc"]:
 
 for v in ["0", "-1", "nan", "inf", "1e9", "abc"]:
     case(f"render --preset harlequin --time-limit {v} {TINY}", "--time-limit")
-case(f"render --time-limit 5 {TINY}", "only the path integrator")
+case(f"render --preset paper --time-limit 5 {TINY}", "only the path integrator")
 
 for flag, v in [("--frames", "0"), ("--frames", "1001"), ("--frames", "-1"), ("--frames", "x"),
                 ("--from", "90"), ("--from", "nan"), ("--to", "-90"), ("--to", "inf"),

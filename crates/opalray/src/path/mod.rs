@@ -272,7 +272,7 @@ impl<'a> Tracer<'a> {
         let mut first_in_cap = region == Region::Cap;
         // The density (per steradian, inside) with which a scattering drew this segment's
         // direction, when the environment was also sampled there: the MIS weight of its escape.
-        let mut drawn_with: Option<f32> = None;
+        let mut drawn_with: Option<(f32, Vec3)> = None;
         let sample_env = stone.cap.is_none();
         for level in depth..self.setup.max_depth {
             let ray = Ray {
@@ -339,7 +339,7 @@ impl<'a> Tracer<'a> {
                         self.environment_at(pos, &phase, &lines, weight, rng, acc, bins);
                     }
                     dir = sample_hg(dir, g, rng);
-                    drawn_with = sample_env.then(|| hg_phase(g, dir.dot(incoming)));
+                    drawn_with = sample_env.then(|| (hg_phase(g, dir.dot(incoming)), pos));
                     hint = None;
                     first_in_cap = false;
                     splits = 0;
@@ -359,12 +359,17 @@ impl<'a> Tracer<'a> {
                     if f < 1.0 {
                         if let Some(out) = refract(dir, normal, n, 1.0) {
                             let mut v = self.escaped(exit, out);
-                            if let Some(p_dir) = drawn_with.filter(|_| v > 0.0) {
+                            if let Some((p_dir, from)) = drawn_with.filter(|_| v > 0.0) {
                                 // Drawn by a scattering that also sampled the environment:
-                                // the balance heuristic over external solid angle.
-                                let p_b = p_dir * out.dot(normal) / (n * n * cos.max(1e-6));
-                                let p_l = self.setup.environment.pdf(out);
-                                v *= p_b / (p_b + p_l);
+                                // the balance heuristic over external solid angle, where the
+                                // environment's draw would have found this same path.
+                                if self.entry_found(from, out, exit) {
+                                    if let Some(j) = self.spread_out(from, dir) {
+                                        let p_b = p_dir / j;
+                                        let p_l = self.setup.environment.pdf(out);
+                                        v *= p_b / (p_b + p_l);
+                                    }
+                                }
                             }
                             if v > 0.0 {
                                 let value = weight * (1.0 - f) * n * n * v;
@@ -398,7 +403,7 @@ impl<'a> Tracer<'a> {
                         self.environment_at(pos, &lambert, &lines, weight, rng, acc, bins);
                     }
                     dir = cosine_about_z(rng);
-                    drawn_with = sample_env.then(|| dir.z / PI);
+                    drawn_with = sample_env.then(|| (dir.z / PI, pos));
                     hint = None;
                     first_in_cap = false;
                     splits = 0;
@@ -445,6 +450,42 @@ impl<'a> Tracer<'a> {
         }
     }
 
+    /// Whether the environment's draw of `out` at `from` finds the refracted path that leaves
+    /// the stone at `exit` ([`Tracer::environment_at`]'s solve).
+    fn entry_found(&self, from: Vec3, out: Vec3, exit: Vec3) -> bool {
+        let source = LightSource::Directional { direction: -out };
+        refracted_entry(&self.stone.shape, &source, self.n_eff, from, None).is_some_and(
+            |(entry, _, _)| {
+                (entry - exit).length_squared() < 1e-4
+                    && !self.stone.back.is_some_and(|b| entry.z <= b.z + EPSILON_MM)
+            },
+        )
+    }
+
+    /// `dω_out / dω_in` of the rays leaving `x` inside along directions about `d` and
+    /// refracted out through the surface: the surface's lensing, its curvature included
+    /// (finite differences of two neighbouring rays); `None` where they do not all leave.
+    fn spread_out(&self, x: Vec3, d: Vec3) -> Option<f32> {
+        const STEP: f32 = 2e-3;
+        let shape = &self.stone.shape;
+        let n = self.n_eff;
+        let out = |dir: Vec3| {
+            let ray = Ray {
+                origin: x,
+                direction: dir,
+            };
+            let (_, t) = shape.intersect(&ray)?;
+            let p = ray.at(t.max(0.0));
+            refract(dir, -shape.normal(p), n, 1.0)
+        };
+        let (t, b) = d.any_orthonormal_pair();
+        let (d1, d2) = ((d + STEP * t).normalize(), (d + STEP * b).normalize());
+        let (o0, o1, o2) = (out(d)?, out(d1)?, out(d2)?);
+        let inside = (d1 - d).cross(d2 - d).length();
+        let outside = (o1 - o0).cross(o2 - o0).length();
+        (inside > 0.0 && outside > 0.0).then(|| outside / inside)
+    }
+
     /// Russian roulette below [`ROULETTE_BELOW`]: `false` if the path ends.
     fn roulette(&self, weight: &mut f32, rng: &mut Rng) -> bool {
         if *weight < ROULETTE_BELOW {
@@ -482,8 +523,7 @@ impl<'a> Tracer<'a> {
         let source = LightSource::Directional {
             direction: -sample.direction,
         };
-        let Some((entry, d, irradiance)) =
-            refracted_entry(&stone.shape, &source, self.n_eff, x, None)
+        let Some((entry, d, _)) = refracted_entry(&stone.shape, &source, self.n_eff, x, None)
         else {
             return;
         };
@@ -499,11 +539,14 @@ impl<'a> Tracer<'a> {
         if value <= 0.0 {
             return;
         }
-        let normal = stone.shape.normal(entry);
-        let cos_out = sample.direction.dot(normal).max(0.0);
-        let cos_in = to_light.dot(normal).max(1e-6);
-        let n2 = self.n_eff * self.n_eff;
-        let p_b = f * cos_out / (n2 * cos_in);
+        // The exact spread of directions through the curved surface (not a flat element's).
+        let Some(j) = self.spread_out(x, to_light) else {
+            return;
+        };
+        let cos_out = sample.direction.dot(stone.shape.normal(entry)).max(0.0);
+        let fresnel = fresnel_dielectric(cos_out, 1.0, self.n_eff);
+        let irradiance = (1.0 - fresnel) * self.n_eff * self.n_eff / j;
+        let p_b = f / j;
         let mis = sample.pdf / (sample.pdf + p_b);
         let distance = (entry - x).length();
         let Some((transmitted, notches)) = self.towards_light(x, to_light, distance, None) else {

@@ -412,6 +412,15 @@ impl Stone {
         hint: Option<u32>,
         visit: &mut dyn FnMut(Span),
     ) -> Option<u32> {
+        if self.domains.is_empty() {
+            // Potch only.
+            visit(Span {
+                t0,
+                t1,
+                domain: None,
+            });
+            return None;
+        }
         let Some(inner) = &self.bar_inner else {
             return self.walk_domains(origin, dir, t0, t1, hint, visit);
         };
