@@ -118,11 +118,14 @@ impl SlabWalks {
     }
 }
 
+/// Albedos calibrated while running, by `(tone, g bits, n bits)`.
+type Calibrations = HashMap<(u8, u64, u64), f32>;
+
 /// The potch's single-scattering albedo for body tone `tone` (1–9), HG anisotropy `g`, behind
 /// a surface of index `n`: a thick slab of it shows Munsell `Y(tone)` (see the module).
 /// Computed once per `(tone, g, n)` and kept.
 pub fn potch_albedo(tone: u8, g: f64, n: f64) -> f32 {
-    static CACHE: OnceLock<Mutex<HashMap<(u8, u64, u64), f32>>> = OnceLock::new();
+    static CACHE: OnceLock<Mutex<Calibrations>> = OnceLock::new();
     let key = (tone, g.to_bits(), n.to_bits());
     let tone = tone.clamp(1, 9);
     if (g - STORED_G).abs() < 1e-9 && (n - STORED_N).abs() < 1e-5 {
