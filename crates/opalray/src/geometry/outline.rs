@@ -173,11 +173,9 @@ impl Outline {
     pub fn semi_axes(&self) -> Vec3 {
         match self {
             Outline::Ellipsoid(e) => e.semi_axes(),
-            Outline::Cabochon(c) => Vec3::new(
-                c.girdle.0,
-                c.girdle.1,
-                0.5 * (c.top_z() - c.bottom_z()),
-            ),
+            Outline::Cabochon(c) => {
+                Vec3::new(c.girdle.0, c.girdle.1, 0.5 * (c.top_z() - c.bottom_z()))
+            }
         }
     }
 
