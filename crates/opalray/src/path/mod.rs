@@ -10,8 +10,13 @@
 //!   denser medium). From inside, the escaping part `1 − F` adds `n²` × the environment at
 //!   once and the path goes on reflected with weight × F (all of it beyond the critical
 //!   angle): no random choice, so the stone's internal reflections of the lights are smooth.
-//! - **Potch** (between domains): free flights of extinction σ; at a scattering event the
-//!   weight takes the albedo and the direction is drawn isotropically.
+//! - **Potch** (between domains, and the haze of milky domains): free flights; at a scattering
+//!   event the weight takes the albedo, the scene's light and the environment are estimated
+//!   (`Tracer::environment_at`: importance-sampled, refracted in with the surface's lensing,
+//!   balanced against the scattering's own draw), and the direction is drawn from the
+//!   Henyey–Greenstein phase.
+//! - **Regions** ([`Stone::exit`]): a backing reflects diffusely (Lambert); a triplet's cap
+//!   plane reflects with probability F, else refracts.
 //! - **Domain crossing**: the families whose line can fall in the range at the ray's angle
 //!   ([`Stone::lines`], the layers set by the chord) reflect or pass it. The ray always goes
 //!   on through, carrying `1 − R` of each line; the reflections are branches: at the camera
