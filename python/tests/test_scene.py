@@ -20,7 +20,7 @@ def test_dict_round_trips_through_toml(tmp_path):
     d = scene.to_dict()
     assert set(d) == {
         "structure", "crystal", "spectrum", "light", "camera", "render", "color",
-        "domains", "environment", "integrator",
+        "domains", "body", "environment", "integrator",
     }
     path = tmp_path / "s.toml"
     scene.save(path)
