@@ -332,7 +332,8 @@ impl<'a> Tracer<'a> {
                 self.spans = spans;
             }
             hint = end_hint;
-            match event {
+            // The density a scattering drew the next segment with (see `drawn_with`).
+            drawn_with = match event {
                 Event::Scattered { t, albedo } => {
                     pos = ray.at(t);
                     weight *= albedo;
@@ -344,14 +345,8 @@ impl<'a> Tracer<'a> {
                         self.environment_at(pos, &phase, &lines, weight, rng, acc, bins);
                     }
                     dir = sample_hg(dir, g, rng);
-                    drawn_with = sample_env.then(|| (hg_phase(g, dir.dot(incoming)), pos));
                     hint = None;
-                    first_in_cap = false;
-                    splits = 0;
-                    if !self.roulette(&mut weight, rng) {
-                        return;
-                    }
-                    continue;
+                    sample_env.then(|| (hg_phase(g, dir.dot(incoming)), pos))
                 }
                 Event::Boundary(Boundary::Surface) => {
                     // Both ways at once: what escapes is added now (its share 1 − F), the
@@ -385,6 +380,7 @@ impl<'a> Tracer<'a> {
                     weight *= f;
                     dir = reflect(dir, normal);
                     pos = exit - normal * EPSILON_MM;
+                    None
                 }
                 Event::Boundary(Boundary::Back) => {
                     // The backing reflects diffusely (Lambert): cosine-weighted about +z.
@@ -408,14 +404,8 @@ impl<'a> Tracer<'a> {
                         self.environment_at(pos, &lambert, &lines, weight, rng, acc, bins);
                     }
                     dir = cosine_about_z(rng);
-                    drawn_with = sample_env.then(|| (dir.z / PI, pos));
                     hint = None;
-                    first_in_cap = false;
-                    splits = 0;
-                    if !self.roulette(&mut weight, rng) {
-                        return;
-                    }
-                    continue;
+                    sample_env.then(|| (dir.z / PI, pos))
                 }
                 Event::Boundary(Boundary::CapPlane) => {
                     // Between the opal slice and the cap: reflected with probability F,
@@ -441,9 +431,9 @@ impl<'a> Tracer<'a> {
                         }
                     }
                     hint = None;
+                    None
                 }
-            }
-            drawn_with = None;
+            };
             // The camera ray's first segment in the opal splits (after a triplet's cap).
             if !(region == Region::Opal && first_in_cap) {
                 splits = 0;

@@ -165,20 +165,25 @@ impl SpectralSampler {
                 *c *= scale;
             }
         }
-        let white_xyz = [integral(0, &raw), integral(1, &raw), integral(2, &raw)];
-        let white_bins = (0..grid.bins)
-            .map(|b| {
-                let (a, z) = grid.edges_nm(b);
-                let k = 64;
-                (0..k)
-                    .map(|j| {
-                        let w = a + (z - a) * (j as f64 + 0.5) / k as f64;
-                        lookup(&raw, lo, w)[3]
-                    })
-                    .sum::<f64>() as f32
-                    / k as f32
-            })
-            .collect();
+        // XYZ and bin averages of a table: the light's, and the light's after ironstone.
+        let summary = |table: &[[f64; 4]]| -> ([f64; 3], Vec<f32>) {
+            let xyz = [integral(0, table), integral(1, table), integral(2, table)];
+            let bins = (0..grid.bins)
+                .map(|b| {
+                    let (a, z) = grid.edges_nm(b);
+                    let k = 64;
+                    (0..k)
+                        .map(|j| {
+                            let w = a + (z - a) * (j as f64 + 0.5) / k as f64;
+                            lookup(table, lo, w)[3]
+                        })
+                        .sum::<f64>() as f32
+                        / k as f32
+                })
+                .collect();
+            (xyz, bins)
+        };
+        let (white_xyz, white_bins) = summary(&raw);
         let tinted = (1..=MAX_TINTS as i32)
             .map(|k| {
                 let tinted: Vec<[f64; 4]> = raw
@@ -189,25 +194,7 @@ impl SpectralSampler {
                         v.map(|c| c * r)
                     })
                     .collect();
-                let xyz = [
-                    integral(0, &tinted),
-                    integral(1, &tinted),
-                    integral(2, &tinted),
-                ];
-                let bins = (0..grid.bins)
-                    .map(|b| {
-                        let (a, z) = grid.edges_nm(b);
-                        let n = 64;
-                        (0..n)
-                            .map(|j| {
-                                let w = a + (z - a) * (j as f64 + 0.5) / n as f64;
-                                lookup(&tinted, lo, w)[3]
-                            })
-                            .sum::<f64>() as f32
-                            / n as f32
-                    })
-                    .collect();
-                (xyz, bins)
+                summary(&tinted)
             })
             .collect();
         SpectralSampler {
