@@ -136,7 +136,8 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
             times.structure += seconds(start);
             // The lights are built once, for every frame: timed as the light pass.
             let start = Instant::now();
-            let environment = Environment::new(&scene.environment, scene.render.background as f32)?;
+            let environment = Environment::new(&scene.environment, scene.render.background as f32)?
+                .tilted(scene.camera.tilt_deg);
             times.light_pass = seconds(start);
             (Some(std::sync::Arc::new(stone)), Some(environment))
         }

@@ -13,6 +13,10 @@
 //! - `window`: a window 50° wide and 40° high, 20–60° above the horizon towards −x and +y,
 //!   value 1, in a room of 0.04 over a floor of 0.02.
 //! - `overcast`: the CIE overcast sky, `(1 + 2 sin h)/3` at elevation h, over ground of 0.1.
+//! - `tent`: a light tent, the diffuse white dome gem photographers put over a stone: value 1
+//!   from 10° above the horizon to the zenith but for the camera's port (a dark disc 6° in
+//!   radius about the zenith, 0.004), its hem (0–10° above the horizon) 0.3, over black
+//!   velvet (0.0004).
 //! - `uniform`: 1 everywhere (a furnace).
 //! - `none`: black, but for the backdrop (`render.background`) behind the stone (z < 0).
 //! - `file`: an equirectangular (latitude–longitude) map ([`env_map`](super::env_map)), twice
@@ -34,7 +38,7 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use glam::{DVec3, Vec3};
+use glam::{DQuat, DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::env_map::{read_map, LuminanceMap};
@@ -55,8 +59,8 @@ const FLOOR: f64 = 0.01;
 pub struct Environment {
     kind: EnvironmentKind,
     intensity: f32,
-    /// cos and sin of the rotation about z.
-    turn: (f32, f32),
+    /// The turn from the stone's frame into the environment's.
+    to_env: DQuat,
     background: f32,
     map: Option<Arc<LuminanceMap>>,
     distribution: Arc<Distribution2D>,
@@ -90,11 +94,10 @@ impl Environment {
     /// a missing, unreadable or not equirectangular file is an error naming
     /// `environment.path`.
     pub fn new(config: &EnvironmentConfig, background: f32) -> Result<Self> {
-        let a = (config.rotation_deg as f32).to_radians();
         let mut env = Environment {
             kind: config.kind,
             intensity: config.intensity as f32,
-            turn: (a.cos(), a.sin()),
+            to_env: DQuat::from_rotation_z(-config.rotation_deg.to_radians()),
             background,
             map: None,
             distribution: Arc::new(Distribution2D::new(&[1.0], 1, 1)),
@@ -112,11 +115,17 @@ impl Environment {
         Ok(env)
     }
 
+    /// The environment seen from a stone tilted by `tilt_deg` about the picture's horizontal
+    /// axis (x) together with the camera (`camera.tilt_deg`): the room turns with the camera,
+    /// as the point light does, so tilting the camera is tilting the stone under fixed lights.
+    pub fn tilted(mut self, tilt_deg: f64) -> Self {
+        self.to_env = self.to_env * DQuat::from_rotation_x(tilt_deg.to_radians());
+        self
+    }
+
     /// Value seen looking along `dir` (unit, in the stone's frame).
     pub fn value(&self, dir: Vec3) -> f32 {
-        // Into the environment's frame: undo its turn about z.
-        let (c, s) = self.turn;
-        let d = Vec3::new(c * dir.x + s * dir.y, -s * dir.x + c * dir.y, dir.z);
+        let d = (self.to_env * dir.as_dvec3()).as_vec3();
         if let Some(map) = &self.map {
             let [u, v] = square_of(d.as_dvec3());
             let column = ((u * map.width as f64) as usize).min(map.width - 1);
@@ -131,9 +140,7 @@ impl Environment {
         let ([x, y], density) = self.distribution.sample([f64::from(u[0]), f64::from(u[1])]);
         let d = direction_of([x, y]);
         let sin_theta = (PI * y).sin();
-        let (c, s) = self.turn;
-        let (c, s) = (f64::from(c), f64::from(s));
-        let direction = DVec3::new(c * d.x - s * d.y, s * d.x + c * d.y, d.z).as_vec3();
+        let direction = (self.to_env.inverse() * d).normalize().as_vec3();
         let pdf = if sin_theta > 1e-9 {
             (density / (2.0 * PI * PI * sin_theta)) as f32
         } else {
@@ -148,10 +155,7 @@ impl Environment {
 
     /// The density per steradian with which [`Environment::sample`] draws `dir` (unit).
     pub fn pdf(&self, dir: Vec3) -> f32 {
-        let (c, s) = self.turn;
-        let (c, s) = (f64::from(c), f64::from(s));
-        let dir = dir.as_dvec3();
-        let d = DVec3::new(c * dir.x + s * dir.y, -s * dir.x + c * dir.y, dir.z);
+        let d = self.to_env * dir.as_dvec3();
         let [u, v] = square_of(d);
         let sin_theta = (d.x * d.x + d.y * d.y).sqrt() / d.length();
         if sin_theta > 1e-9 {
@@ -219,6 +223,18 @@ impl Environment {
                 }
             }
             EnvironmentKind::Uniform => 1.0,
+            EnvironmentKind::Tent => {
+                let h = elevation.to_degrees();
+                if d.z < 0.0 {
+                    0.0004
+                } else if h > 90.0 - TENT_PORT_RADIUS_DEG {
+                    0.004
+                } else if h < 10.0 {
+                    0.3
+                } else {
+                    1.0
+                }
+            }
             EnvironmentKind::Overcast => {
                 if d.z < 0.0 {
                     0.1
@@ -289,6 +305,8 @@ fn load_map(path: &str) -> Result<LuminanceMap> {
 
 /// The studio softbox's centre: 50° from the zenith towards +y.
 const SOFTBOX_AXIS: Vec3 = Vec3::new(0.0, 0.766_044_4, 0.642_787_6);
+/// Angular radius of the light tent's camera port about the zenith, degrees.
+const TENT_PORT_RADIUS_DEG: f32 = 6.0;
 /// The studio softbox's angular radius, degrees.
 const SOFTBOX_RADIUS_DEG: f32 = 22.0;
 
@@ -326,6 +344,45 @@ mod tests {
         .unwrap();
         assert_eq!(env.value(SOFTBOX_AXIS), 1.0);
         assert!(env.value(-Vec3::Z) < 0.01);
+    }
+
+    #[test]
+    fn the_tent_is_bright_overhead_but_for_the_camera_port() {
+        let config = EnvironmentConfig {
+            kind: EnvironmentKind::Tent,
+            ..Default::default()
+        };
+        let env = Environment::new(&config, 0.0).unwrap();
+        assert_eq!(env.value(Vec3::Z), 0.004);
+        assert_eq!(env.value(Vec3::new(0.0, 1.0, 1.0).normalize()), 1.0);
+        assert_eq!(env.value(Vec3::new(1.0, 0.0, 0.05).normalize()), 0.3);
+        assert_eq!(env.value(-Vec3::Z), 0.0004);
+    }
+
+    #[test]
+    fn a_tilted_environment_turns_about_the_picture_horizontal() {
+        let config = EnvironmentConfig {
+            kind: EnvironmentKind::Studio,
+            rotation_deg: 20.0,
+            ..Default::default()
+        };
+        let plain = Environment::new(&config, 0.0).unwrap();
+        let tilted = Environment::new(&config, 0.0).unwrap().tilted(30.0);
+        // The camera tilted by 30° sits at rot_x(−30°)·z: the room turns with it.
+        let turn = glam::Quat::from_rotation_x(-30f32.to_radians());
+        for k in 0..200 {
+            let u = [(k as f32 + 0.5) / 200.0, ((k * 37) % 200) as f32 / 200.0];
+            let s = plain.sample(u);
+            if s.direction.z.abs() > 0.99 {
+                // Near the poles the density's 1/sin θ is too steep to compare in f32.
+                continue;
+            }
+            let d = turn * s.direction;
+            assert_eq!(tilted.value(d), plain.value(s.direction), "{d}");
+            assert!((tilted.pdf(d) - s.pdf).abs() <= 1e-3 * s.pdf, "{d}");
+            let t = tilted.sample(u);
+            assert!((t.direction - d).length() < 1e-4, "{} vs {d}", t.direction);
+        }
     }
 
     #[test]

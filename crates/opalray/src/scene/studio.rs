@@ -30,6 +30,11 @@ pub enum OrientationLaw {
     /// Grains inherit the orientation of a coarser parent grain (`correlation_mm`), turned by
     /// a random angle of RMS `orientation_spread_deg`: neighbouring grains flash together.
     Correlated,
+    /// Sedimentary opal: the spheres settled in layers, so each grain's layers (one {111}
+    /// family) lie near the bedding plane (the stone's broad face, xy); their normal is
+    /// tilted from the face's normal by an angle of RMS `orientation_spread_deg`, in a
+    /// uniform direction, and the lattice turned about it at random.
+    Settled,
 }
 
 /// Which plane families reflect.
@@ -52,7 +57,7 @@ pub enum FamilyChoice {
 /// | `grain_size_mm`          | mm   | 2.0            | [0.05, 50]                |
 /// | `grain_size_spread`      | –    | 0.3            | [0, 2]                    |
 /// | `stretch`                | –    | [1, 1, 1]      | each in [0.1, 20]         |
-/// | `orientation`            | –    | "independent"  | "independent", "correlated" |
+/// | `orientation`            | –    | "independent"  | "independent", "correlated", "settled" |
 /// | `correlation_mm`         | mm   | 6.0            | [0.1, 100]                |
 /// | `orientation_spread_deg` | deg  | 20.0           | [0, 180]                  |
 /// | `void_fraction`          | –    | 0.15           | [0, 1] (1: potch only)    |
@@ -74,7 +79,8 @@ pub struct DomainsConfig {
     pub orientation: OrientationLaw,
     /// Correlated orientations: size of the parent grains, mm.
     pub correlation_mm: f64,
-    /// Correlated orientations: RMS turn of a grain from its parent, degrees.
+    /// Correlated orientations: RMS turn of a grain from its parent; settled: RMS tilt of a
+    /// grain's layers from the face, degrees.
     pub orientation_spread_deg: f64,
     /// Grains: share of grains that are potch (no play of colour).
     pub void_fraction: f64,
@@ -178,6 +184,9 @@ pub enum EnvironmentKind {
     Window,
     /// An overcast sky over dark ground.
     Overcast,
+    /// A light tent: a white dome lit evenly from outside, the camera looking in through a
+    /// port at its top, over black velvet.
+    Tent,
     /// The same value from every direction (a furnace: tests and body-tone checks).
     Uniform,
     /// An equirectangular map read from `path` (Radiance `.hdr` or OpenEXR `.exr`).
@@ -188,7 +197,7 @@ pub enum EnvironmentKind {
 ///
 /// | field          | unit | default | valid                                                     |
 /// |----------------|------|---------|-----------------------------------------------------------|
-/// | `kind`         | –    | "none"  | "none", "studio", "window", "overcast", "uniform", "file" |
+/// | `kind`         | –    | "none"  | "none", "studio", "window", "overcast", "tent", "uniform", "file" |
 /// | `path`         | –    | ""      | a `.hdr` or `.exr` file, 2:1; only with "file" |
 /// | `intensity`    | –    | 1.0     | [0, 1000]                                      |
 /// | `rotation_deg` | deg  | 0.0     | [−360, 360]                                    |

@@ -20,6 +20,7 @@ use crate::optics::{rocking_fwhm_rad, BraggLine, Families};
 use crate::sampling::{stage, Rng};
 use crate::scene::{Backing, Cut, FamilyChoice, OrientationLaw, Pattern, Scene};
 use crate::structure::orientation::jitter;
+use crate::structure::AXIS_111;
 
 use balls::Balls;
 use grains::{normal, Grains};
@@ -226,6 +227,9 @@ impl Stone {
                         continue;
                     }
                     let orientation = match &parents {
+                        None if d.orientation == OrientationLaw::Settled => {
+                            settled(spread, &mut rng)
+                        }
                         None => rng.rotation(),
                         Some(p) => {
                             let parent = p.at(*seed_q * stretch);
@@ -620,6 +624,20 @@ fn width_row_cos(row: usize) -> f64 {
     WIDTH_MIN_COS + (1.0 - WIDTH_MIN_COS) * row as f64 / (WIDTH_ROWS - 1) as f64
 }
 
+/// A settled grain's orientation: its layers of spheres (a (111) plane family) lie near the
+/// stone's bedding plane (xy), the layers' normal tilted from z by an angle whose root mean
+/// square is `spread_rad` (a two-dimensional Gaussian tilt, so the tilt's azimuth is
+/// uniform), the lattice turned about that normal by a uniform angle.
+fn settled(spread_rad: f64, rng: &mut Rng) -> Quat {
+    let align = Quat::from_rotation_arc(AXIS_111, Vec3::Z);
+    let spin = Quat::from_rotation_z((std::f64::consts::TAU * rng.uniform()) as f32);
+    let per_axis = spread_rad / std::f64::consts::SQRT_2;
+    let tilt = per_axis * (-2.0 * (1.0 - rng.uniform()).max(1e-300).ln()).sqrt();
+    let azimuth = std::f64::consts::TAU * rng.uniform();
+    let axis = Vec3::new(-azimuth.sin() as f32, azimuth.cos() as f32, 0.0);
+    (Quat::from_axis_angle(axis, tilt as f32) * spin * align).normalize()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -628,6 +646,39 @@ mod tests {
         let mut scene = Scene::default();
         scene.domains.pattern = Pattern::Grains;
         scene
+    }
+
+    #[test]
+    fn settled_layers_tilt_from_the_face_by_the_spread_in_every_direction() {
+        let mut scene = grains_scene();
+        scene.domains.orientation = OrientationLaw::Settled;
+        scene.domains.orientation_spread_deg = 15.0;
+        scene.domains.void_fraction = 0.0;
+        scene.domains.grain_size_mm = 0.8;
+        let stone = Stone::new(&scene).unwrap();
+        let n = stone.domains.len() as f64;
+        assert!(n > 2000.0, "{n} grains");
+        let (mut tilt2, mut sx, mut sy, mut spin) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        for dm in &stone.domains {
+            let layers = dm.orientation * AXIS_111;
+            let tilt = f64::from(layers.z.clamp(-1.0, 1.0)).acos();
+            tilt2 += tilt * tilt;
+            sx += f64::from(layers.x);
+            sy += f64::from(layers.y);
+            // Another {111} family's normal, projected on the face: its azimuth is uniform.
+            let other = dm.orientation * Vec3::new(1.0, -1.0, -1.0).normalize();
+            spin += f64::from(other.y.atan2(other.x).cos());
+        }
+        let rms = (tilt2 / n).sqrt().to_degrees();
+        assert!((rms - 15.0).abs() < 0.6, "RMS tilt {rms}°");
+        // No preferred direction of tilt, nor of the lattice's turn about the layers' normal
+        // (each mean of a unit-variance-ish cosine within 4 standard errors of 0).
+        let bound = 4.0 / n.sqrt();
+        assert!(
+            (sx / n).abs() < bound && (sy / n).abs() < bound,
+            "{sx} {sy}"
+        );
+        assert!((spin / n).abs() < 4.0 * (0.5 / n).sqrt(), "{spin}");
     }
 
     #[test]
