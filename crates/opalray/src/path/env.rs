@@ -119,7 +119,7 @@ impl Environment {
     /// axis (x) together with the camera (`camera.tilt_deg`): the room turns with the camera,
     /// as the point light does, so tilting the camera is tilting the stone under fixed lights.
     pub fn tilted(mut self, tilt_deg: f64) -> Self {
-        self.to_env = self.to_env * DQuat::from_rotation_x(tilt_deg.to_radians());
+        self.to_env *= DQuat::from_rotation_x(tilt_deg.to_radians());
         self
     }
 
