@@ -153,6 +153,10 @@ pub struct LookArgs {
     /// less noise, in proportion to the time.
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub spp: Option<u32>,
+    /// Rock the stone: tilt it towards the camera about the picture's horizontal axis,
+    /// degrees, the lights staying with the camera (camera.tilt_deg).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub tilt: Option<f64>,
 }
 
 impl LookArgs {
@@ -188,6 +192,9 @@ impl LookArgs {
         if let Some(v) = self.spp {
             scene.integrator.spp = v;
         }
+        if let Some(v) = self.tilt {
+            scene.camera.tilt_deg = v;
+        }
         // A field the user set with a flag is named by that flag.
         scene.validate().map_err(|err| match &err {
             opalray::Error::InvalidField { field, message } => match self.flag_of(field) {
@@ -217,6 +224,7 @@ impl LookArgs {
             ("render.body_tone", "--body-tone", self.body_tone.is_some()),
             ("color.exposure_ev", "--exposure", self.exposure.is_some()),
             ("integrator.spp", "--spp", self.spp.is_some()),
+            ("camera.tilt_deg", "--tilt", self.tilt.is_some()),
         ];
         given
             .iter()

@@ -27,6 +27,7 @@ look = {
     "--body-tone": ["0", "10", "-1", "256"],
     "--exposure": ["21", "-21", "nan", "inf"],
     "--spp": ["0", "-1", "65537", "x"],
+    "--tilt": ["90", "-90", "nan", "x"],
 }
 for sub in ["render", "sweep", "bench"]:
     for flag, values in look.items():
