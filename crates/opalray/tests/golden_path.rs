@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 use glam::{Mat3, Vec3};
 use opalray::path::{Passes, PathImage};
 use opalray::render::prepare;
-use opalray::scene::preset;
+use opalray::scene::{preset, OrientationLaw};
 use opalray::Scene;
 
 /// A channel beyond this many combined standard errors makes its pixel an outlier.
@@ -38,6 +38,11 @@ const MAGIC: &str = "opalray path golden v1";
 
 fn scene() -> Scene {
     let mut s = preset("harlequin").unwrap();
+    // Thick grains of independent orientations (fewer domains along a ray than the
+    // preset's settled plates): a quarter of the time for the same power.
+    s.domains.stretch = [1.0, 1.0, 0.35];
+    s.domains.orientation = OrientationLaw::Independent;
+    s.body.colour_bar_mm = 2.0;
     s.render.width = 48;
     s.render.height = 36;
     s.spectrum.bins = 16;

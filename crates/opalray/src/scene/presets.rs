@@ -31,9 +31,11 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 /// path tracer at exposure 0 (the environment is bright enough: a Bragg line reflects about
 /// 1 % of white light), the potch calibrated to its body tone:
 ///
-/// - `black-opal`: a fine black opal: body tone N1, a 1.5 mm colour bar of plate-like grains
-///   2 mm across over black potch, under a 4 mm dome.
-/// - `harlequin`: a black opal of large angular grains (3 mm), each its own orientation.
+/// - `black-opal`: a fine black opal: body tone N1, a 2 mm colour bar of settled grains (thin
+///   plates about 5 mm across and 0.24 mm thick, their layers within an RMS 20° of the face)
+///   over black potch, under a 4 mm dome.
+/// - `harlequin`: a black opal of large settled plates (3 mm grains) in a 2.5 mm colour bar:
+///   broad angular patches side by side.
 /// - `pinfire`: a black opal of grains 0.6 mm across: pin-points of colour.
 /// - `broad-flash`: grains 4 mm across whose orientations follow parents 12 mm across: broad
 ///   sheets of colour that flash together.
@@ -41,9 +43,9 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 /// - `white`: a white opal (N9): milky potch and milky domains, colour throughout.
 /// - `crystal`: a crystal opal with rolling flash: clear body (N5 potch of long mean free
 ///   path), large correlated grains whose colour rolls across the face as it tilts.
-/// - `boulder`: a thin layer of opal (dome 1.6 mm) on brown ironstone.
-/// - `doublet`: a 1.5 mm opal slice (N6) glued on black.
-/// - `triplet`: a 0.8 mm opal slice on black under a clear quartz dome.
+/// - `boulder`: a thin layer of opal (dome 1.6 mm, settled plates) on brown ironstone.
+/// - `doublet`: a 1.5 mm opal slice (N6, settled plates) glued on black.
+/// - `triplet`: a 0.8 mm opal slice (settled plates) on black under a clear quartz dome.
 /// - `paper`: the paper's figures: ellipsoid of 100 × 75 × 25 cells, R = 6, void ratio 0.2,
 ///   light at 30° to the view direction (fig. 10), 640 × 480, the two-pass renderer.
 /// - `paper-path`: the paper's stone and light rendered by the path tracer on the stone model
@@ -92,6 +94,14 @@ pub fn preset(name: &str) -> Result<Scene> {
         stretch: [1.0, 1.0, 0.35],
         ..grains(size)
     };
+    // Sedimentary opal: thin plates of settled layers, 0.24 mm thick for a 2 mm grain, so a
+    // colour bar holds several along the view, each reflecting its own part of the room.
+    let settled = |size: f64| DomainsConfig {
+        stretch: [2.5, 2.5, 0.12],
+        orientation: OrientationLaw::Settled,
+        orientation_spread_deg: 20.0,
+        ..grains(size)
+    };
     match name {
         "paper" => Ok(Scene::default()),
         "paper-path" => {
@@ -103,8 +113,8 @@ pub fn preset(name: &str) -> Result<Scene> {
             scene.domains.mosaic_spread_deg = 4.0;
             Ok(scene)
         }
-        "black-opal" => Ok(gem(plates(2.0), cabochon(4.0, 1.5), 1)),
-        "harlequin" => Ok(gem(plates(3.0), cabochon(4.0, 2.0), 1)),
+        "black-opal" => Ok(gem(settled(2.0), cabochon(4.0, 2.0), 1)),
+        "harlequin" => Ok(gem(settled(3.0), cabochon(4.0, 2.5), 1)),
         "pinfire" => Ok(gem(grains(0.6), cabochon(4.0, 1.5), 1)),
         "broad-flash" => Ok(gem(
             DomainsConfig {
@@ -148,7 +158,7 @@ pub fn preset(name: &str) -> Result<Scene> {
             5,
         )),
         "boulder" => Ok(gem(
-            grains(1.5),
+            settled(1.5),
             BodyConfig {
                 backing: Some(Backing::Ironstone),
                 ..cabochon(1.6, 0.0)
@@ -156,7 +166,7 @@ pub fn preset(name: &str) -> Result<Scene> {
             3,
         )),
         "doublet" => Ok(gem(
-            plates(2.0),
+            settled(2.0),
             BodyConfig {
                 cut: Cut::Doublet,
                 potch_extinction_per_mm: 1.0,
@@ -165,7 +175,7 @@ pub fn preset(name: &str) -> Result<Scene> {
             6,
         )),
         "triplet" => Ok(gem(
-            plates(2.0),
+            settled(2.0),
             BodyConfig {
                 cut: Cut::Triplet,
                 slice_mm: 0.8,
