@@ -104,6 +104,13 @@ impl AreaLight {
         }
     }
 
+    /// The light's centre, mm (the stone's frame).
+    pub fn center(&self) -> Vec3 {
+        match *self {
+            AreaLight::Sphere { center, .. } | AreaLight::Rect { center, .. } => center.as_vec3(),
+        }
+    }
+
     /// The light's value (uniform over its surface).
     pub fn value(&self) -> f32 {
         match *self {
@@ -275,13 +282,18 @@ fn ray_sphere(x: DVec3, dir: DVec3, center: DVec3, radius: f64) -> Option<f64> {
     Some(b - h2.max(0.0).sqrt())
 }
 
-/// What a ray leaving the stone at `origin` along `dir` (unit, the stone's frame) sees: the
-/// area light where it meets it (the light hides the environment behind it), else the
-/// environment.
-pub fn seen(environment: &Environment, light: Option<&AreaLight>, origin: Vec3, dir: Vec3) -> f32 {
+/// What a ray leaving the stone at `origin` along `dir` (unit, the stone's frame) sees:
+/// `(value, true)`, the area light where it meets it (the light hides the environment behind
+/// it), else `(value, false)`, the environment.
+pub fn seen(
+    environment: &Environment,
+    light: Option<&AreaLight>,
+    origin: Vec3,
+    dir: Vec3,
+) -> (f32, bool) {
     match light.and_then(|l| l.hit(origin, dir)) {
-        Some((_, value)) => value,
-        None => environment.value(dir),
+        Some((_, value)) => (value, true),
+        None => (environment.value(dir), false),
     }
 }
 
