@@ -311,3 +311,87 @@ impl Tracer<'_> {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Camera;
+    use crate::path::{Environment, PathSetup, SpectralSampler};
+    use crate::scene::{EnvironmentConfig, EnvironmentKind};
+    use crate::stone::Stone;
+
+    /// Over the image, `spp` paths a pixel with the area light's estimation on or off: the
+    /// mean of Y, its standard error, and the mean over the pixels of the paths' variance.
+    fn mean_y(stone: &Stone, setup: &PathSetup, estimate: bool, spp: u64) -> [f64; 3] {
+        let mut tracer = Tracer::new(stone, setup);
+        tracer.area_estimation = estimate;
+        let mut bins = vec![0.0f32; setup.spectral.grid.bins];
+        let pixels = (setup.width * setup.height) as u64;
+        let (mut mean, mut variance) = (0.0f64, 0.0f64);
+        for p in 0..pixels {
+            let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+            for s in 0..spp {
+                let mut rng = Rng::new(setup.seed, u64::from(estimate), p * spp + s);
+                let x = (p % setup.width as u64) as f32 + rng.uniform_f32();
+                let y = (p / setup.width as u64) as f32 + rng.uniform_f32();
+                let mut acc = [0.0f64; 3];
+                tracer.sample(setup.camera.ray(x, y), &mut rng, &mut acc, &mut bins);
+                sum += acc[1];
+                sum2 += acc[1] * acc[1];
+            }
+            let m = sum / spp as f64;
+            mean += m / pixels as f64;
+            variance += (sum2 / spp as f64 - m * m) / pixels as f64;
+        }
+        [mean, (variance / (spp * pixels) as f64).sqrt(), variance]
+    }
+
+    #[test]
+    fn area_light_estimates_keep_the_mean_of_the_escaping_paths() {
+        // The harlequin's cabochon under a dim studio and a big area light (so that the
+        // escaping paths alone find it often): its estimates at the events, balanced against
+        // those paths, keep their mean (4 standard errors) and lower the noise. A ball over
+        // potch alone (scatterings), a softbox over domains alone (crossings, backing).
+        let at = Vec3::new(0.0, 50.0, 86.6);
+        for (void_fraction, light, spp) in [
+            (1.0, AreaLight::sphere(at, 45.0, 1.0), 500),
+            (0.0, AreaLight::rect(at, [90.0, 60.0], Vec3::Y, 1.0), 300),
+        ] {
+            let mut scene = crate::scene::preset("harlequin").unwrap();
+            scene.domains.void_fraction = void_fraction;
+            let stone = Stone::new(&scene).unwrap();
+            let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
+            let environment = Environment::new(
+                &EnvironmentConfig {
+                    kind: EnvironmentKind::Studio,
+                    intensity: 0.5,
+                    ..EnvironmentConfig::default()
+                },
+                0.0,
+            )
+            .unwrap();
+            let setup = PathSetup {
+                camera: Camera::look_at(Vec3::new(0.0, 0.0, 100.0), Vec3::ZERO, Vec3::Y, 8.0, 8, 8),
+                width: 8,
+                height: 8,
+                spp: 1,
+                max_depth: 8,
+                light: None,
+                environment,
+                area_light: Some(light),
+                // No gloss: its view of the light varies across the pixels, not with the paths.
+                gloss: 0.0,
+                seed: 7,
+                spectral: &sampler,
+            };
+            let [off, se_off, var_off] = mean_y(&stone, &setup, false, spp);
+            let [on, se_on, var_on] = mean_y(&stone, &setup, true, spp / 2);
+            let se = (se_off * se_off + se_on * se_on).sqrt();
+            assert!(
+                (on - off).abs() <= 4.0 * se,
+                "{light:?}: on {on} vs off {off} ± {se}"
+            );
+            assert!(var_on < 0.8 * var_off, "{light:?}: {var_on} vs {var_off}");
+        }
+    }
+}
