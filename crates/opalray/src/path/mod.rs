@@ -480,6 +480,16 @@ impl<'a> Tracer<'a> {
     /// refracted out through the surface: the surface's lensing, its curvature included
     /// (finite differences of two neighbouring rays); `None` where they do not all leave.
     fn spread_out(&self, x: Vec3, d: Vec3) -> Option<f32> {
+        let (rays, inside) = self.fan_out(x, d)?;
+        let [(_, o0), (_, o1), (_, o2)] = rays;
+        let outside = (o1 - o0).cross(o2 - o0).length();
+        (inside > 0.0 && outside > 0.0).then(|| outside / inside)
+    }
+
+    /// The rays leaving `x` inside along `d` and two neighbours, refracted out: each one's
+    /// exit point and direction outside, and twice the solid angle of their triangle inside
+    /// (of the order of the step squared); `None` where they do not all leave.
+    fn fan_out(&self, x: Vec3, d: Vec3) -> Option<([(Vec3, Vec3); 3], f32)> {
         const STEP: f32 = 2e-3;
         let shape = &self.stone.shape;
         let n = self.n_eff;
@@ -490,14 +500,12 @@ impl<'a> Tracer<'a> {
             };
             let (_, t) = shape.intersect(&ray)?;
             let p = ray.at(t.max(0.0));
-            refract(dir, -shape.normal(p), n, 1.0)
+            Some((p, refract(dir, -shape.normal(p), n, 1.0)?))
         };
         let (t, b) = d.any_orthonormal_pair();
         let (d1, d2) = ((d + STEP * t).normalize(), (d + STEP * b).normalize());
-        let (o0, o1, o2) = (out(d)?, out(d1)?, out(d2)?);
-        let inside = (d1 - d).cross(d2 - d).length();
-        let outside = (o1 - o0).cross(o2 - o0).length();
-        (inside > 0.0 && outside > 0.0).then(|| outside / inside)
+        let rays = [out(d)?, out(d1)?, out(d2)?];
+        Some((rays, (d1 - d).cross(d2 - d).length()))
     }
 
     /// Russian roulette below [`ROULETTE_BELOW`]: `false` if the path ends.
@@ -739,17 +747,17 @@ impl<'a> Tracer<'a> {
     ///
     /// The one refracted path is solved through the outer surface into the opal: under a
     /// triplet's cap (two refractions) there is none, and light from under a backing is
-    /// blocked.
+    /// blocked. The irradiance is the surface's exact lensing ([`Tracer::light_spread`]).
     fn light_inside(&self, x: Vec3) -> Option<(Vec3, f32, f32)> {
         let light = self.setup.light?;
         if self.stone.cap.is_some() {
             return None;
         }
-        let (entry, d, irradiance) =
-            refracted_entry(&self.stone.shape, &light.source, self.n_eff, x, None)?;
+        let (entry, d, _) = refracted_entry(&self.stone.shape, &light.source, self.n_eff, x, None)?;
         if self.stone.back.is_some_and(|b| entry.z <= b.z + EPSILON_MM) {
             return None;
         }
+        let irradiance = self.light_spread(&light.source, entry, x, -d)?;
         Some((-d, irradiance * light.intensity, (entry - x).length()))
     }
 
