@@ -142,7 +142,7 @@ impl AreaLight {
                     direction: dir.as_vec3(),
                     distance_mm: distance as f32,
                     value,
-                    pdf: (1.0 / (2.0 * PI * cap)) as f32,
+                    pdf: cone_pdf(cap),
                 })
             }
             AreaLight::Rect {
@@ -163,12 +163,11 @@ impl AreaLight {
                 if cos_l <= 0.0 || distance <= 0.0 {
                     return None;
                 }
-                let area = 4.0 * half_mm[0] * half_mm[1];
                 Some(LightSample {
                     direction: dir.as_vec3(),
                     distance_mm: distance as f32,
                     value,
-                    pdf: (distance * distance / (area * cos_l)) as f32,
+                    pdf: area_pdf(distance, cos_l, half_mm),
                 })
             }
         }
@@ -183,18 +182,14 @@ impl AreaLight {
             AreaLight::Sphere {
                 center, radius_mm, ..
             } => match sphere_cap(center - x, radius_mm) {
-                Some((axis, cap)) if in_cap(dir, axis, cap) => (1.0 / (2.0 * PI * cap)) as f32,
+                Some((axis, cap)) if in_cap(dir, axis, cap) => cone_pdf(cap),
                 _ => 0.0,
             },
             AreaLight::Rect {
                 normal, half_mm, ..
-            } => match self.rect_hit(x, dir) {
-                Some(t) => {
-                    let area = 4.0 * half_mm[0] * half_mm[1];
-                    (t * t / (area * -dir.dot(normal))) as f32
-                }
-                None => 0.0,
-            },
+            } => self
+                .rect_hit(x, dir)
+                .map_or(0.0, |t| area_pdf(t, -dir.dot(normal), half_mm)),
         }
     }
 
@@ -245,6 +240,17 @@ impl AreaLight {
         let local = x + dir * t - center;
         (local.dot(across).abs() <= half_mm[0] && local.dot(up).abs() <= half_mm[1]).then_some(t)
     }
+}
+
+/// The density per steradian of directions drawn uniformly over a cone of `1 − cos α = cap`.
+fn cone_pdf(cap: f64) -> f32 {
+    (1.0 / (2.0 * PI * cap)) as f32
+}
+
+/// The density per steradian of points drawn uniformly over a rectangle of half sizes
+/// `half_mm`, seen at `distance` mm at `cos_l` to its normal: `t² / (A cos θ_l)`.
+fn area_pdf(distance: f64, cos_l: f64, half_mm: [f64; 2]) -> f32 {
+    (distance * distance / (4.0 * half_mm[0] * half_mm[1] * cos_l)) as f32
 }
 
 /// The cap of directions a ball fills seen from a point `to_center` away from its centre:
