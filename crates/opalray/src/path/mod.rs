@@ -29,7 +29,7 @@
 //! - **The light** (directional or point): next-event estimation at every domain crossing and
 //!   potch scattering, through the one refracted path from the light ([`refracted_entry`]),
 //!   with the surface's exact lensing, its spectrum filtered by every domain and potch on the
-//!   way. A sphere or rect light is estimated at the same events and backings ([`nee`]),
+//!   way. A sphere or rect light is estimated at the same events and backings (`nee.rs`),
 //!   balanced against the escaping paths that meet it. A domain adds
 //!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals.
 //! - Russian roulette below a weight of 0.02; at most `max_depth` events.
