@@ -43,16 +43,7 @@ impl Frame {
             "void_ratio": frame.void_ratio,
             "light_rays": frame.light_rays,
             "energy": frame.ledger,
-            "path": frame.path.map(|p| serde_json::json!({
-                "spp": p.spp,
-                "target_spp": p.target_spp,
-                "passes": p.passes,
-                "time_limit_s": p.time_limit_s,
-                "stopped_by_time_limit": p.stopped_by_time_limit,
-                "deterministic_given_spp": true,
-                "same_image_with": format!("--spp {} (integrator.spp)", p.spp),
-                "noise": p.noise,
-            })),
+            "path": frame.path.map(|p| p.to_json()),
             "peak_memory_mb": peak_memory_mb(),
         });
         Frame {

@@ -114,6 +114,23 @@ pub struct PathStats {
     pub noise: Option<Noise>,
 }
 
+impl PathStats {
+    /// The `path` section of the `--stats` JSON (and of the Python frame's stats): these
+    /// fields, and how to render the same image again.
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "spp": self.spp,
+            "target_spp": self.target_spp,
+            "passes": self.passes,
+            "time_limit_s": self.time_limit_s,
+            "stopped_by_time_limit": self.stopped_by_time_limit,
+            "deterministic_given_spp": true,
+            "same_image_with": format!("--spp {} (integrator.spp)", self.spp),
+            "noise": self.noise,
+        })
+    }
+}
+
 fn seconds(since: Instant) -> f64 {
     since.elapsed().as_secs_f64()
 }

@@ -162,16 +162,7 @@ pub fn run(args: Args) -> Result<()> {
             "void_ratio": frame.void_ratio,
             "light_rays": frame.light_rays,
             "energy": frame.ledger,
-            "path": frame.path.map(|p| json!({
-                "spp": p.spp,
-                "target_spp": p.target_spp,
-                "passes": p.passes,
-                "time_limit_s": p.time_limit_s,
-                "stopped_by_time_limit": p.stopped_by_time_limit,
-                "deterministic_given_spp": true,
-                "same_image_with": format!("--spp {} (integrator.spp)", p.spp),
-                "noise": p.noise,
-            })),
+            "path": frame.path.map(|p| p.to_json()),
             "peak_memory_mb": peak_memory_mb(),
         });
         outputs.write(stats, |path| write_json(path, &value))?;

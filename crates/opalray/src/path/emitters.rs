@@ -104,6 +104,13 @@ impl AreaLight {
         }
     }
 
+    /// The light's centre, mm (the stone's frame).
+    pub fn center(&self) -> Vec3 {
+        match *self {
+            AreaLight::Sphere { center, .. } | AreaLight::Rect { center, .. } => center.as_vec3(),
+        }
+    }
+
     /// The light's value (uniform over its surface).
     pub fn value(&self) -> f32 {
         match *self {
@@ -135,7 +142,7 @@ impl AreaLight {
                     direction: dir.as_vec3(),
                     distance_mm: distance as f32,
                     value,
-                    pdf: (1.0 / (2.0 * PI * cap)) as f32,
+                    pdf: cone_pdf(cap),
                 })
             }
             AreaLight::Rect {
@@ -156,12 +163,11 @@ impl AreaLight {
                 if cos_l <= 0.0 || distance <= 0.0 {
                     return None;
                 }
-                let area = 4.0 * half_mm[0] * half_mm[1];
                 Some(LightSample {
                     direction: dir.as_vec3(),
                     distance_mm: distance as f32,
                     value,
-                    pdf: (distance * distance / (area * cos_l)) as f32,
+                    pdf: area_pdf(distance, cos_l, half_mm),
                 })
             }
         }
@@ -176,18 +182,14 @@ impl AreaLight {
             AreaLight::Sphere {
                 center, radius_mm, ..
             } => match sphere_cap(center - x, radius_mm) {
-                Some((axis, cap)) if in_cap(dir, axis, cap) => (1.0 / (2.0 * PI * cap)) as f32,
+                Some((axis, cap)) if in_cap(dir, axis, cap) => cone_pdf(cap),
                 _ => 0.0,
             },
             AreaLight::Rect {
                 normal, half_mm, ..
-            } => match self.rect_hit(x, dir) {
-                Some(t) => {
-                    let area = 4.0 * half_mm[0] * half_mm[1];
-                    (t * t / (area * -dir.dot(normal))) as f32
-                }
-                None => 0.0,
-            },
+            } => self
+                .rect_hit(x, dir)
+                .map_or(0.0, |t| area_pdf(t, -dir.dot(normal), half_mm)),
         }
     }
 
@@ -240,6 +242,17 @@ impl AreaLight {
     }
 }
 
+/// The density per steradian of directions drawn uniformly over a cone of `1 − cos α = cap`.
+fn cone_pdf(cap: f64) -> f32 {
+    (1.0 / (2.0 * PI * cap)) as f32
+}
+
+/// The density per steradian of points drawn uniformly over a rectangle of half sizes
+/// `half_mm`, seen at `distance` mm at `cos_l` to its normal: `t² / (A cos θ_l)`.
+fn area_pdf(distance: f64, cos_l: f64, half_mm: [f64; 2]) -> f32 {
+    (distance * distance / (4.0 * half_mm[0] * half_mm[1] * cos_l)) as f32
+}
+
 /// The cap of directions a ball fills seen from a point `to_center` away from its centre:
 /// `(axis, 1 − cos α)`; `None` from inside the ball.
 fn sphere_cap(to_center: DVec3, radius: f64) -> Option<(DVec3, f64)> {
@@ -275,13 +288,18 @@ fn ray_sphere(x: DVec3, dir: DVec3, center: DVec3, radius: f64) -> Option<f64> {
     Some(b - h2.max(0.0).sqrt())
 }
 
-/// What a ray leaving the stone at `origin` along `dir` (unit, the stone's frame) sees: the
-/// area light where it meets it (the light hides the environment behind it), else the
-/// environment.
-pub fn seen(environment: &Environment, light: Option<&AreaLight>, origin: Vec3, dir: Vec3) -> f32 {
+/// What a ray leaving the stone at `origin` along `dir` (unit, the stone's frame) sees:
+/// `(value, true)`, the area light where it meets it (the light hides the environment behind
+/// it), else `(value, false)`, the environment.
+pub fn seen(
+    environment: &Environment,
+    light: Option<&AreaLight>,
+    origin: Vec3,
+    dir: Vec3,
+) -> (f32, bool) {
     match light.and_then(|l| l.hit(origin, dir)) {
-        Some((_, value)) => value,
-        None => environment.value(dir),
+        Some((_, value)) => (value, true),
+        None => (environment.value(dir), false),
     }
 }
 

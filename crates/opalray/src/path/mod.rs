@@ -28,7 +28,9 @@
 //!   entry face (the stack reflects within its penetration depth, tens of µm).
 //! - **The light** (directional or point): next-event estimation at every domain crossing and
 //!   potch scattering, through the one refracted path from the light ([`refracted_entry`]),
-//!   its spectrum filtered by every domain and potch on the way. A domain adds
+//!   with the surface's exact lensing, its spectrum filtered by every domain and potch on the
+//!   way. A sphere or rect light is estimated at the same events and backings (`nee.rs`),
+//!   balanced against the escaping paths that meet it. A domain adds
 //!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals.
 //! - Russian roulette below a weight of 0.02; at most `max_depth` events.
 //!
@@ -39,6 +41,7 @@
 pub mod emitters;
 pub mod env;
 pub mod env_map;
+mod nee;
 pub mod noise;
 pub mod passes;
 pub mod spectral;
@@ -61,6 +64,8 @@ pub use env::{EnvSample, Environment};
 pub use noise::Noise;
 pub use passes::{trace_passes, PassReport, Passes};
 pub use spectral::{Lines, SpectralSampler};
+
+use nee::Drawn;
 
 /// Paths whose weight falls below this play Russian roulette.
 const ROULETTE_BELOW: f32 = 0.02;
@@ -158,6 +163,8 @@ struct PathState {
     /// The domain whose face reflected it (left through that face).
     skip: Option<u32>,
     region: Region,
+    /// How its first segment was drawn, where light was also estimated there.
+    drawn: Option<Drawn>,
 }
 
 struct Tracer<'a> {
@@ -168,6 +175,8 @@ struct Tracer<'a> {
     lines: Vec<ActiveLine>,
     light_spans: Vec<Span>,
     light_lines: Vec<ActiveLine>,
+    /// Whether the area light is estimated at events (else found only by escaping paths).
+    area_estimation: bool,
 }
 
 impl<'a> Tracer<'a> {
@@ -180,6 +189,7 @@ impl<'a> Tracer<'a> {
             lines: Vec::with_capacity(16),
             light_spans: Vec::with_capacity(64),
             light_lines: Vec::with_capacity(16),
+            area_estimation: true,
         }
     }
 
@@ -220,6 +230,7 @@ impl<'a> Tracer<'a> {
             lines: Lines::default(),
             skip: None,
             region,
+            drawn: None,
         };
         self.inside(start, FIRST_SPLITS, 0, rng, acc, bins);
     }
@@ -227,6 +238,11 @@ impl<'a> Tracer<'a> {
     /// What a ray leaving the stone at `origin` along `dir` sees: the environment, or the area
     /// light where it meets it.
     fn escaped(&self, origin: Vec3, dir: Vec3) -> f32 {
+        self.escaped_to(origin, dir).0
+    }
+
+    /// [`Tracer::escaped`], and whether it is the area light.
+    fn escaped_to(&self, origin: Vec3, dir: Vec3) -> (f32, bool) {
         emitters::seen(
             &self.setup.environment,
             self.setup.area_light.as_ref(),
@@ -272,12 +288,13 @@ impl<'a> Tracer<'a> {
             mut lines,
             mut skip,
             mut region,
+            drawn,
         } = state;
         let mut hint = None;
         let mut first_in_cap = region == Region::Cap;
-        // The density (per steradian, inside) with which a scattering drew this segment's
-        // direction, when the environment was also sampled there: the MIS weight of its escape.
-        let mut drawn_with: Option<(f32, Vec3)> = None;
+        // How a scattering or a branch drew this segment's direction, when light was also
+        // sampled there: the MIS weight of its escape.
+        let mut drawn_with = drawn;
         let sample_env = stone.cap.is_none();
         for level in depth..self.setup.max_depth {
             let ray = Ray {
@@ -343,10 +360,15 @@ impl<'a> Tracer<'a> {
                     if sample_env {
                         let phase = |to: Vec3| hg_phase(g, to.dot(incoming));
                         self.environment_at(pos, &phase, &lines, weight, rng, acc, bins);
+                        self.area_at(pos, &phase, &lines, weight, rng, acc, bins);
                     }
                     dir = sample_hg(dir, g, rng);
                     hint = None;
-                    sample_env.then(|| (hg_phase(g, dir.dot(incoming)), pos))
+                    sample_env.then(|| Drawn {
+                        density: hg_phase(g, dir.dot(incoming)),
+                        from: pos,
+                        environment: true,
+                    })
                 }
                 Event::Boundary(Boundary::Surface) => {
                     // Both ways at once: what escapes is added now (its share 1 − F), the
@@ -358,18 +380,12 @@ impl<'a> Tracer<'a> {
                     let f = fresnel_dielectric(cos, n, 1.0);
                     if f < 1.0 {
                         if let Some(out) = refract(dir, normal, n, 1.0) {
-                            let mut v = self.escaped(exit, out);
-                            if let Some((p_dir, from)) = drawn_with.filter(|_| v > 0.0) {
-                                // Drawn by a scattering that also sampled the environment:
-                                // the balance heuristic over external solid angle, where the
-                                // environment's draw would have found this same path.
-                                if self.entry_found(from, out, exit) {
-                                    if let Some(j) = self.spread_out(from, dir) {
-                                        let p_b = p_dir / j;
-                                        let p_l = self.setup.environment.pdf(out);
-                                        v *= p_b / (p_b + p_l);
-                                    }
-                                }
+                            let (mut v, light) = self.escaped_to(exit, out);
+                            if let Some(drawn) = drawn_with.filter(|_| v > 0.0) {
+                                // Drawn where light was also sampled: the balance heuristic
+                                // over external solid angle, against the draws that would
+                                // have found this same path.
+                                v *= self.escape_weight(&drawn, dir, out, exit, light);
                             }
                             if v > 0.0 {
                                 let value = weight * (1.0 - f) * n * n * v;
@@ -402,10 +418,15 @@ impl<'a> Tracer<'a> {
                     if sample_env {
                         let lambert = |to: Vec3| to.z.max(0.0) / PI;
                         self.environment_at(pos, &lambert, &lines, weight, rng, acc, bins);
+                        self.area_at(pos, &lambert, &lines, weight, rng, acc, bins);
                     }
                     dir = cosine_about_z(rng);
                     hint = None;
-                    sample_env.then(|| (dir.z / PI, pos))
+                    sample_env.then(|| Drawn {
+                        density: dir.z / PI,
+                        from: pos,
+                        environment: true,
+                    })
                 }
                 Event::Boundary(Boundary::CapPlane) => {
                     // Between the opal slice and the cap: reflected with probability F,
@@ -461,6 +482,16 @@ impl<'a> Tracer<'a> {
     /// refracted out through the surface: the surface's lensing, its curvature included
     /// (finite differences of two neighbouring rays); `None` where they do not all leave.
     fn spread_out(&self, x: Vec3, d: Vec3) -> Option<f32> {
+        let (rays, inside) = self.fan_out(x, d)?;
+        let [(_, o0), (_, o1), (_, o2)] = rays;
+        let outside = (o1 - o0).cross(o2 - o0).length();
+        (inside > 0.0 && outside > 0.0).then(|| outside / inside)
+    }
+
+    /// The rays leaving `x` inside along `d` and two neighbours, refracted out: each one's
+    /// exit point and direction outside, and twice the solid angle of their triangle inside
+    /// (of the order of the step squared); `None` where they do not all leave.
+    fn fan_out(&self, x: Vec3, d: Vec3) -> Option<([(Vec3, Vec3); 3], f32)> {
         const STEP: f32 = 2e-3;
         let shape = &self.stone.shape;
         let n = self.n_eff;
@@ -471,14 +502,12 @@ impl<'a> Tracer<'a> {
             };
             let (_, t) = shape.intersect(&ray)?;
             let p = ray.at(t.max(0.0));
-            refract(dir, -shape.normal(p), n, 1.0)
+            Some((p, refract(dir, -shape.normal(p), n, 1.0)?))
         };
         let (t, b) = d.any_orthonormal_pair();
         let (d1, d2) = ((d + STEP * t).normalize(), (d + STEP * b).normalize());
-        let (o0, o1, o2) = (out(d)?, out(d1)?, out(d2)?);
-        let inside = (d1 - d).cross(d2 - d).length();
-        let outside = (o1 - o0).cross(o2 - o0).length();
-        (inside > 0.0 && outside > 0.0).then(|| outside / inside)
+        let rays = [out(d)?, out(d1)?, out(d2)?];
+        Some((rays, (d1 - d).cross(d2 - d).length()))
     }
 
     /// Russian roulette below [`ROULETTE_BELOW`]: `false` if the path ends.
@@ -514,45 +543,37 @@ impl<'a> Tracer<'a> {
         if sample.pdf <= 0.0 {
             return;
         }
-        let stone = self.stone;
-        let source = LightSource::Directional {
-            direction: -sample.direction,
-        };
-        let Some((entry, d, _)) = refracted_entry(&stone.shape, &source, self.n_eff, x, None)
-        else {
+        let Some(inbound) = self.refracted_in(x, sample.direction) else {
             return;
         };
-        if stone.back.is_some_and(|b| entry.z <= b.z + EPSILON_MM) {
-            return;
-        }
-        let to_light = -d;
-        let f = density(to_light);
+        let f = density(inbound.to_light);
         if f <= 0.0 {
             return;
         }
-        let value = self.escaped(entry, sample.direction);
+        let (value, light) = self.escaped_to(inbound.entry, sample.direction);
         if value <= 0.0 {
             return;
         }
-        // The exact spread of directions through the curved surface (not a flat element's).
-        let Some(j) = self.spread_out(x, to_light) else {
-            return;
+        let p_b = f / inbound.spread;
+        // Where it meets the area light, that light's own draw finds the same path.
+        let p_area = if light {
+            self.area_pdf(x, sample.direction)
+        } else {
+            0.0
         };
-        let cos_out = sample.direction.dot(stone.shape.normal(entry)).max(0.0);
-        let fresnel = fresnel_dielectric(cos_out, 1.0, self.n_eff);
-        let irradiance = (1.0 - fresnel) * self.n_eff * self.n_eff / j;
-        let p_b = f / j;
-        let mis = sample.pdf / (sample.pdf + p_b);
-        let distance = (entry - x).length();
-        let Some((transmitted, notches)) = self.towards_light(x, to_light, distance, None) else {
-            return;
-        };
-        let mut lines = *path;
-        for n in &notches {
-            lines.transmit(*n);
-        }
-        let contribution = weight * f * value * irradiance * transmitted * mis / sample.pdf;
-        self.add(&lines, contribution, rng, acc, bins);
+        let mis = sample.pdf / (sample.pdf + p_b + p_area);
+        let irradiance = inbound.gain;
+        self.add_towards(
+            x,
+            inbound.to_light,
+            inbound.distance,
+            None,
+            path,
+            |transmitted| weight * f * value * irradiance * transmitted * mis / sample.pdf,
+            rng,
+            acc,
+            bins,
+        );
     }
 
     /// A domain crossing of `ray` at `t0` over `chord`: light estimation, the reflection
@@ -584,24 +605,46 @@ impl<'a> Tracer<'a> {
         // The branches below refill `self.lines`: this crossing keeps its own.
         let here = std::mem::take(&mut self.lines);
         let face = ray.at(t0);
+        // After the first splits, one reflection, drawn with twice the lines' share of white
+        // light (at most ¼), as a branch: its weight is about 1/(2 × its share), never large
+        // against what its line passes.
+        let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
+        for (e, l) in energy.iter_mut().zip(&here) {
+            *e = line_energy(&l.line);
+        }
+        let energy = &energy[..here.len().min(MAX_LINES_PER_CROSSING)];
+        let total: f64 = energy.iter().sum();
+        let p_branch = (2.0 * total).min(MAX_BRANCH_PROBABILITY);
+        if self.estimated_area_light().is_some() {
+            // Each line's probability of its branch, for the balance against the area light.
+            let mut pick = [1.0f64; MAX_LINES_PER_CROSSING];
+            if splits == 0 {
+                for (p, e) in pick.iter_mut().zip(energy) {
+                    *p = p_branch * e / total;
+                }
+            }
+            let n = energy.len();
+            self.area_at_domain(
+                x,
+                dir,
+                domain,
+                &here[..n],
+                &pick[..n],
+                lines,
+                weight,
+                rng,
+                acc,
+                bins,
+            );
+        }
         if splits > 0 {
             // Every reflection as a branch of its own.
             for line in &here {
                 self.branch(
-                    face, dir, domain, line, weight, *lines, level, rng, acc, bins,
+                    face, x, dir, domain, line, 1.0, weight, *lines, level, rng, acc, bins,
                 );
             }
         } else {
-            // One reflection, drawn with twice the lines' share of white light (at most ¼),
-            // as a branch: its weight is about 1/(2 × its share), never large against what
-            // its line passes.
-            let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
-            for (e, l) in energy.iter_mut().zip(&here) {
-                *e = line_energy(&l.line);
-            }
-            let energy = &energy[..here.len().min(MAX_LINES_PER_CROSSING)];
-            let total: f64 = energy.iter().sum();
-            let p_branch = (2.0 * total).min(MAX_BRANCH_PROBABILITY);
             if rng.uniform() < p_branch {
                 let mut u = rng.uniform() * total;
                 let mut pick = here.len() - 1;
@@ -612,12 +655,15 @@ impl<'a> Tracer<'a> {
                     }
                     u -= e;
                 }
-                let w = weight / (p_branch * energy[pick] / total) as f32;
+                let p_pick = p_branch * energy[pick] / total;
+                let w = weight / p_pick as f32;
                 self.branch(
                     face,
+                    x,
                     dir,
                     domain,
                     &here[pick],
+                    p_pick,
                     w,
                     *lines,
                     level,
@@ -635,14 +681,17 @@ impl<'a> Tracer<'a> {
     }
 
     /// Follow the reflection of the ray along `dir` by `line` of `domain` at its face `face`
-    /// as a path of its own, with weight `weight`.
+    /// as a path of its own, with weight `weight`; the branch was taken with probability
+    /// `p_pick` and the light estimated at `x`.
     #[allow(clippy::too_many_arguments)]
     fn branch(
         &mut self,
         face: Vec3,
+        x: Vec3,
         dir: Vec3,
         domain: u32,
         line: &ActiveLine,
+        p_pick: f64,
         weight: f32,
         lines: Lines,
         level: u32,
@@ -660,6 +709,7 @@ impl<'a> Tracer<'a> {
                 lines: branch,
                 skip: Some(domain),
                 region: Region::Opal,
+                drawn: self.drawn_branch(x, dir, d, line, p_pick),
             };
             self.inside(state, 0, level + 1, rng, acc, bins);
         }
@@ -699,17 +749,17 @@ impl<'a> Tracer<'a> {
     ///
     /// The one refracted path is solved through the outer surface into the opal: under a
     /// triplet's cap (two refractions) there is none, and light from under a backing is
-    /// blocked.
+    /// blocked. The irradiance is the surface's exact lensing ([`Tracer::light_spread`]).
     fn light_inside(&self, x: Vec3) -> Option<(Vec3, f32, f32)> {
         let light = self.setup.light?;
         if self.stone.cap.is_some() {
             return None;
         }
-        let (entry, d, irradiance) =
-            refracted_entry(&self.stone.shape, &light.source, self.n_eff, x, None)?;
+        let (entry, d, _) = refracted_entry(&self.stone.shape, &light.source, self.n_eff, x, None)?;
         if self.stone.back.is_some_and(|b| entry.z <= b.z + EPSILON_MM) {
             return None;
         }
+        let irradiance = self.light_spread(&light.source, entry, x, -d)?;
         Some((-d, irradiance * light.intensity, (entry - x).length()))
     }
 
@@ -781,18 +831,15 @@ impl<'a> Tracer<'a> {
         let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
             return;
         };
-        let Some((transmitted, notches)) = self.towards_light(x, to_light, distance, None) else {
-            return;
-        };
-        let mut lines = *path;
-        for n in &notches {
-            lines.transmit(*n);
-        }
         // π × E × phase: light travelling along −to_light turned into −dir.
         let phase = hg_phase(self.stone.potch.anisotropy, to_light.dot(dir));
-        self.add(
-            &lines,
-            weight * PI * irradiance * transmitted * phase,
+        self.add_towards(
+            x,
+            to_light,
+            distance,
+            None,
+            path,
+            |transmitted| weight * PI * irradiance * transmitted * phase,
             rng,
             acc,
             bins,
@@ -816,17 +863,14 @@ impl<'a> Tracer<'a> {
         if cos <= 0.0 {
             return;
         }
-        let Some((transmitted, notches)) = self.towards_light(x, to_light, distance, None) else {
-            return;
-        };
-        let mut lines = *path;
-        for n in &notches {
-            lines.transmit(*n);
-        }
         // π × ρ E cos / π (ρ is in the weight or the path's tint).
-        self.add(
-            &lines,
-            weight * irradiance * transmitted * cos,
+        self.add_towards(
+            x,
+            to_light,
+            distance,
+            None,
+            path,
+            |transmitted| weight * irradiance * transmitted * cos,
             rng,
             acc,
             bins,
