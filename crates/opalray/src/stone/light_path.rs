@@ -95,9 +95,15 @@ impl Stone {
     /// `cos θ_h = cos_h`: a Gaussian of the angle to the family normal, of standard deviation
     /// [`Stone::lobe_sigma`]; zero beyond [`LOBE_SIGMAS`].
     pub fn lobe_density(&self, line: &ActiveLine, h: Vec3, cos_h: f32) -> f32 {
+        self.lobe_density_within(line, h, cos_h, LOBE_SIGMAS)
+    }
+
+    /// [`Stone::lobe_density`] zero beyond `sigmas` standard deviations (not renormalised:
+    /// the Gaussian holds `1 − e^(−sigmas²/2)` of the lobe within them).
+    pub fn lobe_density_within(&self, line: &ActiveLine, h: Vec3, cos_h: f32, sigmas: f32) -> f32 {
         let sigma = self.lobe_sigma(line.kind, cos_h);
         let alpha = h.dot(line.normal).clamp(-1.0, 1.0).acos();
-        if alpha < LOBE_SIGMAS * sigma {
+        if alpha < sigmas * sigma {
             (-0.5 * (alpha / sigma).powi(2)).exp() / (2.0 * PI * sigma * sigma)
         } else {
             0.0

@@ -87,6 +87,9 @@ pub struct Scratch {
     lines: Vec<ActiveLine>,
 }
 
+/// One row of the light pass: its cells inside the stone (with their x) and their notches.
+type Row = (Vec<(usize, Cell)>, Vec<Notch>);
+
 /// The light of the scene's light stored on a grid over the stone's box.
 #[derive(Debug)]
 pub struct StoredLight {
@@ -143,7 +146,7 @@ impl StoredLight {
             notches: Vec::new(),
         };
         // One row along x per task, in row order.
-        let rows: Vec<(Vec<(usize, Cell)>, Vec<Notch>)> = (0..dims[1] * dims[2])
+        let rows: Vec<Row> = (0..dims[1] * dims[2])
             .into_par_iter()
             .map_init(Scratch::default, |scratch, row| {
                 let (y, z) = (row % dims[1], row / dims[1]);

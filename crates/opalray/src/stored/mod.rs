@@ -122,6 +122,7 @@ pub fn gather_view(stone: &Stone, light: &StoredLight, setup: &StoredSetup) -> S
                     let py = y as f32 + (row as f32 + rng.uniform_f32()) / spp as f32;
                     gather.sample(setup.camera.ray(px, py), &mut sums);
                 }
+                gather.finish_pixel(&mut sums);
                 let scale = 1.0 / spp as f64;
                 for c in 0..3 {
                     out[c] = ((sums.xyz[c] + sums.white * white_xyz[c]) * scale) as f32;
