@@ -53,6 +53,7 @@ impl Frame {
                 "same_image_with": format!("--spp {} (integrator.spp)", p.spp),
                 "noise": p.noise,
             })),
+            "stored": frame.stored,
             "peak_memory_mb": peak_memory_mb(),
         });
         Frame {

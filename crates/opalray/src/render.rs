@@ -400,7 +400,7 @@ impl Prepared {
             environment,
             gloss: s.render.gloss as f32,
             seed: sample_seed(s.structure.seed, s.integrator.seed),
-            cell_mm: s.integrator.cell_mm as f32,
+            cell_mm: s.integrator.cell_mm,
             spectral: &sampler,
         };
         let start = Instant::now();

@@ -98,6 +98,8 @@ pub struct StoredLight {
     /// Centre of the first cell (the box's lowest corner), mm.
     origin: Vec3,
     cell_mm: f32,
+    /// `cell_mm` as given.
+    cell_mm_given: f64,
     dims: [usize; 3],
     /// Per grid point, its index in `cells`, or [`OUTSIDE`].
     slot: Vec<u32>,
@@ -115,7 +117,7 @@ pub struct LightStats {
     /// Bragg lines stored (the notches of the domains crossed on the way in).
     pub notches: usize,
     /// Edge of a cell, mm.
-    pub cell_mm: f32,
+    pub cell_mm: f64,
     /// Bytes of the stored light.
     pub bytes: usize,
 }
@@ -123,7 +125,8 @@ pub struct LightStats {
 impl StoredLight {
     /// The light of `source` (intensity `intensity`) at every cell centre of a grid of edge
     /// `cell_mm` over the box of `stone`.
-    pub fn trace(stone: &Stone, source: LightSource, intensity: f32, cell_mm: f32) -> Self {
+    pub fn trace(stone: &Stone, source: LightSource, intensity: f32, cell_mm_given: f64) -> Self {
+        let cell_mm = cell_mm_given as f32;
         let half = stone.shape.semi_axes();
         let dims = half
             .to_array()
@@ -140,6 +143,7 @@ impl StoredLight {
             intensity,
             origin,
             cell_mm,
+            cell_mm_given,
             dims,
             slot: vec![OUTSIDE; dims[0] * dims[1] * dims[2]],
             cells: Vec::new(),
@@ -292,7 +296,7 @@ impl StoredLight {
             cells: self.cells.len(),
             lit_cells: self.cells.iter().filter(|c| c.irradiance > 0.0).count(),
             notches: self.notches.len(),
-            cell_mm: self.cell_mm,
+            cell_mm: self.cell_mm_given,
             bytes: self.slot.len() * 4
                 + self.cells.len() * std::mem::size_of::<Cell>()
                 + self.notches.len() * std::mem::size_of::<Notch>(),
@@ -308,28 +312,33 @@ mod tests {
     #[test]
     fn a_lookup_between_centres_is_near_the_exact_solve() {
         // Independent: the exact solve at the point itself.
-        let mut scene = preset("paper-stone").unwrap();
-        scene.integrator.cell_mm = 0.3;
+        let scene = preset("paper-stone").unwrap();
         let stone = Stone::new(&scene).unwrap();
         let source = LightSource::Directional {
             direction: Vec3::new(-0.5, 0.0, -0.866),
         };
-        let light = StoredLight::trace(&stone, source, 1.0, 0.3);
+        let light = StoredLight::trace(&stone, source, 1.0, 0.15);
         let stats = light.stats();
         assert!(stats.lit_cells > stats.cells / 2, "{stats:?}");
         let mut scratch = Scratch::default();
-        let mut worst: f32 = 0.0;
-        for k in 0..50 {
-            let t = k as f32 / 50.0;
+        let (mut worst, mut logs) = (0.0f32, Vec::new());
+        for k in 0..200 {
+            let t = k as f32 / 200.0;
             let x = Vec3::new(8.0 * t - 4.0, 3.0 - 5.0 * t, 1.5 - 2.5 * t);
-            let exact = light.solve(&stone, x, &mut scratch, &mut |_| {}).unwrap();
+            let Some(exact) = light.solve(&stone, x, &mut scratch, &mut |_| {}) else {
+                continue;
+            };
             let stored = light.at(&stone, x, &mut scratch, None).unwrap();
-            // Potch between the point and a centre dims the light: compare directions, and
-            // the irradiance within the transmittance of a cell's width of potch.
             worst = worst.max(exact.to_light.angle_between(stored.to_light));
-            let ratio = stored.irradiance / exact.irradiance;
-            assert!((0.3..3.0).contains(&ratio), "{x}: {ratio}");
+            logs.push((stored.irradiance / exact.irradiance).ln().abs());
         }
+        assert!(logs.len() > 150, "{} lit points", logs.len());
         assert!(worst < 0.01, "direction off by {worst} rad");
+        // The transmittance through the potch changes fast where the light's way in grazes a
+        // void (3 /mm): most points are close, a few at such shadow edges are not.
+        logs.sort_by(f32::total_cmp);
+        let (median, p90) = (logs[logs.len() / 2], logs[logs.len() * 9 / 10]);
+        eprintln!("|ln(stored / exact)|: median {median}, 90 % {p90}");
+        assert!(median < 0.05 && p90 < 0.25, "median {median}, 90 % {p90}");
     }
 }

@@ -54,7 +54,7 @@ pub struct StoredSetup<'a> {
     /// Seed of the sub-pixel positions.
     pub seed: u64,
     /// Edge of the light's grid cells, mm (`integrator.cell_mm`).
-    pub cell_mm: f32,
+    pub cell_mm: f64,
     /// The light's spectrum and the colour-matching functions.
     pub spectral: &'a SpectralSampler,
 }

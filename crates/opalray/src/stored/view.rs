@@ -212,7 +212,7 @@ impl<'a> Gather<'a> {
         weight: f32,
         sums: &mut Sums,
     ) {
-        let cell = self.setup.cell_mm;
+        let cell = self.setup.cell_mm as f32;
         let steps = ((span.t1 - span.t0) / cell).ceil().max(1.0);
         let step = (span.t1 - span.t0) / steps;
         let g = self.stone.potch.anisotropy;
