@@ -612,6 +612,27 @@ mod tests {
             ("[environment]\nkind = \"studio\"", "environment.kind"),
             ("[light]\nkind = \"none\"", "light.kind"),
             (
+                "[integrator]\nmethod = \"stored\"\n[environment]\nkind = \"studio\"",
+                "environment.kind",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\n[light]\nkind = \"sphere\"",
+                "light.kind",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\n[light]\nkind = \"none\"",
+                "light.kind",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\n[body]\ncut = \"triplet\"",
+                "body.cut",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\ncell_mm = 0.02",
+                "integrator.cell_mm",
+            ),
+            ("[integrator]\ncell_mm = 5.0", "integrator.cell_mm"),
+            (
                 "[domains]\nsphere_diameter_spread = 0.5",
                 "domains.sphere_diameter_spread",
             ),
