@@ -65,6 +65,41 @@ fn render_writes_an_image_and_its_statistics() {
 }
 
 #[test]
+fn a_stored_render_reports_its_rays_and_stored_light() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = opalray(
+        dir.path(),
+        &[
+            "render",
+            "--preset",
+            "paper-stone",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "-o",
+            "a.png",
+            "--stats",
+            "s.json",
+        ],
+        None,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("s.json")).unwrap()).unwrap();
+    assert!(stats["path"].is_null(), "no path samples");
+    assert_eq!(stats["stored"]["spp"], 4);
+    let light = &stats["stored"]["light"];
+    assert_eq!(light["cell_mm"], 0.15);
+    // The paper's ellipsoid of 10 × 7.5 × 2.5 mm holds (4π/3 · 187.5 mm³) / 0.15³ ≈ 232 700
+    // cell centres.
+    let cells = light["cells"].as_f64().unwrap();
+    assert!((cells / 232_700.0 - 1.0).abs() < 0.01, "{cells}");
+    assert!(light["lit_cells"].as_f64().unwrap() > 0.9 * cells);
+    assert!(stderr(&out).contains("rays per pixel"), "{}", stderr(&out));
+}
+
+#[test]
 fn time_limited_render_is_the_render_with_the_spp_it_reached() {
     // A limit of a millisecond stops after the first pass (2 spp): its image is the bytes of
     // `--spp 2`, and the stats say how many samples it reached and its noise.

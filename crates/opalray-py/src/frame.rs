@@ -44,6 +44,7 @@ impl Frame {
             "light_rays": frame.light_rays,
             "energy": frame.ledger,
             "path": frame.path.map(|p| p.to_json()),
+            "stored": frame.stored,
             "peak_memory_mb": peak_memory_mb(),
         });
         Frame {

@@ -10,6 +10,7 @@
 //!   -> build_optics     R, T, D tables over wavelength × angle           optics
 //!   -> trace_light      light stored per cluster                          light_pass
 //!   -> trace_view       spectral image H × W × bins                       view_pass
+//!      (or the path tracer on the stone model, path; or the two passes on it, stored)
 //!   -> to_rgb           CIE 1931 → XYZ → RGB, gamut-mapped               color
 //!   -> write_*          PNG | EXR | spectral EXR                          output
 //! ```
@@ -28,6 +29,7 @@ pub mod scene;
 pub mod simd;
 pub mod spectrum;
 pub mod stone;
+pub mod stored;
 pub mod structure;
 pub mod view_pass;
 

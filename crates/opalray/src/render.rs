@@ -23,6 +23,7 @@ use crate::sampling::mix64;
 use crate::scene::{LightKind, Method, Scene, BODY_EXTINCTION_PER_MM};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
+use crate::stored::{gather_view, store_light, StoredSetup, StoredStats};
 use crate::structure::{grow_structure, Structure};
 use crate::view_pass::{trace_view, Shading, ViewSetup};
 
@@ -69,9 +70,11 @@ pub struct Prepared {
     pub structure: Structure,
     /// The cluster optics tables.
     pub optics: OpticsTables,
-    /// The stone model of the path integrator (`integrator.method = "path"`).
+    /// The stone model of the path integrator and the stored method (`integrator.method =
+    /// "path"` or `"stored"`).
     pub stone: Option<std::sync::Arc<Stone>>,
-    /// The path integrator's environment, its map read and its sampling distribution built.
+    /// The path integrator's environment, its map read and its sampling distribution built
+    /// (the stored method's: the backdrop).
     pub environment: Option<Environment>,
     /// Time of the structure and optics stages.
     pub times: StageTimes,
@@ -92,8 +95,10 @@ pub struct Frame {
     pub times: StageTimes,
     /// Void ratio of the structure (void cells / inside cells).
     pub void_ratio: f64,
-    /// The path integrator's samples and noise (`None` for the two passes).
+    /// The path integrator's samples and noise (`None` for the other methods).
     pub path: Option<PathStats>,
+    /// The stored method's samples and stored light (`None` for the other methods).
+    pub stored: Option<StoredStats>,
 }
 
 /// What the path integrator rendered: its samples, passes and noise.
@@ -147,7 +152,7 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
     times.optics = seconds(start);
     let (stone, environment) = match scene.integrator.method {
         Method::TwoPass => (None, None),
-        Method::Path => {
+        Method::Path | Method::Stored => {
             let start = Instant::now();
             let stone = Stone::new(scene)?;
             times.structure += seconds(start);
@@ -225,6 +230,9 @@ impl Prepared {
     /// report after each pass); the two passes ignore `passes`.
     pub fn render_progressive(&self, light_angle_deg: f64, passes: &Passes) -> Frame {
         if let (Some(stone), Some(environment)) = (&self.stone, &self.environment) {
+            if self.scene.integrator.method == Method::Stored {
+                return self.render_stored(stone, environment, light_angle_deg);
+            }
             return self.render_path(stone, environment, light_angle_deg, passes);
         }
         let start = Instant::now();
@@ -238,8 +246,8 @@ impl Prepared {
     /// [`Prepared::render`] with the stone's cells laid out once, for many frames (a sweep):
     /// `cells` must be [`StoneCells::new`] of this structure.
     pub fn render_in(&self, cells: &StoneCells, light_angle_deg: f64) -> Frame {
-        if let (Some(stone), Some(environment)) = (&self.stone, &self.environment) {
-            return self.render_path(stone, environment, light_angle_deg, &Passes::default());
+        if self.stone.is_some() {
+            return self.render_progressive(light_angle_deg, &Passes::default());
         }
         let s = &self.scene;
         let mut times = self.times;
@@ -295,6 +303,7 @@ impl Prepared {
             times,
             void_ratio: self.structure.stats.void_ratio,
             path: None,
+            stored: None,
         }
     }
 }
@@ -376,6 +385,75 @@ impl Prepared {
             times,
             void_ratio: self.structure.stats.void_ratio,
             path: Some(path),
+            stored: None,
+        }
+    }
+
+    /// The stored method's frame for light angle `light_angle_deg`: the light pass timed as
+    /// such, the view pass as such.
+    fn render_stored(
+        &self,
+        stone: &Stone,
+        environment: &Environment,
+        light_angle_deg: f64,
+    ) -> Frame {
+        let s = &self.scene;
+        let mut times = self.times;
+        let (camera, source) = self.placement(light_angle_deg);
+        let sampler = SpectralSampler::new(
+            s.light.illuminant,
+            &s.spectrum,
+            s.integrator.wavelengths as usize,
+        );
+        let setup = StoredSetup {
+            camera,
+            width: s.render.width as usize,
+            height: s.render.height as usize,
+            spp: s.integrator.spp,
+            light: PathLight {
+                source,
+                intensity: s.light.intensity as f32,
+                disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
+            },
+            environment,
+            gloss: s.render.gloss as f32,
+            seed: sample_seed(s.structure.seed, s.integrator.seed),
+            cell_mm: s.integrator.cell_mm,
+            spectral: &sampler,
+        };
+        let start = Instant::now();
+        let light = store_light(stone, &setup);
+        times.light_pass += seconds(start);
+        let start = Instant::now();
+        let image = gather_view(stone, &light, &setup);
+        times.view_pass = seconds(start);
+        let start = Instant::now();
+        let m = (xyz_to_rgb_adapted(RgbSpace::of(s.color.space), sampler.white_xyz)
+            * 2f64.powf(s.color.exposure_ev))
+        .as_mat3();
+        let data = image
+            .xyz
+            .iter()
+            .map(|&v| (m * glam::Vec3::from_array(v)).to_array())
+            .collect();
+        let rgb = RgbImage {
+            width: setup.width,
+            height: setup.height,
+            data,
+        };
+        times.color = seconds(start);
+        Frame {
+            spectral: image.spectral,
+            rgb,
+            light_rays: 0,
+            ledger: EnergyLedger::default(),
+            times,
+            void_ratio: self.structure.stats.void_ratio,
+            path: None,
+            stored: Some(StoredStats {
+                spp: setup.spp,
+                light: light.stats(),
+            }),
         }
     }
 

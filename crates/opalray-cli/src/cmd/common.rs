@@ -15,7 +15,8 @@ pub struct SceneArgs {
     pub scene: Option<PathBuf>,
     /// Start from a named preset instead of a file: black-opal, harlequin, pinfire,
     /// broad-flash, ribbon, white, crystal, boulder, doublet, triplet (gem stones, path
-    /// tracer), paper (the paper's model), paper-path.
+    /// tracer), paper (the paper's model), paper-path (its stone, path-traced), paper-stone
+    /// (its stone, the stored method's two passes).
     #[arg(long, value_name = "NAME", conflicts_with = "scene")]
     pub preset: Option<String>,
     /// Seed of every random stream (overrides structure.seed), 0 to 2^63 − 1.
@@ -150,7 +151,7 @@ pub struct LookArgs {
     #[arg(long, value_name = "EV", allow_hyphen_values = true)]
     pub exposure: Option<f64>,
     /// Samples per pixel of the path integrator (integrator.spp): more for smoother edges and
-    /// less noise, in proportion to the time.
+    /// less noise, in proportion to the time; the stored method's camera rays per pixel.
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub spp: Option<u32>,
     /// Rock the stone: tilt it towards the camera about the picture's horizontal axis,

@@ -38,7 +38,8 @@ pub struct Args {
     /// Also write the spectral image as OpenEXR, one channel per wavelength bin.
     #[arg(long, value_name = "FILE.exr")]
     pub spectral: Option<PathBuf>,
-    /// Write stage timings and statistics as JSON (the path integrator's: samples per pixel
+    /// Write stage timings and statistics as JSON (the stored method's: rays per pixel and the
+    /// stored light's cells; the path integrator's: samples per pixel
     /// rendered and the noise over the stone).
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
@@ -152,6 +153,18 @@ pub fn run(args: Args) -> Result<()> {
             }
         ));
     }
+    if let Some(stored) = &frame.stored {
+        let l = stored.light;
+        crate::stdio::note(format_args!(
+            "{} rays per pixel | light stored in {} cells of {} mm ({} lit, {} lines, {:.1} MB)",
+            stored.spp,
+            l.cells,
+            l.cell_mm,
+            l.lit_cells,
+            l.notches,
+            l.bytes as f64 / 1e6
+        ));
+    }
     if let Some(stats) = stats {
         let value = json!({
             "time_s": {"structure": t.structure, "optics": t.optics, "light_pass": t.light_pass,
@@ -163,6 +176,7 @@ pub fn run(args: Args) -> Result<()> {
             "light_rays": frame.light_rays,
             "energy": frame.ledger,
             "path": frame.path.map(|p| p.to_json()),
+            "stored": frame.stored,
             "peak_memory_mb": peak_memory_mb(),
         });
         outputs.write(stats, |path| write_json(path, &value))?;

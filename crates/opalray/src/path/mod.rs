@@ -77,8 +77,6 @@ const FIRST_SPLITS: u32 = 2;
 const MAX_LINES_PER_CROSSING: usize = 13;
 /// Most probability of a reflection branch at a domain crossing after the first segment.
 const MAX_BRANCH_PROBABILITY: f64 = 0.25;
-/// The lobe is treated as zero beyond this many standard deviations.
-const LOBE_SIGMAS: f32 = 4.0;
 
 /// The scene's light for the path integrator.
 #[derive(Clone, Copy, Debug)]
@@ -478,36 +476,9 @@ impl<'a> Tracer<'a> {
         )
     }
 
-    /// `dω_out / dω_in` of the rays leaving `x` inside along directions about `d` and
-    /// refracted out through the surface: the surface's lensing, its curvature included
-    /// (finite differences of two neighbouring rays); `None` where they do not all leave.
+    /// The surface's lensing `dω_out / dω_in` about `d` at `x` ([`Stone::spread_out`]).
     fn spread_out(&self, x: Vec3, d: Vec3) -> Option<f32> {
-        let (rays, inside) = self.fan_out(x, d)?;
-        let [(_, o0), (_, o1), (_, o2)] = rays;
-        let outside = (o1 - o0).cross(o2 - o0).length();
-        (inside > 0.0 && outside > 0.0).then(|| outside / inside)
-    }
-
-    /// The rays leaving `x` inside along `d` and two neighbours, refracted out: each one's
-    /// exit point and direction outside, and twice the solid angle of their triangle inside
-    /// (of the order of the step squared); `None` where they do not all leave.
-    fn fan_out(&self, x: Vec3, d: Vec3) -> Option<([(Vec3, Vec3); 3], f32)> {
-        const STEP: f32 = 2e-3;
-        let shape = &self.stone.shape;
-        let n = self.n_eff;
-        let out = |dir: Vec3| {
-            let ray = Ray {
-                origin: x,
-                direction: dir,
-            };
-            let (_, t) = shape.intersect(&ray)?;
-            let p = ray.at(t.max(0.0));
-            Some((p, refract(dir, -shape.normal(p), n, 1.0)?))
-        };
-        let (t, b) = d.any_orthonormal_pair();
-        let (d1, d2) = ((d + STEP * t).normalize(), (d + STEP * b).normalize());
-        let rays = [out(d)?, out(d1)?, out(d2)?];
-        Some((rays, (d1 - d).cross(d2 - d).length()))
+        self.stone.spread_out(x, d)
     }
 
     /// Russian roulette below [`ROULETTE_BELOW`]: `false` if the path ends.
@@ -731,36 +702,17 @@ impl<'a> Tracer<'a> {
         (cos_h > 0.0).then(|| (reflect(dir, h), self.line_at(domain, line, cos_h)))
     }
 
-    /// `line`'s family in `domain` met at `cos_theta` (the same layers).
+    /// `line`'s family in `domain` met at `cos_theta` ([`Stone::line_at`]).
     fn line_at(&self, domain: u32, line: &ActiveLine, cos_theta: f32) -> BraggLine {
-        let family = &self.stone.families.kinds[line.kind as usize];
-        let d = f64::from(self.stone.domains[domain as usize].sphere_diameter_nm);
-        let two_dn = 2.0 * f64::from(self.n_eff) * family.spacing_over_diameter * d;
-        BraggLine::new(
-            family.coupling,
-            two_dn,
-            f64::from(cos_theta),
-            line.line.layers,
-        )
+        self.stone.line_at(domain, line, cos_theta)
     }
 
-    /// The light reaching `x` straight: `(direction towards the light inside, irradiance across
-    /// the beam, distance to the entry point)`.
-    ///
-    /// The one refracted path is solved through the outer surface into the opal: under a
-    /// triplet's cap (two refractions) there is none, and light from under a backing is
-    /// blocked. The irradiance is the surface's exact lensing ([`Tracer::light_spread`]).
+    /// The light reaching `x` straight ([`Stone::light_entry`], the surface's exact
+    /// lensing), its irradiance scaled by the light's intensity.
     fn light_inside(&self, x: Vec3) -> Option<(Vec3, f32, f32)> {
         let light = self.setup.light?;
-        if self.stone.cap.is_some() {
-            return None;
-        }
-        let (entry, d, _) = refracted_entry(&self.stone.shape, &light.source, self.n_eff, x, None)?;
-        if self.stone.back.is_some_and(|b| entry.z <= b.z + EPSILON_MM) {
-            return None;
-        }
-        let irradiance = self.light_spread(&light.source, entry, x, -d)?;
-        Some((-d, irradiance * light.intensity, (entry - x).length()))
+        let (to_light, irradiance, distance) = self.stone.light_entry(&light.source, x)?;
+        Some((to_light, irradiance * light.intensity, distance))
     }
 
     /// Next-event estimation of the light at a domain crossing `x`: each of the domain's lines
@@ -789,10 +741,8 @@ impl<'a> Tracer<'a> {
         let mut hits: [(ActiveLine, f32); 4] = [(self.lines[0], 0.0); 4];
         let mut count = 0;
         for line in &self.lines {
-            let sigma = self.stone.lobe_sigma(line.kind, cos_h);
-            let alpha = h.dot(line.normal).clamp(-1.0, 1.0).acos();
-            if alpha < LOBE_SIGMAS * sigma && count < hits.len() {
-                let density = (-0.5 * (alpha / sigma).powi(2)).exp() / (2.0 * PI * sigma * sigma);
+            let density = self.stone.lobe_density(line, h, cos_h);
+            if density > 0.0 && count < hits.len() {
                 hits[count] = (*line, density);
                 count += 1;
             }
@@ -877,8 +827,9 @@ impl<'a> Tracer<'a> {
         );
     }
 
-    /// What lies between `x` and the light's entry point: the potch's transmittance and the
-    /// lines of the domains crossed (except `skip`).
+    /// What lies between `x` and the light's entry point ([`Stone::towards_light`]): the
+    /// transmittance and the lines of the domains crossed (except `skip`); `None` where under
+    /// 10⁻⁶ of the light passes.
     fn towards_light(
         &mut self,
         x: Vec3,
@@ -886,30 +837,16 @@ impl<'a> Tracer<'a> {
         distance: f32,
         skip: Option<u32>,
     ) -> Option<(f32, Vec<BraggLine>)> {
-        self.light_spans.clear();
-        let spans = &mut self.light_spans;
-        self.stone
-            .walk(x, to_light, 0.0, distance, None, &mut |s| spans.push(s));
-        let mut optical_depth = 0.0;
         let mut notches = Vec::new();
-        for k in 0..self.light_spans.len() {
-            let span = self.light_spans[k];
-            match span.domain {
-                None => optical_depth += self.stone.potch.extinction_per_mm * (span.t1 - span.t0),
-                Some(d) if Some(d) == skip => {
-                    optical_depth += self.stone.potch.domain_scattering_per_mm * (span.t1 - span.t0)
-                }
-                Some(d) => {
-                    optical_depth +=
-                        self.stone.potch.domain_scattering_per_mm * (span.t1 - span.t0);
-                    self.light_lines.clear();
-                    self.stone
-                        .lines(d, -to_light, span.t1 - span.t0, &mut self.light_lines);
-                    notches.extend(self.light_lines.iter().map(|l| l.line));
-                }
-            }
-        }
-        let t = (-optical_depth).exp();
+        let t = self.stone.towards_light(
+            x,
+            to_light,
+            distance,
+            skip,
+            &mut self.light_spans,
+            &mut self.light_lines,
+            &mut |_, line| notches.push(line),
+        );
         (t > 1e-6).then_some((t, notches))
     }
 }

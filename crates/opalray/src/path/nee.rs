@@ -105,39 +105,6 @@ impl Tracer<'_> {
         })
     }
 
-    /// The irradiance across the beam at `x` (relative to the light's, at the stone's centre
-    /// facing it) of `source`'s light entering at `entry` and travelling to `x` against
-    /// `to_light`, with the surface's exact lensing: a directional light's `(1 − F) n² / J`;
-    /// a point light's `(1 − F) n² I / (dA / dω)`, `I = |P|²` its intensity and `dA / dω` the
-    /// area swept on the plane through `P` across the beam per solid angle at `x` (the
-    /// rays traced back out; exact for a near light, and the `I J / r²` of a far one).
-    pub(super) fn light_spread(
-        &self,
-        source: &LightSource,
-        entry: Vec3,
-        x: Vec3,
-        to_light: Vec3,
-    ) -> Option<f32> {
-        let normal = self.stone.shape.normal(entry);
-        let cos_i = source.direction_to_light(entry).dot(normal);
-        if cos_i <= 0.0 {
-            return None;
-        }
-        let gain = (1.0 - fresnel_dielectric(cos_i, 1.0, self.n_eff)) * self.n_eff * self.n_eff;
-        match *source {
-            LightSource::Directional { .. } => Some(gain / self.spread_out(x, to_light)?),
-            LightSource::Point { position } => {
-                let (rays, inside) = self.fan_out(x, to_light)?;
-                let axis = rays[0].1;
-                let on_plane = rays.map(|(p, o)| p + o * ((position - p).dot(axis) / o.dot(axis)));
-                let [q0, q1, q2] = on_plane;
-                let area = (q1 - q0).cross(q2 - q0).length();
-                (inside > 0.0 && area > 0.0)
-                    .then(|| gain * position.length_squared() * inside / area)
-            }
-        }
-    }
-
     /// Walk from `x` towards the light (the potch's transmittance, the notches of the domains
     /// crossed but `skip`), then add `value(transmittance)` with the path's lines, those
     /// notches and `reflected` (a domain's line, if the light is reflected at `x`).

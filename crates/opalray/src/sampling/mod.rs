@@ -24,6 +24,8 @@ pub mod stage {
     pub const STONE: u64 = 5;
     /// Path integrator: one stream per pixel.
     pub const PATH: u64 = 6;
+    /// The stored method's sub-pixel positions.
+    pub const STORED: u64 = 7;
 }
 
 /// SplitMix64 finaliser: a bijective 64-bit mix (Steele, Lea, Flood 2014).

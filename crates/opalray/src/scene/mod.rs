@@ -201,6 +201,9 @@ impl Scene {
             }
         }
         self.validate_area_light()?;
+        if self.integrator.method == Method::Stored {
+            self.validate_stored()?;
+        }
         if self.integrator.method == Method::TwoPass && self.light.kind == LightKind::None {
             return Err(Error::field(
                 "light.kind",
@@ -239,7 +242,60 @@ impl Scene {
     }
 }
 
+/// Most grid points the stored method's light pass may store light at.
+pub const MAX_STORED_CELLS: f64 = 16e6;
+
 impl Scene {
+    /// The stored method takes the scene's directional or point light, no environment, no
+    /// triplet's cap, and a light grid that fits.
+    fn validate_stored(&self) -> Result<()> {
+        let kind = self.light.kind;
+        if !matches!(kind, LightKind::Directional | LightKind::Point) {
+            let name = match kind {
+                LightKind::Sphere => "sphere",
+                LightKind::Rect => "rect",
+                _ => "none",
+            };
+            return Err(Error::field(
+                "light.kind",
+                format!(
+                    "the stored method stores a directional or point light, not \"{name}\"; set \
+                     light.kind = \"directional\" or \"point\", or integrator.method = \"path\""
+                ),
+            ));
+        }
+        if self.environment.kind != EnvironmentKind::None {
+            return Err(Error::field(
+                "environment.kind",
+                "the stored method has no environment light; set integrator.method = \"path\" \
+                 or environment.kind = \"none\"",
+            ));
+        }
+        if self.body.cut == Cut::Triplet {
+            return Err(Error::field(
+                "body.cut",
+                "the stored method has no light under a triplet's cap; set integrator.method = \
+                 \"path\" or another body.cut",
+            ));
+        }
+        let axes = self.body.box_semi_axes(self.structure.semi_axes_mm);
+        let h = self.integrator.cell_mm;
+        let cells: f64 = axes.iter().map(|a| (2.0 * a / h).ceil() + 1.0).product();
+        if cells > MAX_STORED_CELLS {
+            let volume: f64 = axes.iter().map(|a| 2.0 * a).product();
+            let smallest = (volume / MAX_STORED_CELLS).cbrt() * 1.05;
+            return Err(Error::field(
+                "integrator.cell_mm",
+                format!(
+                    "{h} mm cells would make about {cells:.0} cells in this stone, more than the \
+                     limit of {MAX_STORED_CELLS:.0}; use at least {:.3} mm",
+                    (smallest * 1000.0).ceil() / 1000.0
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// A sphere or rect light needs the path integrator and must lie beyond the stone.
     fn validate_area_light(&self) -> Result<()> {
         let kind = self.light.kind;
@@ -555,6 +611,27 @@ mod tests {
             ("[integrator]\nspp = 0", "integrator.spp"),
             ("[environment]\nkind = \"studio\"", "environment.kind"),
             ("[light]\nkind = \"none\"", "light.kind"),
+            (
+                "[integrator]\nmethod = \"stored\"\n[environment]\nkind = \"studio\"",
+                "environment.kind",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\n[light]\nkind = \"sphere\"",
+                "light.kind",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\n[light]\nkind = \"none\"",
+                "light.kind",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\n[body]\ncut = \"triplet\"",
+                "body.cut",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\ncell_mm = 0.02",
+                "integrator.cell_mm",
+            ),
+            ("[integrator]\ncell_mm = 5.0", "integrator.cell_mm"),
             (
                 "[domains]\nsphere_diameter_spread = 0.5",
                 "domains.sphere_diameter_spread",

@@ -20,6 +20,7 @@ pub const PRESET_NAMES: &[&str] = &[
     "triplet",
     "paper",
     "paper-path",
+    "paper-stone",
 ];
 
 /// The preset `opalray render` renders when given no scene.
@@ -51,6 +52,9 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 /// - `paper-path`: the paper's stone and light rendered by the path tracer on the stone model
 ///   (domains as the growth's balls, every plane family, the rocking width, the half-vector
 ///   law, a 3 % spread of sphere sizes).
+/// - `paper-stone`: `paper-path` rendered by the stored method, the paper's two passes on the
+///   stone model (light stored per 0.15 mm cell, single reflection, no noise), at 4 camera
+///   rays per pixel.
 pub fn preset(name: &str) -> Result<Scene> {
     let gem = |domains: DomainsConfig, body: BodyConfig, tone: u8| {
         let mut scene = Scene {
@@ -111,6 +115,12 @@ pub fn preset(name: &str) -> Result<Scene> {
             // The paper's balls are large, single domains: an imperfect one tilts its planes
             // by a few degrees across its width.
             scene.domains.mosaic_spread_deg = 4.0;
+            Ok(scene)
+        }
+        "paper-stone" => {
+            let mut scene = preset("paper-path")?;
+            scene.integrator.method = Method::Stored;
+            scene.integrator.spp = 4;
             Ok(scene)
         }
         "black-opal" => Ok(gem(settled(2.0), cabochon(4.0, 2.0), 1)),

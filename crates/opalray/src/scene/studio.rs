@@ -305,6 +305,10 @@ pub enum Method {
     /// The spectral path tracer on the stone model: domains as geometry, every plane family,
     /// the rocking width, lines evaluated at exact wavelengths.
     Path,
+    /// The paper's two passes on the stone model: light stored per grid cell of the stone,
+    /// then gathered from the eye (eq. (2)), each domain's lines at their exact wavelengths.
+    /// Single reflection only; deterministic, no noise (`integrator.spp`, `cell_mm`).
+    Stored,
 }
 
 /// Most samples per pixel of the path integrator (`integrator.spp`).
@@ -314,26 +318,33 @@ pub const MAX_SPP: u32 = 65_536;
 ///
 /// | field       | unit | default    | valid               |
 /// |-------------|------|------------|---------------------|
-/// | `method`    | –    | "two-pass" | "two-pass", "path"  |
+/// | `method`    | –    | "two-pass" | "two-pass", "path", "stored" |
 /// | `spp`       | –    | 16         | 1 ..= 65536         |
 /// | `max_depth` | –    | 8          | 1 ..= 256           |
 /// | `wavelengths` | –  | 4          | 1 ..= 64            |
 /// | `seed`      | –    | 0          | 0 ..= 2⁶³ − 1       |
+/// | `cell_mm`   | mm   | 0.15       | [0.02, 2]           |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct IntegratorConfig {
     /// The renderer.
     pub method: Method,
     /// Path: samples per pixel (camera rays, each uniform over the pixel: anti-aliasing);
-    /// with a time limit, the most that are rendered.
+    /// with a time limit, the most that are rendered. Stored: camera rays per pixel, at
+    /// stratified fixed positions.
     pub spp: u32,
     /// Path: most scattering events (surface, domain or potch) on one path.
     pub max_depth: u32,
     /// Path: wavelengths drawn per contribution, stratified over its spectral proposal.
     pub wavelengths: u32,
     /// Path: seed of the sample streams, mixed with `structure.seed` (which grows the stone):
-    /// another value renders the same stone with independent samples.
+    /// another value renders the same stone with independent samples. Stored: seed of the
+    /// sub-pixel positions.
     pub seed: u64,
+    /// Stored: edge of the grid cells the light is stored in, mm (finer: the light's
+    /// direction and the notches of the domains it crossed follow the stone more closely, at
+    /// the cube of the cost).
+    pub cell_mm: f64,
 }
 
 impl Default for IntegratorConfig {
@@ -344,6 +355,7 @@ impl Default for IntegratorConfig {
             max_depth: 8,
             wavelengths: 4,
             seed: 0,
+            cell_mm: 0.15,
         }
     }
 }
@@ -363,6 +375,7 @@ impl IntegratorConfig {
                 ));
             }
         }
+        check_range("integrator.cell_mm", self.cell_mm, 0.02, 2.0, 0.15)?;
         if i64::try_from(self.seed).is_err() {
             return Err(Error::field(
                 "integrator.seed",

@@ -11,6 +11,7 @@
 pub mod balls;
 pub mod body;
 pub mod grains;
+mod light_path;
 
 use glam::{Quat, Vec3};
 
@@ -24,6 +25,7 @@ use crate::structure::AXIS_111;
 
 use balls::Balls;
 use grains::{normal, Grains};
+pub use light_path::LOBE_SIGMAS;
 
 /// Rows of the rocking-width table over cos θ.
 const WIDTH_ROWS: usize = 64;
