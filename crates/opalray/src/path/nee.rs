@@ -121,6 +121,17 @@ impl Tracer<'_> {
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
+        if !path.reflects() {
+            // Without a reflection the path's spectrum is the light's (the notches are
+            // neglected, `spectral`): only the transmittance matters.
+            let t = self
+                .stone
+                .transmittance_towards(x, to_light, distance, &mut self.light_spans);
+            if t > 1e-6 {
+                self.add(path, value(t), rng, acc, bins);
+            }
+            return;
+        }
         let Some((transmitted, notches)) = self.towards_light(x, to_light, distance, skip) else {
             return;
         };

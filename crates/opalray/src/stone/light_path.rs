@@ -126,22 +126,41 @@ impl Stone {
         self.walk(x, to_light, 0.0, distance, None, &mut |s| spans.push(s));
         let mut optical_depth = 0.0;
         for span in spans.iter() {
-            let chord = span.t1 - span.t0;
-            match span.domain {
-                None => optical_depth += self.potch.extinction_per_mm * chord,
-                Some(d) => {
-                    optical_depth += self.potch.domain_scattering_per_mm * chord;
-                    if Some(d) != skip {
-                        lines.clear();
-                        self.lines(d, -to_light, chord, lines);
-                        for l in lines.iter() {
-                            notch(d, l.line);
-                        }
-                    }
+            optical_depth += self.optical_depth(span);
+            if let Some(d) = span.domain.filter(|&d| Some(d) != skip) {
+                lines.clear();
+                self.lines(d, -to_light, span.t1 - span.t0, lines);
+                for l in lines.iter() {
+                    notch(d, l.line);
                 }
             }
         }
         (-optical_depth).exp()
+    }
+
+    /// The transmittance of the potch and of the domains' haze between `x` and the point
+    /// `distance` mm along `to_light`: [`Stone::towards_light`] without the lines, for paths
+    /// whose spectrum the notches do not change (those not reflected by any line).
+    pub fn transmittance_towards(
+        &self,
+        x: Vec3,
+        to_light: Vec3,
+        distance: f32,
+        spans: &mut Vec<Span>,
+    ) -> f32 {
+        spans.clear();
+        self.walk(x, to_light, 0.0, distance, None, &mut |s| spans.push(s));
+        let optical_depth: f32 = spans.iter().map(|s| self.optical_depth(s)).sum();
+        (-optical_depth).exp()
+    }
+
+    /// Extinction × length of one span of a walk.
+    fn optical_depth(&self, span: &Span) -> f32 {
+        let sigma = match span.domain {
+            None => self.potch.extinction_per_mm,
+            Some(_) => self.potch.domain_scattering_per_mm,
+        };
+        sigma * (span.t1 - span.t0)
     }
 
     /// The line of `line`'s family in `domain` met at `cos_theta` (the same layers): the
