@@ -4,12 +4,14 @@
 mod camera;
 mod ellipsoid;
 mod grid;
+mod light;
 mod outline;
 mod surface;
 
 pub use camera::Camera;
 pub use ellipsoid::Ellipsoid;
 pub use grid::{CellGrid, Segment};
+pub use light::{refracted_entry, LightSource};
 pub use outline::{Cabochon, Outline, Surface};
 pub use surface::{fresnel_dielectric, reflect, refract};
 

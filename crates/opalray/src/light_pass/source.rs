@@ -1,46 +1,9 @@
 //! Light sources as seen from the opal's frame, and how light-pass rays are drawn from them.
 
-use glam::Vec3;
+pub use crate::geometry::LightSource;
 
 use crate::geometry::{Ellipsoid, Ray};
 use crate::sampling::Rng;
-
-/// A light in the opal's frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum LightSource {
-    /// Parallel light travelling along `direction` (unit, light → opal), irradiance 1 on a
-    /// plane perpendicular to it (times the spectrum's scale).
-    Directional {
-        /// Unit direction of travel.
-        direction: Vec3,
-    },
-    /// A point light at `position` (mm) with intensity such that the irradiance at the opal's
-    /// centre, facing the light, is 1.
-    Point {
-        /// Position, mm.
-        position: Vec3,
-    },
-}
-
-impl LightSource {
-    /// Unit direction from `p` towards the light.
-    pub fn direction_to_light(&self, p: Vec3) -> Vec3 {
-        match *self {
-            LightSource::Directional { direction } => -direction,
-            LightSource::Point { position } => (position - p).normalize(),
-        }
-    }
-
-    /// Irradiance at `p` on a plane facing the light, relative to the opal's centre.
-    pub fn irradiance_at(&self, p: Vec3) -> f32 {
-        match *self {
-            LightSource::Directional { .. } => 1.0,
-            LightSource::Point { position } => {
-                position.length_squared() / (position - p).length_squared()
-            }
-        }
-    }
-}
 
 /// Rays of the light pass: a stratified `side × side` lattice, each ray carrying an equal
 /// share of the power that falls on the opal's bounding sphere.
@@ -146,6 +109,7 @@ impl RayLattice {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     #[test]
     fn directional_lattice_delivers_unit_irradiance() {

@@ -48,9 +48,9 @@ pub mod spectral;
 
 use std::f32::consts::PI;
 
+use crate::geometry::refracted_entry;
+use crate::geometry::LightSource;
 use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, Ray};
-use crate::light_pass::direct::refracted_entry;
-use crate::light_pass::LightSource;
 use crate::optics::BraggLine;
 use crate::sampling::Rng;
 use crate::scene::Backing;

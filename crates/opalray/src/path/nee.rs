@@ -25,8 +25,8 @@ use glam::Vec3;
 
 use super::{Tracer, EPSILON_MM};
 use crate::geometry::fresnel_dielectric;
-use crate::light_pass::direct::refracted_entry;
-use crate::light_pass::LightSource;
+use crate::geometry::refracted_entry;
+use crate::geometry::LightSource;
 use crate::sampling::Rng;
 use crate::stone::ActiveLine;
 

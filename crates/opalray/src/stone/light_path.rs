@@ -12,9 +12,9 @@ use std::f32::consts::PI;
 use glam::Vec3;
 
 use super::{ActiveLine, Span, Stone};
+use crate::geometry::refracted_entry;
+use crate::geometry::LightSource;
 use crate::geometry::{fresnel_dielectric, refract, Ray};
-use crate::light_pass::direct::refracted_entry;
-use crate::light_pass::LightSource;
 use crate::optics::BraggLine;
 
 /// Offset kept between the back plane and an entry point that counts as from above, mm.

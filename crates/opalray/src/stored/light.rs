@@ -17,7 +17,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::light_pass::LightSource;
+use crate::geometry::LightSource;
 use crate::optics::BraggLine;
 use crate::stone::{ActiveLine, Span, Stone};
 
