@@ -357,16 +357,12 @@ impl Prepared {
         let (image, m) = self.trace_path(stone, environment, light_angle_deg, passes);
         times.view_pass = seconds(start);
         let start = Instant::now();
-        let data = image
-            .xyz
-            .iter()
-            .map(|&v| (m * glam::Vec3::from_array(v)).to_array())
-            .collect();
-        let rgb = RgbImage {
-            width: s.render.width as usize,
-            height: s.render.height as usize,
-            data,
-        };
+        let rgb = rgb_of_xyz(
+            &image.xyz,
+            m,
+            s.render.width as usize,
+            s.render.height as usize,
+        );
         times.color = seconds(start);
         let time_limit_s = passes.time_limit.map(|t| t.as_secs_f64());
         let path = PathStats {
@@ -428,19 +424,8 @@ impl Prepared {
         let image = gather_view(stone, &light, &setup);
         times.view_pass = seconds(start);
         let start = Instant::now();
-        let m = (xyz_to_rgb_adapted(RgbSpace::of(s.color.space), sampler.white_xyz)
-            * 2f64.powf(s.color.exposure_ev))
-        .as_mat3();
-        let data = image
-            .xyz
-            .iter()
-            .map(|&v| (m * glam::Vec3::from_array(v)).to_array())
-            .collect();
-        let rgb = RgbImage {
-            width: setup.width,
-            height: setup.height,
-            data,
-        };
+        let m = self.display_matrix(sampler.white_xyz);
+        let rgb = rgb_of_xyz(&image.xyz, m, setup.width, setup.height);
         times.color = seconds(start);
         Frame {
             spectral: image.spectral,
@@ -511,9 +496,29 @@ impl Prepared {
             },
             passes,
         );
-        let m = xyz_to_rgb_adapted(RgbSpace::of(s.color.space), sampler.white_xyz)
-            * 2f64.powf(s.color.exposure_ev);
-        (image, m.as_mat3())
+        (image, self.display_matrix(sampler.white_xyz))
+    }
+
+    /// XYZ (relative to the light's white `white_xyz`) → the scene's linear RGB, adapted to
+    /// its white and scaled by the exposure.
+    fn display_matrix(&self, white_xyz: [f64; 3]) -> glam::Mat3 {
+        let s = &self.scene;
+        (xyz_to_rgb_adapted(RgbSpace::of(s.color.space), white_xyz)
+            * 2f64.powf(s.color.exposure_ev))
+        .as_mat3()
+    }
+}
+
+/// A linear RGB image of the XYZ pixels `xyz` by the matrix `m`.
+fn rgb_of_xyz(xyz: &[[f32; 3]], m: glam::Mat3, width: usize, height: usize) -> RgbImage {
+    let data = xyz
+        .iter()
+        .map(|&v| (m * glam::Vec3::from_array(v)).to_array())
+        .collect();
+    RgbImage {
+        width,
+        height,
+        data,
     }
 }
 

@@ -476,11 +476,6 @@ impl<'a> Tracer<'a> {
         )
     }
 
-    /// The surface's lensing `dω_out / dω_in` about `d` at `x` ([`Stone::spread_out`]).
-    fn spread_out(&self, x: Vec3, d: Vec3) -> Option<f32> {
-        self.stone.spread_out(x, d)
-    }
-
     /// Russian roulette below [`ROULETTE_BELOW`]: `false` if the path ends.
     fn roulette(&self, weight: &mut f32, rng: &mut Rng) -> bool {
         if *weight < ROULETTE_BELOW {

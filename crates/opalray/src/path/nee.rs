@@ -9,7 +9,7 @@
 //! A direction `ω_o` outside (of an environment or area light sample) is solved for the one
 //! refracted path that reaches `x` (the entry point `e`, the direction `ω_i` inside); the
 //! value `v` seen from `e` along `ω_o` reaches `x` as `v (1 − F) n² / J` per steradian inside,
-//! `J = dω_o / dω_i` the lensing of the curved surface ([`Tracer::spread_out`], finite
+//! `J = dω_o / dω_i` the lensing of the curved surface ([`Stone::spread_out`](crate::stone::Stone::spread_out), finite
 //! differences of neighbouring rays). The estimate of `∫ ρ(ω_i) v_i(ω_i) dω_i` from one draw
 //! of density `q` (per steradian outside) is `ρ v (1 − F) n² / (J q)`.
 //!
@@ -93,7 +93,7 @@ impl Tracer<'_> {
         }
         let to_light = -d;
         // The exact spread of directions through the curved surface (not a flat element's).
-        let spread = self.spread_out(x, to_light)?;
+        let spread = self.stone.spread_out(x, to_light)?;
         let cos_out = out.dot(stone.shape.normal(entry)).max(0.0);
         let fresnel = fresnel_dielectric(cos_out, 1.0, self.n_eff);
         Some(Inbound {
@@ -279,7 +279,7 @@ impl Tracer<'_> {
         if !self.entry_found(drawn.from, out, exit) {
             return 1.0;
         }
-        let Some(j) = self.spread_out(drawn.from, dir) else {
+        let Some(j) = self.stone.spread_out(drawn.from, dir) else {
             return 1.0;
         };
         let p_b = drawn.density / j;
