@@ -19,9 +19,11 @@
 //!   plane reflects with probability F, else refracts.
 //! - **Domain crossing**: the families whose line can fall in the range at the ray's angle
 //!   ([`Stone::lines`], the layers set by the chord) reflect or pass it. The ray always goes
-//!   on through, carrying `1 − R` of each line; the reflections are branches: at the camera
-//!   ray's first two crossings every one, later one drawn with twice the lines' share of white
-//!   light (at most ¼), its weight divided by that probability. A reflection draws the lobe's normal `h` about the
+//!   on through, carrying `1 − R` of each line; the reflections are branches: at every
+//!   crossing of the camera ray's first segment every one, later one drawn with twice the
+//!   lines' share of the path's light (white light before any reflection, what the line
+//!   reflects of the path's line after one; at most ¼), its weight divided by that
+//!   probability. A reflection draws the lobe's normal `h` about the
 //!   family normal (Gaussian, the rocking width and the mosaic spread,
 //!   [`Stone::lobe_sigma`]) and mirrors the ray about `h`; its line is evaluated at the angle to
 //!   `h` — the half-vector law `λ = 2 d n̄ cos θ_h`. The reflection happens at the domain's
@@ -71,12 +73,15 @@ use nee::Drawn;
 const ROULETTE_BELOW: f32 = 0.02;
 /// Offset of a new ray's origin along its direction, mm (0.1 µm).
 const EPSILON_MM: f32 = 1e-4;
-/// Domain crossings of a camera ray's first segment at which every reflection is followed.
+/// Whether every reflection is followed at the crossings of a camera ray's first segment.
 const FIRST_SPLITS: u32 = 2;
 /// Most lines one domain crossing can have (one per family normal: 4 + 6 + 3).
 const MAX_LINES_PER_CROSSING: usize = 13;
 /// Most probability of a reflection branch at a domain crossing after the first segment.
 const MAX_BRANCH_PROBABILITY: f64 = 0.25;
+/// Least share of an already reflected path's light a line is drawn with, as a fraction of
+/// its share of white light (keeps every branch possible, so the estimate unbiased).
+const MIN_SHARE_OF_WHITE: f64 = 0.01;
 
 /// The scene's light for the path integrator.
 #[derive(Clone, Copy, Debug)]
@@ -571,12 +576,18 @@ impl<'a> Tracer<'a> {
         // The branches below refill `self.lines`: this crossing keeps its own.
         let here = std::mem::take(&mut self.lines);
         let face = ray.at(t0);
-        // After the first splits, one reflection, drawn with twice the lines' share of white
-        // light (at most ¼), as a branch: its weight is about 1/(2 × its share), never large
-        // against what its line passes.
+        // After the first splits, one reflection, drawn with twice the lines' share of the
+        // path's light (at most ¼), as a branch: its weight is about 1/(2 × its share), never
+        // large against what its line passes. Before any reflection the path's light is white;
+        // after one it lies in that line, and a second line's share is what it reflects there
+        // (so a second reflection is drawn as often as it can matter, and never weighs more than
+        // about half the first's).
         let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
         for (e, l) in energy.iter_mut().zip(&here) {
-            *e = line_energy(&l.line);
+            let white = line_energy(&l.line);
+            *e = lines
+                .reflectable_by(&l.line)
+                .map_or(white, |share| share.max(MIN_SHARE_OF_WHITE * white));
         }
         let energy = &energy[..here.len().min(MAX_LINES_PER_CROSSING)];
         let total: f64 = energy.iter().sum();
