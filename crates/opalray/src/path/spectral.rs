@@ -93,17 +93,16 @@ impl Lines {
         self.first_reflection.is_some()
     }
 
-    /// The most of the path's light that `line` can reflect: its reflectance at the
-    /// wavelengths where the path's first reflection carries its light (the line's centre and
-    /// one and half a stop-band half-width either side, or a side-lobe spacing for a thin
-    /// stack); `None` for a path not yet reflected, whose light is the light's white.
+    /// At most how much of the path's light `line` reflects: the bound of its reflectance
+    /// ([`BraggLine::bound_beyond`]) over the core of the path's first reflection line (its
+    /// stop band, or a side-lobe spacing for a thin stack, either side of its centre), where
+    /// the path's light lies; `None` for a path not yet reflected, whose light is white.
     pub fn reflectable_by(&self, line: &BraggLine) -> Option<f64> {
         let first = self.lines[self.first_reflection?].0;
         let reach = first
             .half_width_nm()
             .max(first.center_nm / first.layers.max(1.0));
-        let at = |k: f64| line.reflectance(first.center_nm + k * reach);
-        Some(at(0.0).max(at(-0.5)).max(at(0.5)).max(at(-1.0)).max(at(1.0)))
+        Some(line.bound_beyond((line.center_nm - first.center_nm).abs() - reach))
     }
 
     /// The spectral factor `Π f_k(λ)`.

@@ -28,12 +28,20 @@ pub struct Grains {
     dims: [usize; 3],
     starts: Vec<u32>,
     members: Vec<u32>,
-    /// Candidate neighbours of every seed (those whose boundary plane can bound its grain).
-    neighbours: Vec<Vec<u32>>,
-    /// The boundary planes of every grain, in the order of its neighbours: `q · m = c / 2`
-    /// with `m = s_j − s_i` and `c = |s_j|² − |s_i|² − w_j + w_i`.
-    planes: Vec<Vec<(Vec3, f32)>>,
+    /// The boundary faces of every grain, all grains' in one array: grain `i`'s are
+    /// `faces[face_start[i]..face_start[i + 1]]`, in the order of its neighbours' indices.
+    faces: Vec<Face>,
+    face_start: Vec<u32>,
     largest_weight: f32,
+}
+
+/// A face of a grain: the plane `q · m = c` (stretched space) it shares with grain `next`,
+/// `m = s_j − s_i`, `c = (|s_j|² − |s_i|² − w_j + w_i) / 2`.
+#[derive(Clone, Copy, Debug)]
+struct Face {
+    m: Vec3,
+    c: f32,
+    next: u32,
 }
 
 impl Grains {
@@ -80,8 +88,8 @@ impl Grains {
             dims,
             starts: Vec::new(),
             members: Vec::new(),
-            neighbours: Vec::new(),
-            planes: Vec::new(),
+            faces: Vec::new(),
+            face_start: Vec::new(),
             largest_weight: 0.0,
         };
         grains.largest_weight = grains.weights.iter().cloned().fold(0.0, f32::max);
@@ -191,45 +199,49 @@ impl Grains {
                 kept
             })
             .collect();
-        self.planes = neighbours
-            .iter()
-            .enumerate()
-            .map(|(i, list)| {
-                let (si, wi) = (self.seeds[i], self.weights[i]);
-                list.iter()
-                    .map(|&j| {
-                        let (sj, wj) = (self.seeds[j as usize], self.weights[j as usize]);
-                        (
-                            sj - si,
-                            0.5 * (sj.length_squared() - si.length_squared() - wj + wi),
-                        )
-                    })
-                    .collect()
-            })
-            .collect();
-        self.neighbours = neighbours;
+        self.face_start = Vec::with_capacity(neighbours.len() + 1);
+        self.face_start.push(0);
+        for (i, list) in neighbours.iter().enumerate() {
+            let (si, wi) = (self.seeds[i], self.weights[i]);
+            for &j in list {
+                let (sj, wj) = (self.seeds[j as usize], self.weights[j as usize]);
+                self.faces.push(Face {
+                    m: sj - si,
+                    c: 0.5 * (sj.length_squared() - si.length_squared() - wj + wi),
+                    next: j,
+                });
+            }
+            self.face_start.push(self.faces.len() as u32);
+        }
+    }
+
+    /// The faces of grain `i`.
+    #[inline]
+    fn faces_of(&self, i: u32) -> &[Face] {
+        let i = i as usize;
+        &self.faces[self.face_start[i] as usize..self.face_start[i + 1] as usize]
     }
 
     /// Whether `q` (stretched space) lies in grain `i`.
     fn holds(&self, i: u32, q: Vec3) -> bool {
-        self.planes[i as usize].iter().all(|&(m, c)| q.dot(m) <= c)
+        self.faces_of(i).iter().all(|f| q.dot(f.m) <= f.c)
     }
 
     /// The next boundary of grain `i` that `o + t·d` crosses after `t`, before `t_max`.
     #[inline]
     fn next_plane(&self, i: u32, o: Vec3, d: Vec3, t: f32, t_max: f32) -> (f32, Option<u32>) {
         let mut next = (t_max, None);
-        for (k, &(m, c)) in self.planes[i as usize].iter().enumerate() {
-            let denom = d.dot(m);
+        for f in self.faces_of(i) {
+            let denom = d.dot(f.m);
             if denom <= 0.0 {
                 continue;
             }
-            let tc = (c - o.dot(m)) / denom;
+            let tc = (f.c - o.dot(f.m)) / denom;
             if tc > t && tc < next.0 {
-                next = (tc, Some(k));
+                next = (tc, Some(f.next));
             }
         }
-        (next.0, next.1.map(|k| self.neighbours[i as usize][k]))
+        next
     }
 
     /// The first plane of `candidates` that the ray `o + t·d` (stretched space) crosses after
