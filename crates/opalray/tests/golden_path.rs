@@ -42,6 +42,10 @@ fn scene() -> Scene {
     // preset's settled plates): a quarter of the time for the same power.
     s.domains.stretch = [1.0, 1.0, 0.35];
     s.domains.orientation = OrientationLaw::Independent;
+    // The sphere sizes the reference was rendered with (each grain its own).
+    s.crystal.sphere_diameter_nm = 265.0;
+    s.domains.sphere_diameter_spread = 0.07;
+    s.domains.diameter_correlation_mm = 0.0;
     s.body.colour_bar_mm = 2.0;
     s.render.width = 48;
     s.render.height = 36;

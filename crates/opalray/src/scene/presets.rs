@@ -72,10 +72,13 @@ pub fn preset(name: &str) -> Result<Scene> {
         // exposes an opal on black velvet (the softbox's gloss clips).
         scene.environment.intensity = 11.0;
         scene.color.exposure_ev = 0.0;
-        // Under the studio's lights θ_h is 15–22°: D = 265 nm flashes orange-red there, and a
-        // 7 % spread of sphere sizes across the stone brings greens and blues beside it.
-        scene.crystal.sphere_diameter_nm = 265.0;
-        scene.domains.sphere_diameter_spread = 0.07;
+        // Under the studio's lights θ_h is 15–22°: D = 235 nm flashes green there (λ ≈ 2.33 D
+        // cos θ_h), and sizes varying by 10 % across the stone, alike within 4 mm, put blue
+        // (D ≈ 205 nm) at one end and orange-red (≈ 265 nm) at another, each patch of one
+        // colour through the plates of the bar.
+        scene.crystal.sphere_diameter_nm = 235.0;
+        scene.domains.sphere_diameter_spread = 0.10;
+        scene.domains.diameter_correlation_mm = 4.0;
         scene.light.kind = LightKind::None;
         scene.render.body_tone = tone;
         scene.crystal.diffuse_fraction = 0.0;
@@ -93,10 +96,6 @@ pub fn preset(name: &str) -> Result<Scene> {
         dome_height_mm: dome,
         colour_bar_mm: bar,
         ..BodyConfig::default()
-    };
-    let plates = |size: f64| DomainsConfig {
-        stretch: [1.0, 1.0, 0.35],
-        ..grains(size)
     };
     // Sedimentary opal: thin plates of settled layers, 0.24 mm thick for a 2 mm grain, so a
     // colour bar holds several along the view, each reflecting its own part of the room.
@@ -125,41 +124,46 @@ pub fn preset(name: &str) -> Result<Scene> {
         }
         "black-opal" => Ok(gem(settled(2.0), cabochon(4.0, 2.0), 1)),
         "harlequin" => Ok(gem(settled(3.0), cabochon(4.0, 2.5), 1)),
-        "pinfire" => Ok(gem(grains(0.6), cabochon(4.0, 1.5), 1)),
+        "pinfire" => {
+            // Pinpoints of every colour side by side: each tiny grain draws its own size.
+            let mut scene = gem(grains(0.6), cabochon(4.0, 1.5), 1);
+            scene.domains.diameter_correlation_mm = 0.0;
+            Ok(scene)
+        }
+        // Broad sheets of settled layers, their tilts alike: few large flashes.
         "broad-flash" => Ok(gem(
             DomainsConfig {
-                orientation: OrientationLaw::Correlated,
-                correlation_mm: 12.0,
-                orientation_spread_deg: 12.0,
-                ..plates(4.0)
+                orientation_spread_deg: 10.0,
+                ..settled(5.0)
             },
             cabochon(4.0, 2.0),
             1,
         )),
+        // Settled layers in long bands across the stone.
         "ribbon" => Ok(gem(
             DomainsConfig {
-                stretch: [1.0, 6.0, 0.5],
-                ..grains(1.5)
+                stretch: [1.0, 6.0, 0.12],
+                ..settled(2.0)
             },
             cabochon(4.0, 2.0),
             1,
         )),
         "white" => Ok(gem(
-            grains(1.5),
+            settled(2.0),
             BodyConfig {
-                potch_extinction_per_mm: 6.0,
-                domain_haze: 0.5,
+                potch_extinction_per_mm: 2.0,
+                domain_haze: 0.25,
                 ..cabochon(4.0, 0.0)
             },
             9,
         )),
+        // Rolling flash: large settled sheets of gently curved (imperfect) layers in clear
+        // opal.
         "crystal" => Ok(gem(
             DomainsConfig {
-                orientation: OrientationLaw::Correlated,
-                correlation_mm: 20.0,
-                orientation_spread_deg: 6.0,
+                orientation_spread_deg: 12.0,
                 mosaic_spread_deg: 3.0,
-                ..grains(5.0)
+                ..settled(5.0)
             },
             BodyConfig {
                 potch_extinction_per_mm: 0.05,

@@ -62,6 +62,7 @@ pub enum FamilyChoice {
 /// | `orientation_spread_deg` | deg  | 20.0           | [0, 180]                  |
 /// | `void_fraction`          | –    | 0.15           | [0, 1] (1: potch only)    |
 /// | `sphere_diameter_spread` | –    | 0.03           | [0, 0.3]                  |
+/// | `diameter_correlation_mm`| mm   | 0.0            | 0, or [0.1, 100]          |
 /// | `mosaic_spread_deg`      | deg  | 0.5            | [0, 20]                   |
 /// | `families`               | –    | "all"          | "all", "111"              |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -87,6 +88,9 @@ pub struct DomainsConfig {
     /// Relative standard deviation of the sphere diameter from domain to domain (the mean is
     /// `crystal.sphere_diameter_nm`).
     pub sphere_diameter_spread: f64,
+    /// Grains: distance over which the sphere size stays alike, mm (a smooth field of
+    /// correlation length this); 0: each grain draws its own.
+    pub diameter_correlation_mm: f64,
     /// Mosaic spread of a domain's planes, degrees (RMS tilt), added to the rocking width.
     pub mosaic_spread_deg: f64,
     /// The plane families that reflect.
@@ -105,6 +109,7 @@ impl Default for DomainsConfig {
             orientation_spread_deg: 20.0,
             void_fraction: 0.15,
             sphere_diameter_spread: 0.03,
+            diameter_correlation_mm: 0.0,
             mosaic_spread_deg: 0.5,
             families: FamilyChoice::All,
         }
@@ -161,6 +166,16 @@ impl DomainsConfig {
             0.3,
             0.03,
         )?;
+        let length = self.diameter_correlation_mm;
+        if !(length == 0.0 || (0.1..=100.0).contains(&length)) {
+            return Err(Error::field(
+                "domains.diameter_correlation_mm",
+                format!(
+                    "must be 0 (each grain its own size) or a number in [0.1, 100], got \
+                     {length}; try 5"
+                ),
+            ));
+        }
         check_range(
             "domains.mosaic_spread_deg",
             self.mosaic_spread_deg,

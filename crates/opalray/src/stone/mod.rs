@@ -12,6 +12,7 @@ pub mod balls;
 pub mod body;
 pub mod grains;
 mod light_path;
+pub mod size_field;
 
 use glam::{Quat, Vec3};
 
@@ -25,6 +26,7 @@ use crate::structure::AXIS_111;
 
 use balls::Balls;
 use grains::{normal, Grains};
+use size_field::SizeField;
 pub use light_path::LOBE_SIGMAS;
 
 /// Rows of the rocking-width table over cos θ.
@@ -220,6 +222,20 @@ impl Stone {
                     Grains::new(axes, d.correlation_mm as f32, 0.0, Vec3::ONE, &mut rng)
                 });
                 let spread = d.orientation_spread_deg.to_radians();
+                // Sphere sizes: a smooth field over the stone, or drawn grain by grain.
+                let sizes = (d.diameter_correlation_mm > 0.0).then(|| {
+                    let mut rng = Rng::new(seed, stage::STONE, 3);
+                    SizeField::new(d.diameter_correlation_mm, &mut rng)
+                });
+                let diameter_at = |i: usize, seed_q: Vec3| match &sizes {
+                    None => draw_diameter(i as u64),
+                    Some(field) => {
+                        let z = field.at(seed_q * stretch).clamp(-3.0, 3.0);
+                        (scene.crystal.sphere_diameter_nm
+                            * (1.0 + d.sphere_diameter_spread * f64::from(z)))
+                            as f32
+                    }
+                };
                 let mut domains = Vec::new();
                 let mut domain_of = Vec::with_capacity(grains.seeds.len());
                 for (i, seed_q) in grains.seeds.iter().enumerate() {
@@ -243,7 +259,7 @@ impl Stone {
                     domain_of.push(Some(domains.len() as u32));
                     domains.push(Domain {
                         orientation,
-                        sphere_diameter_nm: draw_diameter(i as u64),
+                        sphere_diameter_nm: diameter_at(i, *seed_q),
                     });
                 }
                 (Layout::Grains { grains, domain_of }, domains)
