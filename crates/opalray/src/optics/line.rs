@@ -78,21 +78,27 @@ impl BraggLine {
         0.5 * (grating_r(self.nu_s * ratio, sigma) + grating_r(self.nu_p * ratio, sigma))
     }
 
-    /// An upper bound of the unpolarised reflectance over every wavelength at least
-    /// `distance_nm` from the centre: per polarisation `min(1, ν'² / max(1, σ²))` at the
-    /// nearest such wavelength (`ν' = ν λ_B/λ`, `σ = πN(λ_B/λ − 1)`), since a uniform grating's
-    /// `R = ν² sin² s / (s² + ν² sin² s) ≤ ν²/σ²` off its stop band and `R ≤ tanh² ν ≤ min(1, ν²)`
-    /// everywhere. No trigonometry: cheap enough to weigh every line a path meets.
+    /// An upper bound of the unpolarised reflectance at every wavelength at least
+    /// `distance_nm` from the centre: per polarisation `min(1, k ν² / max(1, x²))`,
+    /// `x = πN d/λ_B`, `k = (1 − 1/(πN))⁻²`. A uniform grating's reflectance at `λ`, with
+    /// `ν' = ν λ_B/λ` and `σ = πN(λ_B/λ − 1)`, is `ν'² sin² s/(s² + ν'² sin² s) ≤ ν'²/σ²` off
+    /// its stop band (`s² = σ² − ν'²`), and `ν'²/σ² = ν²/x'²` with `x' = πN|λ − λ_B|/λ_B ≥ x`
+    /// on either side; everywhere `R ≤ tanh² ν' ≤ ν'²`, and within `x ≤ 1` of the centre
+    /// `λ_B/λ ≤ 1/(1 − 1/(πN))`. No trigonometry: cheap enough to weigh every line a path
+    /// meets.
     #[inline]
     pub fn bound_beyond(&self, distance_nm: f64) -> f64 {
-        let d = distance_nm.max(0.0);
-        // The nearer of the two wavelengths `d` from the centre in σ (the shorter one, where
-        // the ratio λ_B/λ is larger, is farther in σ for the same d).
-        let ratio = self.center_nm / (self.center_nm + d).max(1e-9);
-        let sigma = PI * self.layers * (ratio - 1.0);
-        let sigma2 = (sigma * sigma).max(1.0);
-        let bound = |nu: f64| ((nu * ratio).powi(2) / sigma2).min(1.0);
+        let pi_n = PI * self.layers.max(1.0);
+        let x = pi_n * distance_nm.max(0.0) / self.center_nm.max(1e-9);
+        let k = (1.0 - 1.0 / pi_n).powi(-2);
+        let bound = |nu: f64| (k * nu * nu / (x * x).max(1.0)).min(1.0);
         0.5 * (bound(self.nu_s) + bound(self.nu_p))
+    }
+
+    /// Half-width of the main lobe to its first zeros, nm: `σ = √(π² + ν²)` (s polarisation).
+    #[inline]
+    pub fn main_lobe_half_width_nm(&self) -> f64 {
+        self.center_nm * (PI * PI + self.nu_s * self.nu_s).sqrt() / (PI * self.layers).max(1e-9)
     }
 
     /// Peak reflectance (unpolarised), `(tanh² ν_s + tanh² ν_p)/2`.
@@ -161,6 +167,33 @@ pub fn rocking_fwhm_rad(coupling: f64, cos_theta0: f64, layers: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn bound_beyond_holds_over_every_wavelength_that_far_out() {
+        // Independent: the reflectance itself, scanned finely on both sides.
+        for layers in [3.0, 10.0, 50.0, 400.0] {
+            for coupling in [0.0005, 0.0037, 0.02] {
+                for cos in [1.0, 0.8, 0.5] {
+                    let line = BraggLine::new(coupling, 600.0, cos, layers);
+                    let width = line.main_lobe_half_width_nm();
+                    for step in 0..60 {
+                        let d = width * 0.1 * f64::from(step);
+                        let bound = line.bound_beyond(d);
+                        for k in 0..400 {
+                            let off = d + width * 0.02 * f64::from(k);
+                            for w in [line.center_nm - off, line.center_nm + off] {
+                                let r = line.reflectance(w);
+                                assert!(
+                                    r <= bound * (1.0 + 1e-9) + 1e-15,
+                                    "N {layers} g {coupling} cos {cos} d {d}: R({w}) = {r} > {bound}"
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
     use super::*;
     use crate::optics::ClusterStack;
     use crate::scene::CrystalConfig;

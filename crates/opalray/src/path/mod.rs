@@ -73,8 +73,6 @@ use nee::Drawn;
 const ROULETTE_BELOW: f32 = 0.02;
 /// Offset of a new ray's origin along its direction, mm (0.1 µm).
 const EPSILON_MM: f32 = 1e-4;
-/// Whether every reflection is followed at the crossings of a camera ray's first segment.
-const FIRST_SPLITS: u32 = 2;
 /// Most lines one domain crossing can have (one per family normal: 4 + 6 + 3).
 const MAX_LINES_PER_CROSSING: usize = 13;
 /// Most probability of a reflection branch at a domain crossing after the first segment.
@@ -235,7 +233,7 @@ impl<'a> Tracer<'a> {
             region,
             drawn: None,
         };
-        self.inside(start, FIRST_SPLITS, 0, rng, acc, bins);
+        self.inside(start, true, 0, rng, acc, bins);
     }
 
     /// What a ray leaving the stone at `origin` along `dir` sees: the environment, or the area
@@ -269,13 +267,13 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// The path `state` inside the stone. At the first `splits` domain crossings of its first
-    /// segment every reflection is followed (a branch each) and the ray goes on through as
-    /// well; after that a reflection branch is drawn at random.
+    /// The path `state` inside the stone. If `split`, every reflection at the domain crossings
+    /// of its first segment in the opal is followed (a branch each) and the ray goes on through
+    /// as well; elsewhere a reflection branch is drawn at random.
     fn inside(
         &mut self,
         state: PathState,
-        mut splits: u32,
+        mut split: bool,
         depth: u32,
         rng: &mut Rng,
         acc: &mut [f64; 3],
@@ -340,7 +338,7 @@ impl<'a> Tracer<'a> {
                     // A ray reflected at a domain's face leaves through that face.
                     if !(k == 0 && skip_first == Some(domain)) {
                         self.cross_domain(
-                            &ray, span.t0, chord, domain, weight, &mut lines, splits, level, rng,
+                            &ray, span.t0, chord, domain, weight, &mut lines, split, level, rng,
                             acc, bins,
                         );
                     }
@@ -460,7 +458,7 @@ impl<'a> Tracer<'a> {
             };
             // The camera ray's first segment in the opal splits (after a triplet's cap).
             if !(region == Region::Opal && first_in_cap) {
-                splits = 0;
+                split = false;
             }
             first_in_cap = false;
             if !self.roulette(&mut weight, rng) {
@@ -548,7 +546,8 @@ impl<'a> Tracer<'a> {
     }
 
     /// A domain crossing of `ray` at `t0` over `chord`: light estimation, the reflection
-    /// branches, and the lines the ray carries on through (added to `lines`).
+    /// branches (every one if `split`), and the lines the ray carries on through (added to
+    /// `lines`).
     #[allow(clippy::too_many_arguments)]
     fn cross_domain(
         &mut self,
@@ -558,7 +557,7 @@ impl<'a> Tracer<'a> {
         domain: u32,
         weight: f32,
         lines: &mut Lines,
-        splits: u32,
+        split: bool,
         level: u32,
         rng: &mut Rng,
         acc: &mut [f64; 3],
@@ -576,12 +575,13 @@ impl<'a> Tracer<'a> {
         // The branches below refill `self.lines`: this crossing keeps its own.
         let here = std::mem::take(&mut self.lines);
         let face = ray.at(t0);
-        // After the first splits, one reflection, drawn with twice the lines' share of the
+        // Unless split, one reflection, drawn with twice the lines' share of the
         // path's light (at most ¼), as a branch: its weight is about 1/(2 × its share), never
         // large against what its line passes. Before any reflection the path's light is white;
         // after one it lies in that line, and a second line's share is what it reflects there
-        // (so a second reflection is drawn as often as it can matter, and never weighs more than
-        // about half the first's).
+        // (a bound of its reflectance there: a second reflection is drawn about as often as it
+        // can matter, and adds at most about half what the first would; the floor only raises
+        // the probability).
         let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
         for (e, l) in energy.iter_mut().zip(&here) {
             let white = line_energy(&l.line);
@@ -595,7 +595,7 @@ impl<'a> Tracer<'a> {
         if self.estimated_area_light().is_some() {
             // Each line's probability of its branch, for the balance against the area light.
             let mut pick = [1.0f64; MAX_LINES_PER_CROSSING];
-            if splits == 0 {
+            if !split {
                 for (p, e) in pick.iter_mut().zip(energy) {
                     *p = p_branch * e / total;
                 }
@@ -614,7 +614,7 @@ impl<'a> Tracer<'a> {
                 bins,
             );
         }
-        if splits > 0 {
+        if split {
             // Every reflection as a branch of its own.
             for line in &here {
                 self.branch(
@@ -688,7 +688,7 @@ impl<'a> Tracer<'a> {
                 region: Region::Opal,
                 drawn: self.drawn_branch(x, dir, d, line, p_pick),
             };
-            self.inside(state, 0, level + 1, rng, acc, bins);
+            self.inside(state, false, level + 1, rng, acc, bins);
         }
     }
 

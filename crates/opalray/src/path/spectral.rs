@@ -93,15 +93,13 @@ impl Lines {
         self.first_reflection.is_some()
     }
 
-    /// At most how much of the path's light `line` reflects: the bound of its reflectance
-    /// ([`BraggLine::bound_beyond`]) over the core of the path's first reflection line (its
-    /// stop band, or a side-lobe spacing for a thin stack, either side of its centre), where
-    /// the path's light lies; `None` for a path not yet reflected, whose light is white.
+    /// How much of the path's light `line` can reflect: the bound of its reflectance
+    /// ([`BraggLine::bound_beyond`]) over the main lobe of the path's first reflection line
+    /// (to its first zeros), where most of the path's light lies; `None` for a path not yet
+    /// reflected, whose light is white.
     pub fn reflectable_by(&self, line: &BraggLine) -> Option<f64> {
         let first = self.lines[self.first_reflection?].0;
-        let reach = first
-            .half_width_nm()
-            .max(first.center_nm / first.layers.max(1.0));
+        let reach = first.main_lobe_half_width_nm();
         Some(line.bound_beyond((line.center_nm - first.center_nm).abs() - reach))
     }
 

@@ -636,6 +636,18 @@ mod tests {
                 "[domains]\nsphere_diameter_spread = 0.5",
                 "domains.sphere_diameter_spread",
             ),
+            (
+                "[domains]\ndiameter_correlation_mm = 0.05",
+                "domains.diameter_correlation_mm",
+            ),
+            (
+                "[domains]\ndiameter_correlation_mm = -1.0",
+                "domains.diameter_correlation_mm",
+            ),
+            (
+                "[domains]\ndiameter_correlation_mm = nan",
+                "domains.diameter_correlation_mm",
+            ),
         ] {
             let err = Scene::from_toml_str(text, "t").unwrap_err().to_string();
             assert!(err.contains(field), "{text}: {err}");

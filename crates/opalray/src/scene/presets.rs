@@ -38,12 +38,17 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 /// - `harlequin`: a black opal of large settled plates (3 mm grains) in a 2.5 mm colour bar:
 ///   broad angular patches side by side.
 /// - `pinfire`: a black opal of grains 0.6 mm across: pin-points of colour.
-/// - `broad-flash`: grains 4 mm across whose orientations follow parents 12 mm across: broad
-///   sheets of colour that flash together.
-/// - `ribbon`: grains stretched six times along y: ribbons of colour.
-/// - `white`: a white opal (N9): milky potch and milky domains, colour throughout.
+/// - `broad-flash`: large settled plates (5 mm grains) tilted within an RMS 10°: broad sheets
+///   of colour that flash together.
+/// - `ribbon`: settled plates stretched six times along y: ribbons of colour.
+/// - `white`: a white opal (N9): settled plates throughout a milky body (potch 2 mm⁻¹,
+///   slightly milky domains), pastel colour over white.
 /// - `crystal`: a crystal opal with rolling flash: clear body (N5 potch of long mean free
-///   path), large correlated grains whose colour rolls across the face as it tilts.
+///   path), large settled plates of imperfect layers (mosaic 3°) whose colour rolls across
+///   the face as it tilts.
+///
+/// Every gem preset but `pinfire` has sphere sizes 235 nm ± 10 % varying smoothly over 4 mm
+/// (`domains.diameter_correlation_mm`); `pinfire`'s grains each draw their own.
 /// - `boulder`: a thin layer of opal (dome 1.6 mm, settled plates) on brown ironstone.
 /// - `doublet`: a 1.5 mm opal slice (N6, settled plates) glued on black.
 /// - `triplet`: a 0.8 mm opal slice (settled plates) on black under a clear quartz dome.
@@ -72,7 +77,7 @@ pub fn preset(name: &str) -> Result<Scene> {
         // exposes an opal on black velvet (the softbox's gloss clips).
         scene.environment.intensity = 11.0;
         scene.color.exposure_ev = 0.0;
-        // Under the studio's lights θ_h is 15–22°: D = 235 nm flashes green there (λ ≈ 2.33 D
+        // Under the studio's lights θ_h is 15–22°: D = 235 nm flashes green there (λ ≈ 2.36 D
         // cos θ_h), and sizes varying by 10 % across the stone, alike within 4 mm, put blue
         // (D ≈ 205 nm) at one end and orange-red (≈ 265 nm) at another, each patch of one
         // colour through the plates of the bar.

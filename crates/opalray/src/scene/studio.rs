@@ -89,7 +89,8 @@ pub struct DomainsConfig {
     /// `crystal.sphere_diameter_nm`).
     pub sphere_diameter_spread: f64,
     /// Grains: distance over which the sphere size stays alike, mm (a smooth field of
-    /// correlation length this); 0: each grain draws its own.
+    /// correlation length this); 0: each grain draws its own. The paper's balls
+    /// (`pattern = "paper"`) always draw their own.
     pub diameter_correlation_mm: f64,
     /// Mosaic spread of a domain's planes, degrees (RMS tilt), added to the rocking width.
     pub mosaic_spread_deg: f64,
@@ -172,7 +173,7 @@ impl DomainsConfig {
                 "domains.diameter_correlation_mm",
                 format!(
                     "must be 0 (each grain its own size) or a number in [0.1, 100], got \
-                     {length}; try 5"
+                     {length}; try 4"
                 ),
             ));
         }

@@ -199,6 +199,7 @@ impl Grains {
                 kept
             })
             .collect();
+        self.faces = Vec::with_capacity(neighbours.iter().map(Vec::len).sum());
         self.face_start = Vec::with_capacity(neighbours.len() + 1);
         self.face_start.push(0);
         for (i, list) in neighbours.iter().enumerate() {

@@ -224,7 +224,7 @@ impl Stone {
                 let spread = d.orientation_spread_deg.to_radians();
                 // Sphere sizes: a smooth field over the stone, or drawn grain by grain.
                 let sizes = (d.diameter_correlation_mm > 0.0).then(|| {
-                    let mut rng = Rng::new(seed, stage::STONE, 3);
+                    let mut rng = Rng::new(seed, stage::STONE, 1 << 42);
                     SizeField::new(d.diameter_correlation_mm, &mut rng)
                 });
                 let diameter_at = |i: usize, seed_q: Vec3| match &sizes {

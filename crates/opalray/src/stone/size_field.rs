@@ -17,7 +17,7 @@ use crate::sampling::Rng;
 /// Cosines in the sum.
 const WAVES: usize = 64;
 
-/// A smooth random field of mean 0, variance 1 and correlation length `length_mm`.
+/// A smooth random field of mean 0, variance 1 and a correlation length set by [`SizeField::new`].
 #[derive(Clone, Debug)]
 pub struct SizeField {
     /// Wave vector (per mm) and phase of each cosine.
@@ -37,7 +37,8 @@ impl SizeField {
         SizeField { waves }
     }
 
-    /// The field's value at `p` (mm).
+    /// The field's value at `p` (mm): close to a standard normal number over the stone, at
+    /// most `√(2 × 64) ≈ 11.3` in size.
     pub fn at(&self, p: Vec3) -> f32 {
         let sum: f32 = self.waves.iter().map(|(k, phi)| (k.dot(p) + phi).cos()).sum();
         sum * (2.0 / WAVES as f32).sqrt()
