@@ -47,7 +47,7 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 ///   path), large settled plates of imperfect layers (mosaic 3°) whose colour rolls across
 ///   the face as it tilts.
 ///
-/// Every gem preset but `pinfire` has sphere sizes 235 nm ± 10 % varying smoothly over 4 mm
+/// Every gem preset but `pinfire` has sphere sizes 235 nm ± 12 % varying smoothly over 2 mm
 /// (`domains.diameter_correlation_mm`); `pinfire`'s grains each draw their own.
 /// - `boulder`: a thin layer of opal (dome 1.6 mm, settled plates) on brown ironstone.
 /// - `doublet`: a 1.5 mm opal slice (N6, settled plates) glued on black.
@@ -78,12 +78,13 @@ pub fn preset(name: &str) -> Result<Scene> {
         scene.environment.intensity = 11.0;
         scene.color.exposure_ev = 0.0;
         // Under the studio's lights θ_h is 15–22°: D = 235 nm flashes green there (λ ≈ 2.36 D
-        // cos θ_h), and sizes varying by 10 % across the stone, alike within 4 mm, put blue
-        // (D ≈ 205 nm) at one end and orange-red (≈ 265 nm) at another, each patch of one
-        // colour through the plates of the bar.
+        // cos θ_h), and sizes varying by 12 % across the stone, alike within 2 mm (zones of
+        // about 4 mm: a few dozen over the face, so that each stone shows most of the
+        // spectrum), put blue (D ≈ 205 nm) in some zones and orange-red (≈ 265 nm) in others,
+        // each patch of one colour through the plates of the bar.
         scene.crystal.sphere_diameter_nm = 235.0;
-        scene.domains.sphere_diameter_spread = 0.10;
-        scene.domains.diameter_correlation_mm = 4.0;
+        scene.domains.sphere_diameter_spread = 0.12;
+        scene.domains.diameter_correlation_mm = 2.0;
         scene.light.kind = LightKind::None;
         scene.render.body_tone = tone;
         scene.crystal.diffuse_fraction = 0.0;

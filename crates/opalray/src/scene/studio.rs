@@ -173,7 +173,7 @@ impl DomainsConfig {
                 "domains.diameter_correlation_mm",
                 format!(
                     "must be 0 (each grain its own size) or a number in [0.1, 100], got \
-                     {length}; try 4"
+                     {length}; try 2"
                 ),
             ));
         }
