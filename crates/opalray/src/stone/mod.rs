@@ -26,8 +26,8 @@ use crate::structure::AXIS_111;
 
 use balls::Balls;
 use grains::{normal, Grains};
-use size_field::SizeField;
 pub use light_path::LOBE_SIGMAS;
+use size_field::SizeField;
 
 /// Rows of the rocking-width table over cos θ.
 const WIDTH_ROWS: usize = 64;

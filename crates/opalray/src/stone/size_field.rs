@@ -40,7 +40,11 @@ impl SizeField {
     /// The field's value at `p` (mm): close to a standard normal number over the stone, at
     /// most `√(2 × 64) ≈ 11.3` in size.
     pub fn at(&self, p: Vec3) -> f32 {
-        let sum: f32 = self.waves.iter().map(|(k, phi)| (k.dot(p) + phi).cos()).sum();
+        let sum: f32 = self
+            .waves
+            .iter()
+            .map(|(k, phi)| (k.dot(p) + phi).cos())
+            .sum();
         sum * (2.0 / WAVES as f32).sqrt()
     }
 }
