@@ -167,6 +167,9 @@ pub fn rocking_fwhm_rad(coupling: f64, cos_theta0: f64, layers: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+    use crate::optics::ClusterStack;
+    use crate::scene::CrystalConfig;
 
     #[test]
     fn bound_beyond_holds_over_every_wavelength_that_far_out() {
@@ -194,9 +197,6 @@ mod tests {
             }
         }
     }
-    use super::*;
-    use crate::optics::ClusterStack;
-    use crate::scene::CrystalConfig;
 
     #[test]
     fn peak_is_tanh_squared_at_normal_incidence() {

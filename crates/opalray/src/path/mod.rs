@@ -582,12 +582,16 @@ impl<'a> Tracer<'a> {
         // (a bound of its reflectance there: a second reflection is drawn about as often as it
         // can matter, and adds at most about half what the first would; the floor only raises
         // the probability).
+        let core = lines.reflected_core();
         let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
         for (e, l) in energy.iter_mut().zip(&here) {
             let white = line_energy(&l.line);
-            *e = lines
-                .reflectable_by(&l.line)
-                .map_or(white, |share| share.max(MIN_SHARE_OF_WHITE * white));
+            *e = core.map_or(white, |(centre, reach)| {
+                let share = l
+                    .line
+                    .bound_beyond((l.line.center_nm - centre).abs() - reach);
+                share.max(MIN_SHARE_OF_WHITE * white)
+            });
         }
         let energy = &energy[..here.len().min(MAX_LINES_PER_CROSSING)];
         let total: f64 = energy.iter().sum();

@@ -93,14 +93,12 @@ impl Lines {
         self.first_reflection.is_some()
     }
 
-    /// How much of the path's light `line` can reflect: the bound of its reflectance
-    /// ([`BraggLine::bound_beyond`]) over the main lobe of the path's first reflection line
-    /// (to its first zeros), where most of the path's light lies; `None` for a path not yet
-    /// reflected, whose light is white.
-    pub fn reflectable_by(&self, line: &BraggLine) -> Option<f64> {
+    /// Where most of the path's light lies: the main lobe of its first reflection line (to
+    /// its first zeros), as `(centre, half-width)` in nm; `None` for a path not yet reflected,
+    /// whose light is white.
+    pub fn reflected_core(&self) -> Option<(f64, f64)> {
         let first = self.lines[self.first_reflection?].0;
-        let reach = first.main_lobe_half_width_nm();
-        Some(line.bound_beyond((line.center_nm - first.center_nm).abs() - reach))
+        Some((first.center_nm, first.main_lobe_half_width_nm()))
     }
 
     /// The spectral factor `Π f_k(λ)`.

@@ -46,9 +46,6 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 /// - `crystal`: a crystal opal with rolling flash: clear body (N5 potch of long mean free
 ///   path), large settled plates of imperfect layers (mosaic 3°) whose colour rolls across
 ///   the face as it tilts.
-///
-/// Every gem preset but `pinfire` has sphere sizes 235 nm ± 12 % varying smoothly over 2 mm
-/// (`domains.diameter_correlation_mm`); `pinfire`'s grains each draw their own.
 /// - `boulder`: a thin layer of opal (dome 1.6 mm, settled plates) on brown ironstone.
 /// - `doublet`: a 1.5 mm opal slice (N6, settled plates) glued on black.
 /// - `triplet`: a 0.8 mm opal slice (settled plates) on black under a clear quartz dome.
@@ -60,6 +57,9 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 /// - `paper-stone`: `paper-path` rendered by the stored method, the paper's two passes on the
 ///   stone model (light stored per 0.15 mm cell, single reflection, no noise), at 4 camera
 ///   rays per pixel.
+///
+/// Every gem preset but `pinfire` has sphere sizes 235 nm ± 12 % varying smoothly over 2 mm
+/// (`domains.diameter_correlation_mm`); `pinfire`'s grains each draw their own.
 pub fn preset(name: &str) -> Result<Scene> {
     let gem = |domains: DomainsConfig, body: BodyConfig, tone: u8| {
         let mut scene = Scene {

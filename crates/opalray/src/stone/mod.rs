@@ -190,11 +190,15 @@ impl Stone {
         let body = &scene.body;
         let axes = Vec3::from_array(body.box_semi_axes(s.semi_axes_mm).map(|v| v as f32));
         let seed = s.seed;
-        let draw_diameter = |index: u64| {
-            let mut rng = Rng::new(seed, stage::STONE, (1 << 40) + index);
-            let z = normal(&mut rng).clamp(-3.0, 3.0);
+        // A sphere diameter `z` standard deviations from the mean (clipped at ±3).
+        let diameter = |z: f32| {
+            let z = z.clamp(-3.0, 3.0);
             (scene.crystal.sphere_diameter_nm * (1.0 + d.sphere_diameter_spread * f64::from(z)))
                 as f32
+        };
+        let draw_diameter = |index: u64| {
+            let mut rng = Rng::new(seed, stage::STONE, (1 << 40) + index);
+            diameter(normal(&mut rng))
         };
         let (layout, domains) = match d.pattern {
             Pattern::Paper => {
@@ -229,12 +233,7 @@ impl Stone {
                 });
                 let diameter_at = |i: usize, seed_q: Vec3| match &sizes {
                     None => draw_diameter(i as u64),
-                    Some(field) => {
-                        let z = field.at(seed_q * stretch).clamp(-3.0, 3.0);
-                        (scene.crystal.sphere_diameter_nm
-                            * (1.0 + d.sphere_diameter_spread * f64::from(z)))
-                            as f32
-                    }
+                    Some(field) => diameter(field.at(seed_q * stretch)),
                 };
                 let mut domains = Vec::new();
                 let mut domain_of = Vec::with_capacity(grains.seeds.len());
