@@ -14,7 +14,10 @@
 //!   event the weight takes the albedo, the scene's light and the environment are estimated
 //!   (`Tracer::environment_at`: importance-sampled, refracted in with the surface's lensing,
 //!   balanced against the scattering's own draw), and the direction is drawn from the
-//!   Henyey–Greenstein phase.
+//!   Henyey–Greenstein phase. The camera path's first scattering goes on in up to
+//!   [`MAX_SCATTERING_SPLIT`] directions ([`scattering_split`]), averaging the rare
+//!   continuations that reach a bright light along paths no estimate finds (reflected
+//!   inside the dome).
 //! - **Regions** ([`Stone::exit`]): a backing reflects diffusely (Lambert); a triplet's cap
 //!   plane reflects with probability F, else refracts.
 //! - **Domain crossing**: the families whose line can fall in the range at the ray's angle
@@ -80,6 +83,16 @@ const MAX_BRANCH_PROBABILITY: f64 = 0.25;
 /// Least share of an already reflected path's light a line is drawn with, as a fraction of
 /// its share of white light (keeps every branch possible, so the estimate unbiased).
 const MIN_SHARE_OF_WHITE: f64 = 0.01;
+
+/// Most directions the camera path's first scattering goes on in.
+const MAX_SCATTERING_SPLIT: u32 = 16;
+
+/// How many directions the camera path's first scattering goes on in, each with `weight`
+/// over that many: [`MAX_SCATTERING_SPLIT`], or fewer so that none falls below
+/// [`ROULETTE_BELOW`] (where roulette would undo the split).
+fn scattering_split(weight: f32) -> u32 {
+    ((weight / ROULETTE_BELOW) as u32).clamp(1, MAX_SCATTERING_SPLIT)
+}
 
 /// The scene's light for the path integrator.
 #[derive(Clone, Copy, Debug)]
@@ -166,6 +179,8 @@ struct PathState {
     region: Region,
     /// How its first segment was drawn, where light was also estimated there.
     drawn: Option<Drawn>,
+    /// Whether its first scattering splits ([`scattering_split`]): the camera path's.
+    splits_scattering: bool,
 }
 
 struct Tracer<'a> {
@@ -232,6 +247,7 @@ impl<'a> Tracer<'a> {
             skip: None,
             region,
             drawn: None,
+            splits_scattering: true,
         };
         self.inside(start, true, 0, rng, acc, bins);
     }
@@ -290,7 +306,9 @@ impl<'a> Tracer<'a> {
             mut skip,
             mut region,
             drawn,
+            splits_scattering,
         } = state;
+        let mut first_scattering = splits_scattering;
         let mut hint = None;
         let mut first_in_cap = region == Region::Cap;
         // How a scattering or a branch drew this segment's direction, when light was also
@@ -363,13 +381,38 @@ impl<'a> Tracer<'a> {
                         self.environment_at(pos, &phase, &lines, weight, rng, acc, bins);
                         self.area_at(pos, &phase, &lines, weight, rng, acc, bins);
                     }
+                    // The camera path's first scattering goes on in several directions.
+                    let k = if first_scattering {
+                        scattering_split(weight)
+                    } else {
+                        1
+                    };
+                    first_scattering = false;
+                    weight /= k as f32;
+                    let phase_drawn = |d: Vec3| {
+                        sample_env.then(|| Drawn {
+                            density: hg_phase(g, d.dot(incoming)),
+                            from: pos,
+                            environment: true,
+                        })
+                    };
+                    for _ in 1..k {
+                        let d = sample_hg(incoming, g, rng);
+                        let state = PathState {
+                            pos,
+                            dir: d,
+                            weight,
+                            lines,
+                            skip: None,
+                            region,
+                            drawn: phase_drawn(d),
+                            splits_scattering: false,
+                        };
+                        self.inside(state, false, level + 1, rng, acc, bins);
+                    }
                     dir = sample_hg(dir, g, rng);
                     hint = None;
-                    sample_env.then(|| Drawn {
-                        density: hg_phase(g, dir.dot(incoming)),
-                        from: pos,
-                        environment: true,
-                    })
+                    phase_drawn(dir)
                 }
                 Event::Boundary(Boundary::Surface) => {
                     // Both ways at once: what escapes is added now (its share 1 − F), the
@@ -691,6 +734,7 @@ impl<'a> Tracer<'a> {
                 skip: Some(domain),
                 region: Region::Opal,
                 drawn: self.drawn_branch(x, dir, d, line, p_pick),
+                splits_scattering: false,
             };
             self.inside(state, false, level + 1, rng, acc, bins);
         }
