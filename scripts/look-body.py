@@ -18,7 +18,9 @@ linear luminance is the stone's reflectance there:
 The face is the ellipse found as scripts/look-metrics.py finds it (on the tent's dark
 velvet; under `uniform` the tent's face is used); its body is its pixels that are not
 colour (HSV saturation ≤ 0.5). Prints each light's median body luminance Y beside Y(V).
-The surface's gloss is in the image (about 3 % face-on), as it is in a photograph.
+The surface's gloss is in the image (about 3 % face-on), as it is in a photograph; pixels
+are read from the 8-bit sRGB PNG, so a body near 1 (the furnace) reads a little low where
+its noise clips.
 
 Needs numpy and Pillow.
 """
@@ -34,9 +36,17 @@ import numpy as np
 from PIL import Image
 
 here = pathlib.Path(__file__).resolve().parent
-spec = importlib.util.spec_from_file_location("look_metrics", here / "look-metrics.py")
-look = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(look)
+
+
+def sibling(name, file):
+    spec = importlib.util.spec_from_file_location(name, here / file)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+look = sibling("look_metrics", "look-metrics.py")
+image_rms = sibling("image_rms", "image-rms.py")
 
 
 def munsell_y(v):
@@ -46,8 +56,7 @@ def munsell_y(v):
 
 def luminance(path):
     srgb = np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0
-    linear = np.where(srgb <= 0.04045, srgb / 12.92, ((srgb + 0.055) / 1.055) ** 2.4)
-    return srgb, linear @ np.array([0.2126, 0.7152, 0.0722])
+    return srgb, image_rms.linear(path) @ np.array([0.2126, 0.7152, 0.0722])
 
 
 def with_environment(scene, kind, max_depth):
