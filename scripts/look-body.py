@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
 """The body of an opal render against its body tone's Munsell value, under diffuse light.
 
-    scripts/look-body.py [--preset white] [--light tent,uniform] [--width 160 --height 120]
-                         [--spp 8] [--max-depth N] [--out DIR]
+    scripts/look-body.py [--preset white | --scene FILE] [--light tent,uniform]
+                         [--width 160 --height 120] [--spp 8] [--max-depth N] [--out DIR]
 
 A body tone N1…N9 is a grey chip of Munsell value V seen under diffuse white light; its
 luminous reflectance is Y(V) (ASTM D1535: N9 0.767). The preset's scene (`opalray scene
---preset`) is rendered with the release binary ($OPALRAY_BIN, else target/release/opalray)
-under each diffuse environment asked for, at intensity 1 and exposure 0, so that a pixel's
-linear luminance is the stone's reflectance there:
+--preset`), or the scene file given, is rendered with the release binary ($OPALRAY_BIN, else
+target/release/opalray) under each diffuse environment asked for, at intensity 1 and
+exposure 0, so that a pixel's linear luminance is the stone's reflectance there:
 
 - `tent`: the light tent, white from 10° above the horizon up, over black velvet: the stone
   as a grader sees it on a dark tray (light through the stone is lost below);
@@ -76,6 +76,7 @@ def with_environment(scene, kind, max_depth):
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--preset", default="white")
+    p.add_argument("--scene", default=None, help="a scene file instead of --preset")
     p.add_argument("--light", default="tent,uniform")
     p.add_argument("--width", default="160")
     p.add_argument("--height", default="120")
@@ -89,9 +90,13 @@ def main():
     binary = os.environ.get("OPALRAY_BIN", str(here.parent / "target/release/opalray"))
     out = pathlib.Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
-    scene = subprocess.run(
-        [binary, "scene", "--preset", a.preset], check=True, capture_output=True, text=True
-    ).stdout
+    if a.scene is not None:
+        scene = pathlib.Path(a.scene).read_text()
+        a.preset = pathlib.Path(a.scene).stem
+    else:
+        scene = subprocess.run(
+            [binary, "scene", "--preset", a.preset], check=True, capture_output=True, text=True
+        ).stdout
     tone = int(re.search(r"(?m)^body_tone = (\d+)$", scene).group(1))
     target = munsell_y(tone)
     # The face is found on the tent's dark velvet, so the tent is rendered first.

@@ -355,10 +355,16 @@ impl<'a> Tracer<'a> {
                     }
                     // A ray reflected at a domain's face leaves through that face.
                     if !(k == 0 && skip_first == Some(domain)) {
-                        self.cross_domain(
+                        match self.cross_domain(
                             &ray, span.t0, chord, domain, weight, &mut lines, split, level, rng,
                             acc, bins,
-                        );
+                        ) {
+                            Some(scale) => weight *= scale,
+                            None => {
+                                self.spans = spans;
+                                return;
+                            }
+                        }
                     }
                     if let Some(t) = scatter_at {
                         event = Event::Scattered { t, albedo: 1.0 };
@@ -590,7 +596,8 @@ impl<'a> Tracer<'a> {
 
     /// A domain crossing of `ray` at `t0` over `chord`: light estimation, the reflection
     /// branches (every one if `split`), and the lines the ray carries on through (added to
-    /// `lines`).
+    /// `lines`). Returns the factor on the weight of the ray going on through, or `None` where
+    /// it ends: a path already reflected either reflects or goes on (see the comment below).
     #[allow(clippy::too_many_arguments)]
     fn cross_domain(
         &mut self,
@@ -605,13 +612,13 @@ impl<'a> Tracer<'a> {
         rng: &mut Rng,
         acc: &mut [f64; 3],
         bins: &mut [f32],
-    ) {
+    ) -> Option<f32> {
         let stone = self.stone;
         let dir = ray.direction;
         self.lines.clear();
         stone.lines(domain, dir, chord, &mut self.lines);
         if self.lines.is_empty() {
-            return;
+            return Some(1.0);
         }
         let x = ray.at(t0 + EPSILON_MM);
         self.light_at_domain(x, dir, domain, lines, weight, rng, acc, bins);
@@ -661,6 +668,13 @@ impl<'a> Tracer<'a> {
                 bins,
             );
         }
+        // A path already reflected chooses: it reflects (as above) or goes on through with
+        // its weight over 1 − p. Forking it too would make a tree: its light lies in its line,
+        // alike plates reflect that line again at about p = ¼ each, and a fork per plate over
+        // many plates and events grows without bound. One path on, its cost grows with depth
+        // only linearly.
+        let chooses = !split && lines.reflects();
+        let mut goes_on = Some(1.0);
         if split {
             // Every reflection as a branch of its own.
             for line in &here {
@@ -669,7 +683,13 @@ impl<'a> Tracer<'a> {
                 );
             }
         } else {
+            if chooses {
+                goes_on = Some((1.0 / (1.0 - p_branch)) as f32);
+            }
             if rng.uniform() < p_branch {
+                if chooses {
+                    goes_on = None;
+                }
                 let mut u = rng.uniform() * total;
                 let mut pick = here.len() - 1;
                 for (i, e) in energy.iter().enumerate() {
@@ -698,10 +718,13 @@ impl<'a> Tracer<'a> {
             }
         }
         // The ray goes on through the planes, carrying 1 − R of each line.
-        for l in &here {
-            lines.transmit(l.line);
+        if goes_on.is_some() {
+            for l in &here {
+                lines.transmit(l.line);
+            }
         }
         self.lines = here;
+        goes_on
     }
 
     /// Follow the reflection of the ray along `dir` by `line` of `domain` at its face `face`
