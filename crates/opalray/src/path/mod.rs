@@ -26,7 +26,9 @@
 //!   crossing of the camera ray's first segment every one, later one drawn with twice the
 //!   lines' share of the path's light (white light before any reflection, what the line
 //!   reflects of the path's line after one; at most ¼), its weight divided by that
-//!   probability. A reflection draws the lobe's normal `h` about the
+//!   probability. A path already reflected does not fork: it either reflects or goes on
+//!   through, its weight over `1 − p` (its cost grows linearly with depth). A reflection
+//!   draws the lobe's normal `h` about the
 //!   family normal (Gaussian, the rocking width and the mosaic spread,
 //!   [`Stone::lobe_sigma`]) and mirrors the ray about `h`; its line is evaluated at the angle to
 //!   `h` — the half-vector law `λ = 2 d n̄ cos θ_h`. The reflection happens at the domain's
