@@ -36,8 +36,9 @@
 //! - **The light** (directional or point): next-event estimation at every domain crossing and
 //!   potch scattering, through the one refracted path from the light ([`refracted_entry`]),
 //!   with the surface's exact lensing, its spectrum filtered by every domain and potch on the
-//!   way. A sphere or rect light is estimated at the same events and backings (`nee.rs`),
-//!   balanced against the escaping paths that meet it. A domain adds
+//!   way. A sphere or rect light is estimated at the same events and backings (`nee.rs`;
+//!   at a crossing, only on a path not yet reflected), balanced against the escaping paths
+//!   that meet it. A domain adds
 //!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals.
 //! - Russian roulette below a weight of 0.02; at most `max_depth` events.
 //!
@@ -648,7 +649,11 @@ impl<'a> Tracer<'a> {
         let energy = &energy[..here.len().min(MAX_LINES_PER_CROSSING)];
         let total: f64 = energy.iter().sum();
         let p_branch = (2.0 * total).min(MAX_BRANCH_PROBABILITY);
-        if self.estimated_area_light().is_some() {
+        // A path already reflected chooses (below); it finds the area light by its branches'
+        // escapes alone: estimated at its every crossing, with the weight its choices give it,
+        // the estimate would add more noise than it takes away (twice the variance, measured).
+        let chooses = !split && lines.reflects();
+        if !chooses && self.estimated_area_light().is_some() {
             // Each line's probability of its branch, for the balance against the area light.
             let mut pick = [1.0f64; MAX_LINES_PER_CROSSING];
             if !split {
@@ -675,7 +680,6 @@ impl<'a> Tracer<'a> {
         // alike plates reflect that line again at about p = ¼ each, and a fork per plate over
         // many plates and events grows without bound. One path on, its cost grows with depth
         // only linearly.
-        let chooses = !split && lines.reflects();
         let mut goes_on = Some(1.0);
         if split {
             // Every reflection as a branch of its own.
@@ -758,7 +762,13 @@ impl<'a> Tracer<'a> {
                 lines: branch,
                 skip: Some(domain),
                 region: Region::Opal,
-                drawn: self.drawn_branch(x, dir, d, line, p_pick),
+                // A path already reflected had no area-light estimate at the crossing
+                // (`cross_domain`): its branch's escape is the only way there.
+                drawn: if lines.reflects() {
+                    None
+                } else {
+                    self.drawn_branch(x, dir, d, line, p_pick)
+                },
                 splits_scattering: false,
             };
             self.inside(state, false, level + 1, rng, acc, bins);
