@@ -146,10 +146,12 @@ def test_the_gil_is_released_while_rendering():
 
 
 def test_ctrl_c_interrupts_a_render_at_once():
-    # A render of several seconds; Ctrl-C (SIGINT's flag, as the terminal sets it) 0.2 s in.
+    # A render of over a second (1.6 s on two cores; at 640 × 480 it took 0.5 s, and once
+    # ended before the interrupt was seen); Ctrl-C (SIGINT's flag, as the terminal sets it)
+    # 0.2 s in.
     import _thread
 
-    scene = small_scene(render={"width": 640, "height": 480}, light={"rays": 262144})
+    scene = small_scene(render={"width": 1280, "height": 960}, light={"rays": 1048576})
     timer = threading.Timer(0.2, _thread.interrupt_main)
     start = time.perf_counter()
     timer.start()
