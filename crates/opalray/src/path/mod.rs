@@ -685,17 +685,26 @@ impl<'a> Tracer<'a> {
             // Every reflection as a branch of its own.
             for line in &here {
                 self.branch(
-                    face, x, dir, domain, line, 1.0, weight, *lines, level, rng, acc, bins,
+                    face,
+                    x,
+                    dir,
+                    domain,
+                    line,
+                    Some(1.0),
+                    weight,
+                    *lines,
+                    level,
+                    rng,
+                    acc,
+                    bins,
                 );
             }
         } else {
+            let reflects = rng.uniform() < p_branch;
             if chooses {
-                goes_on = Some((1.0 / (1.0 - p_branch)) as f32);
+                goes_on = (!reflects).then_some((1.0 / (1.0 - p_branch)) as f32);
             }
-            if rng.uniform() < p_branch {
-                if chooses {
-                    goes_on = None;
-                }
+            if reflects {
                 let mut u = rng.uniform() * total;
                 let mut pick = here.len() - 1;
                 for (i, e) in energy.iter().enumerate() {
@@ -713,7 +722,7 @@ impl<'a> Tracer<'a> {
                     dir,
                     domain,
                     &here[pick],
-                    p_pick,
+                    (!chooses).then_some(p_pick),
                     w,
                     *lines,
                     level,
@@ -735,7 +744,8 @@ impl<'a> Tracer<'a> {
 
     /// Follow the reflection of the ray along `dir` by `line` of `domain` at its face `face`
     /// as a path of its own, with weight `weight`; the branch was taken with probability
-    /// `p_pick` and the light estimated at `x`.
+    /// `p_pick` where the area light was estimated at `x` (`None` where it was not: the
+    /// branch's escape is then the only way there).
     #[allow(clippy::too_many_arguments)]
     fn branch(
         &mut self,
@@ -744,7 +754,7 @@ impl<'a> Tracer<'a> {
         dir: Vec3,
         domain: u32,
         line: &ActiveLine,
-        p_pick: f64,
+        p_pick: Option<f64>,
         weight: f32,
         lines: Lines,
         level: u32,
@@ -762,13 +772,7 @@ impl<'a> Tracer<'a> {
                 lines: branch,
                 skip: Some(domain),
                 region: Region::Opal,
-                // A path already reflected had no area-light estimate at the crossing
-                // (`cross_domain`): its branch's escape is the only way there.
-                drawn: if lines.reflects() {
-                    None
-                } else {
-                    self.drawn_branch(x, dir, d, line, p_pick)
-                },
+                drawn: p_pick.and_then(|p| self.drawn_branch(x, dir, d, line, p)),
                 splits_scattering: false,
             };
             self.inside(state, false, level + 1, rng, acc, bins);
