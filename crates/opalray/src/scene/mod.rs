@@ -20,7 +20,7 @@ pub use presets::{preset, DEFAULT_RENDER_PRESET, PRESET_NAMES};
 pub use stone::{CrystalConfig, StructureConfig, MAX_CELLS};
 pub use studio::{
     map_format, DomainsConfig, EnvironmentConfig, EnvironmentKind, FamilyChoice, IntegratorConfig,
-    MapFormat, Method, OrientationLaw, Pattern, MAX_SPP,
+    MapFormat, Method, OrientationLaw, Pattern, MAX_SPP, OUTLINE_SUBDIVISION,
 };
 
 use std::path::Path;
@@ -607,6 +607,10 @@ mod tests {
             (
                 "[domains]\npattern = \"grains\"\ngrain_size_mm = 0.05",
                 "domains.grain_size_mm",
+            ),
+            (
+                "[domains]\nboundary_roughness = 1.5",
+                "domains.boundary_roughness",
             ),
             ("[integrator]\nspp = 0", "integrator.spp"),
             ("[environment]\nkind = \"studio\"", "environment.kind"),

@@ -65,6 +65,7 @@ pub enum FamilyChoice {
 /// | `diameter_correlation_mm`| mm   | 0.0            | 0, or [0.1, 100]          |
 /// | `mosaic_spread_deg`      | deg  | 0.5            | [0, 20]                   |
 /// | `families`               | –    | "all"          | "all", "111"              |
+/// | `boundary_roughness`     | –    | 0.0            | [0, 1]                    |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DomainsConfig {
@@ -96,6 +97,9 @@ pub struct DomainsConfig {
     pub mosaic_spread_deg: f64,
     /// The plane families that reflect.
     pub families: FamilyChoice,
+    /// Grains: how far the domains' outlines wander in the bedding plane (x, y), in half
+    /// grain widths (RMS); 0: straight-edged convex grains.
+    pub boundary_roughness: f64,
 }
 
 impl Default for DomainsConfig {
@@ -113,13 +117,19 @@ impl Default for DomainsConfig {
             diameter_correlation_mm: 0.0,
             mosaic_spread_deg: 0.5,
             families: FamilyChoice::All,
+            boundary_roughness: 0.0,
         }
     }
 }
 
+/// With ragged outlines (`boundary_roughness` > 0), how many times finer than the grains the
+/// columns that draw them are along each axis of the bedding plane (`stone::rough`).
+pub const OUTLINE_SUBDIVISION: f32 = 6.0;
+
 impl DomainsConfig {
     /// About how many grains a stone of semi-axes `semi_axes_mm` holds (the seeds of its box,
-    /// one grain size of margin each side: as `stone::grains` places them).
+    /// one grain size of margin each side: as `stone::grains` places them), with ragged
+    /// outlines and the columns that draw them.
     pub fn grain_count(&self, semi_axes_mm: [f64; 3]) -> f64 {
         let stretch: f64 = self.stretch.iter().product();
         let volume = std::f64::consts::PI / 6.0 * self.grain_size_mm.powi(3) / stretch;
@@ -129,7 +139,13 @@ impl DomainsConfig {
             .zip(self.stretch)
             .map(|(a, s)| 2.0 * a / s + pad)
             .product();
-        box_volume / volume
+        // Ragged outlines add k²/8 columns a grain (`stone::rough`).
+        let columns = if self.boundary_roughness > 0.0 {
+            f64::from(OUTLINE_SUBDIVISION).powi(2) / 8.0
+        } else {
+            0.0
+        };
+        box_volume / volume * (1.0 + columns)
     }
 
     /// Check ranges.
@@ -183,6 +199,13 @@ impl DomainsConfig {
             0.0,
             20.0,
             0.5,
+        )?;
+        check_range(
+            "domains.boundary_roughness",
+            self.boundary_roughness,
+            0.0,
+            1.0,
+            0.4,
         )
     }
 }

@@ -12,6 +12,7 @@ pub mod balls;
 pub mod body;
 pub mod grains;
 mod light_path;
+pub mod rough;
 pub mod size_field;
 
 use glam::{Quat, Vec3};
@@ -27,6 +28,7 @@ use crate::structure::AXIS_111;
 use balls::Balls;
 use grains::{normal, Grains};
 pub use light_path::LOBE_SIGMAS;
+use rough::Outlines;
 use size_field::SizeField;
 
 /// Rows of the rocking-width table over cos θ.
@@ -145,6 +147,8 @@ enum Layout {
         grains: Grains,
         /// Per grain, its domain or `None` (potch).
         domain_of: Vec<Option<u32>>,
+        /// Ragged outlines (`domains.boundary_roughness` > 0), else the grains' own.
+        outlines: Option<Box<Outlines>>,
     },
 }
 
@@ -261,7 +265,25 @@ impl Stone {
                         sphere_diameter_nm: diameter_at(i, *seed_q),
                     });
                 }
-                (Layout::Grains { grains, domain_of }, domains)
+                // Ragged outlines: columns that shift the grains each by its own offset.
+                let outlines = (d.boundary_roughness > 0.0).then(|| {
+                    let mut rng = Rng::new(seed, stage::STONE, 1 << 43);
+                    Box::new(Outlines::new(
+                        axes,
+                        d.grain_size_mm as f32,
+                        stretch,
+                        d.boundary_roughness as f32,
+                        &mut rng,
+                    ))
+                });
+                (
+                    Layout::Grains {
+                        grains,
+                        domain_of,
+                        outlines,
+                    },
+                    domains,
+                )
             }
         };
 
@@ -415,7 +437,17 @@ impl Stone {
         match &self.layout {
             Layout::Single => Some(0),
             Layout::Balls(b) => b.at(p),
-            Layout::Grains { grains, domain_of } => domain_of[grains.at(p) as usize],
+            Layout::Grains {
+                grains,
+                domain_of,
+                outlines,
+            } => {
+                let grain = match outlines {
+                    Some(o) => o.grain_at(grains, p),
+                    None => grains.at(p),
+                };
+                domain_of[grain as usize]
+            }
         }
     }
 
@@ -509,10 +541,14 @@ impl Stone {
                 b.walk(origin, dir, t0, t1, visit);
                 None
             }
-            Layout::Grains { grains, domain_of } => {
+            Layout::Grains {
+                grains,
+                domain_of,
+                outlines,
+            } => {
                 let mut pending: Option<Span> = None;
                 let mut last = None;
-                grains.walk(origin, dir, t0, t1, hint, &mut |span, grain| {
+                let mut merge = |span: Span, grain: u32| {
                     last = Some(grain);
                     let domain = span.domain.and_then(|g| domain_of[g as usize]);
                     match pending.as_mut() {
@@ -524,11 +560,19 @@ impl Stone {
                             pending = Some(Span { domain, ..span });
                         }
                     }
-                });
+                };
+                // The hint is a column with ragged outlines, a grain without.
+                let end = match outlines {
+                    Some(o) => o.walk(grains, origin, dir, t0, t1, hint, &mut merge),
+                    None => {
+                        grains.walk(origin, dir, t0, t1, hint, &mut merge);
+                        last
+                    }
+                };
                 if let Some(p) = pending {
                     visit(p);
                 }
-                last
+                end
             }
         }
     }
