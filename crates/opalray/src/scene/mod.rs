@@ -20,7 +20,7 @@ pub use presets::{preset, DEFAULT_RENDER_PRESET, PRESET_NAMES};
 pub use stone::{CrystalConfig, StructureConfig, MAX_CELLS};
 pub use studio::{
     map_format, DomainsConfig, EnvironmentConfig, EnvironmentKind, FamilyChoice, IntegratorConfig,
-    MapFormat, Method, OrientationLaw, Pattern, MAX_SPP, OUTLINE_SUBDIVISION,
+    MapFormat, Method, OrientationLaw, Pattern, COLUMN_HEIGHT, MAX_SPP, OUTLINE_SUBDIVISION,
 };
 
 use std::path::Path;

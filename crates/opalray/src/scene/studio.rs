@@ -125,6 +125,9 @@ impl Default for DomainsConfig {
 /// With ragged outlines (`boundary_roughness` > 0), how many times finer than the grains the
 /// columns that draw them are along each axis of the bedding plane (`stone::rough`).
 pub const OUTLINE_SUBDIVISION: f32 = 6.0;
+/// With ragged outlines, those columns' height in grain thicknesses: tall, so that a ray along
+/// the view crosses few (24 took 10 % less time, but parted more pairs of points in one patch).
+pub const COLUMN_HEIGHT: f32 = 8.0;
 
 impl DomainsConfig {
     /// About how many grains a stone of semi-axes `semi_axes_mm` holds (the seeds of its box,
@@ -139,9 +142,9 @@ impl DomainsConfig {
             .zip(self.stretch)
             .map(|(a, s)| 2.0 * a / s + pad)
             .product();
-        // Ragged outlines add k²/8 columns a grain (`stone::rough`).
+        // Ragged outlines add k²/h columns a grain (`stone::rough`).
         let columns = if self.boundary_roughness > 0.0 {
-            f64::from(OUTLINE_SUBDIVISION).powi(2) / 8.0
+            f64::from(OUTLINE_SUBDIVISION).powi(2) / f64::from(COLUMN_HEIGHT)
         } else {
             0.0
         };

@@ -24,11 +24,7 @@ use super::grains::Grains;
 use super::size_field::SizeField;
 use super::Span;
 use crate::sampling::Rng;
-use crate::scene::OUTLINE_SUBDIVISION;
-
-/// A column's height in grain thicknesses: tall, so that a ray along the view crosses few.
-/// (24 took 10 % less time, but parted more pairs of points in one patch.)
-pub const COLUMN_HEIGHT: f32 = 8.0;
+use crate::scene::{COLUMN_HEIGHT, OUTLINE_SUBDIVISION};
 
 /// The displacement field's correlation length, as a fraction of the grain's extent in the
 /// bedding plane.
