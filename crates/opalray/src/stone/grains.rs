@@ -275,11 +275,15 @@ impl Grains {
         next
     }
 
-    /// The grain holding `p` (mm); `hint` is tried first.
+    /// The grain holding `p` (mm); `hint` is tried first, then its neighbours.
     pub fn at_with(&self, p: Vec3, hint: Option<u32>) -> u32 {
         if let Some(h) = hint {
-            if self.holds(h, p / self.stretch) {
+            let q = p / self.stretch;
+            if self.holds(h, q) {
                 return h;
+            }
+            if let Some(f) = self.faces_of(h).iter().find(|f| self.holds(f.next, q)) {
+                return f.next;
             }
         }
         self.at(p)

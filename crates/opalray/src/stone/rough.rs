@@ -86,6 +86,9 @@ impl Outlines {
         visit: &mut dyn FnMut(Span, u32),
     ) -> Option<u32> {
         let mut last = None;
+        // The grain a column's walk ended in most often holds the next column's start too (the
+        // shifts are alike from column to column): it is tried first.
+        let mut grain = None;
         self.columns.walk(
             origin,
             dir,
@@ -95,7 +98,17 @@ impl Outlines {
             &mut |column_span: Span, column| {
                 last = Some(column);
                 let shifted = origin + self.shift[column as usize];
-                grains.walk(shifted, dir, column_span.t0, column_span.t1, None, visit);
+                grains.walk(
+                    shifted,
+                    dir,
+                    column_span.t0,
+                    column_span.t1,
+                    grain,
+                    &mut |span, g| {
+                        grain = Some(g);
+                        visit(span, g)
+                    },
+                );
             },
         );
         last
