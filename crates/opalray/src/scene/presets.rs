@@ -129,8 +129,9 @@ pub fn preset(name: &str) -> Result<Scene> {
             Ok(scene)
         }
         // The stone picked from a parcel: of the first eight draws (structure seeds 1–8), the
-        // one a dealer would pick, a harlequin of red, orange, green and blue (BENCHMARKS.md,
-        // "the default stone").
+        // only one with all six hue sextants and colour over more than half its face, a
+        // harlequin of cyan, green, red, blue, yellow and orange patches (BENCHMARKS.md, "the
+        // default stone").
         "black-opal" => {
             let mut scene = gem(settled(2.0), cabochon(4.0, 2.0), 1);
             scene.structure.seed = 4;

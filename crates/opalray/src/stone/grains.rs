@@ -275,7 +275,9 @@ impl Grains {
         next
     }
 
-    /// The grain holding `p` (mm); `hint` is tried first, then its neighbours.
+    /// The grain holding `p` (mm) as the grains' faces see it: `hint` is tried first, then
+    /// its neighbours (a grain whose rays missed a face may claim a sliver beyond it, as its
+    /// walk does), else the exact point query [`Grains::at`].
     pub fn at_with(&self, p: Vec3, hint: Option<u32>) -> u32 {
         if let Some(h) = hint {
             let q = p / self.stretch;
@@ -311,7 +313,7 @@ impl Grains {
     }
 
     /// Call `visit` for the grains along `origin + t·dir`, `t ∈ [t0, t1]` (mm), in order.
-    /// `hint`: a grain likely to hold the start, tried first.
+    /// `hint`: a grain likely to hold the start, tried first, then its neighbours.
     pub fn walk(
         &self,
         origin: Vec3,
@@ -396,6 +398,40 @@ mod tests {
                 .unwrap();
             assert_eq!(g.at(p), brute);
         }
+    }
+
+    #[test]
+    fn a_hint_or_its_neighbours_find_the_point_querys_grain() {
+        // Points near a hint's grain: in it, beside it, or a few grains away.
+        let g = grains(0.4, Vec3::new(2.5, 2.5, 0.12));
+        let mut rng = Rng::new(5, stage::STRUCTURE, 2);
+        let (mut total, mut agree, mut by_neighbour) = (0, 0, 0);
+        for _ in 0..4000 {
+            let p = Vec3::new(
+                rng.uniform_f32() * 16.0 - 8.0,
+                rng.uniform_f32() * 12.0 - 6.0,
+                rng.uniform_f32() * 4.0 - 2.0,
+            );
+            let step = Vec3::new(
+                rng.uniform_f32() - 0.5,
+                rng.uniform_f32() - 0.5,
+                0.1 * (rng.uniform_f32() - 0.5),
+            ) * 4.0;
+            let hint = g.at(p + step);
+            let exact = g.at(p);
+            let found = g.at_with(p, Some(hint));
+            total += 1;
+            agree += usize::from(found == exact);
+            let neighbour = g.faces_of(hint).iter().any(|f| f.next == exact);
+            by_neighbour += usize::from(found == exact && neighbour);
+        }
+        // The faces found by rays are nearly complete: the answers are the exact ones but for
+        // slivers (3998 of 4000, measured), 2364 of them a neighbour of the hint.
+        assert!(agree as f64 > 0.995 * total as f64, "{agree} of {total}");
+        assert!(
+            by_neighbour > total / 5,
+            "{by_neighbour} of {total} by a neighbour"
+        );
     }
 
     #[test]
