@@ -38,6 +38,8 @@ const MAGIC: &str = "opalray path golden v1";
 
 fn scene() -> Scene {
     let mut s = preset("harlequin").unwrap();
+    // The stone the reference was rendered with (the preset has since drawn another).
+    s.structure.seed = 1;
     // Thick grains of independent orientations (fewer domains along a ray than the
     // preset's settled plates): a quarter of the time for the same power.
     s.domains.stretch = [1.0, 1.0, 0.35];

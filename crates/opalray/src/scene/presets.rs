@@ -137,7 +137,14 @@ pub fn preset(name: &str) -> Result<Scene> {
             scene.structure.seed = 4;
             Ok(scene)
         }
-        "harlequin" => Ok(gem(settled(3.0), cabochon(4.0, 2.5), 1)),
+        "harlequin" => {
+            // Of the first eight draws, the most coloured (54 % of the face at 160 × 120, in
+            // four sextants: red, orange, yellow and green; seed 1 showed 39 %, mostly green;
+            // BENCHMARKS.md, "the default stone").
+            let mut scene = gem(settled(3.0), cabochon(4.0, 2.5), 1);
+            scene.structure.seed = 6;
+            Ok(scene)
+        }
         "pinfire" => {
             // Pinpoints of every colour side by side: each tiny grain draws its own size.
             let mut scene = gem(grains(0.6), cabochon(4.0, 1.5), 1);
