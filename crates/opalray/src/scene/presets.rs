@@ -128,11 +128,11 @@ pub fn preset(name: &str) -> Result<Scene> {
             scene.integrator.spp = 4;
             Ok(scene)
         }
-        // The stone picked from a parcel: of the first eight draws (structure seeds 1–8), the
-        // only one with all six hue sextants and colour over more than half its face, a
-        // harlequin of cyan, green, red, blue, yellow and orange patches (BENCHMARKS.md, "the
-        // default stone").
         "black-opal" => {
+            // The stone picked from a parcel: of the first eight draws (structure seeds 1–8),
+            // the only one with all six hue sextants and colour over more than half its face,
+            // a harlequin of cyan, green, red, blue, yellow and orange patches (BENCHMARKS.md,
+            // "the default stone").
             let mut scene = gem(settled(2.0), cabochon(4.0, 2.0), 1);
             scene.structure.seed = 4;
             Ok(scene)
