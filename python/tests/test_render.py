@@ -42,6 +42,26 @@ def test_render_is_byte_identical_to_the_cli(tmp_path, cli, small):
     assert (tmp_path / "py-cube.exr").read_bytes() == (tmp_path / "cli-cube.exr").read_bytes()
 
 
+def test_a_denoised_render_is_the_clis_and_smoother(tmp_path, cli):
+    # The harlequin at 48 x 36, 4 spp: denoised from Python and by `--denoise`, the same bytes;
+    # the noise left (the filtered halves' estimate) below the raw render's.
+    scene = opalray.Scene.preset("harlequin").replace(
+        render={"width": 48, "height": 36}, integrator={"spp": 4, "denoise": True}
+    )
+    scene_path = tmp_path / "h.toml"
+    scene.replace(integrator={"denoise": False}).save(scene_path)
+    subprocess.run(
+        [cli, "render", str(scene_path), "--denoise", "--output", str(tmp_path / "cli.png")],
+        check=True, capture_output=True,
+    )
+    image = opalray.render(scene)
+    image.save(tmp_path / "py.png")
+    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    path = image.stats["path"]
+    left = path["denoised"]["noise_estimate"]["relative_rms"]
+    assert 0 < left < path["noise"]["relative_rms"]
+
+
 def test_arrays_have_their_shapes_dtypes_and_axis(small):
     image = opalray.render(small, light={"angle_deg": -20})
     h, w, bins = 48, 64, small["spectrum"]["bins"]

@@ -90,6 +90,7 @@ BAD = [
     ({"colour": {"exposure_ev": 1}}, "colour"),
     ({"render": {"width": 1 << 70}}, "render.width"),
     ({"render": {"width": object()}}, "render.width"),
+    ({"integrator": {"denoise": True}}, "integrator.denoise"),
 ]
 
 

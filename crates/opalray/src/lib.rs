@@ -10,13 +10,15 @@
 //!   -> build_optics     R, T, D tables over wavelength × angle           optics
 //!   -> trace_light      light stored per cluster                          light_pass
 //!   -> trace_view       spectral image H × W × bins                       view_pass
-//!      (or the path tracer on the stone model, path; or the two passes on it, stored)
+//!      (or the path tracer on the stone model, path, then denoise; or the two passes on
+//!      it, stored)
 //!   -> to_rgb           CIE 1931 → XYZ → RGB, gamut-mapped               color
 //!   -> write_*          PNG | EXR | spectral EXR                          output
 //! ```
 #![warn(missing_docs)]
 
 pub mod color;
+pub mod denoise;
 pub mod error;
 pub mod geometry;
 pub mod light_pass;

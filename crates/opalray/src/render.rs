@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use crate::color::{illuminant_spectrum, to_rgb, RgbImage};
 use crate::color::{xyz_to_rgb_adapted, RgbSpace};
+use crate::denoise::{denoise, NlMeans};
 use crate::error::Result;
 use crate::geometry::Camera;
 use crate::light_pass::{
@@ -38,7 +39,7 @@ pub struct StageTimes {
     pub light_pass: f64,
     /// Tracing rays from the camera (including shading the stored light).
     pub view_pass: f64,
-    /// Spectrum → RGB.
+    /// Spectrum → RGB (path: with `integrator.denoise`, the filter before it).
     pub color: f64,
 }
 
@@ -117,6 +118,9 @@ pub struct PathStats {
     pub stopped_by_time_limit: bool,
     /// The image's noise over the stone (`None` below two samples per pixel).
     pub noise: Option<Noise>,
+    /// With `integrator.denoise` (and two samples per pixel or more): `Some`, holding the
+    /// noise left after the filter as its filtered halves estimate it (blind to its bias).
+    pub denoised: Option<Option<Noise>>,
 }
 
 impl PathStats {
@@ -132,6 +136,10 @@ impl PathStats {
             "deterministic_given_spp": true,
             "same_image_with": format!("--spp {} (integrator.spp)", self.spp),
             "noise": self.noise,
+            "denoised": self.denoised.map(|noise| serde_json::json!({
+                "noise_estimate": noise,
+                "noise_estimate_is": "the filtered halves' difference: the noise left, not the filter's bias",
+            })),
         })
     }
 }
@@ -356,12 +364,18 @@ impl Prepared {
         let start = Instant::now();
         let (image, m) = self.trace_path(stone, environment, light_angle_deg, passes);
         times.view_pass = seconds(start);
+        let (width, height) = (s.render.width as usize, s.render.height as usize);
         let start = Instant::now();
+        let denoised = s
+            .integrator
+            .denoise
+            .then(|| denoise(&image, width, height, &NlMeans::default()))
+            .flatten();
         let rgb = rgb_of_xyz(
-            &image.xyz,
+            denoised.as_ref().map_or(&image.xyz, |d| &d.xyz),
             m,
-            s.render.width as usize,
-            s.render.height as usize,
+            width,
+            height,
         );
         times.color = seconds(start);
         let time_limit_s = passes.time_limit.map(|t| t.as_secs_f64());
@@ -372,6 +386,7 @@ impl Prepared {
             time_limit_s,
             stopped_by_time_limit: time_limit_s.is_some() && image.spp < s.integrator.spp,
             noise: image.noise(m),
+            denoised: denoised.map(|d| d.noise(&image.on_stone, image.spp, m)),
         };
         Frame {
             spectral: image.spectral,

@@ -152,6 +152,19 @@ pub fn run(args: Args) -> Result<()> {
                 ""
             }
         ));
+        if scene.integrator.denoise && path.denoised.is_none() {
+            crate::stdio::note(format_args!(
+                "not denoised: the filter needs two samples per pixel or more (--spp 2)"
+            ));
+        }
+        if let Some(left) = path.denoised {
+            let left = left
+                .and_then(|n| n.relative_rms)
+                .map_or("unknown".into(), |n| format!("{:.2} %", 100.0 * n));
+            crate::stdio::note(format_args!(
+                "denoised | noise left about {left} (not counting the filter's bias)"
+            ));
+        }
     }
     if let Some(stored) = &frame.stored {
         let l = stored.light;

@@ -66,37 +66,55 @@ impl PathImage {
     /// (any linear map: a scale does not change relative noise); `None` below two samples
     /// per pixel.
     pub fn noise(&self, xyz_to_rgb: Mat3) -> Option<Noise> {
-        if self.spp < 2 || self.half_difference.len() != self.xyz.len() {
-            return None;
-        }
-        let m = xyz_to_rgb.as_dmat3();
-        let stone = || {
-            self.xyz
-                .iter()
-                .zip(&self.half_difference)
-                .zip(&self.on_stone)
-                .filter(|(_, &on)| on)
-                .map(|((v, d), _)| {
-                    let v = DVec3::from_array(v.map(f64::from));
-                    let d = DVec3::from_array(d.map(f64::from));
-                    (v, d)
-                })
-        };
-        let channel = |f: &dyn Fn(DVec3) -> f64| {
-            relative_rms(
-                stone().map(|(v, d)| PixelNoise {
-                    mean: f(v),
-                    half_difference: f(d),
-                }),
-                self.spp,
-            )
-        };
-        Some(Noise {
-            pixels: self.on_stone.iter().filter(|&&on| on).count(),
-            relative_rms: channel(&|v| v.y),
-            relative_rms_rgb: [0, 1, 2].map(|c| channel(&|v| (m * v)[c])),
-        })
+        noise_of(
+            &self.xyz,
+            &self.half_difference,
+            &self.on_stone,
+            self.spp,
+            xyz_to_rgb,
+        )
     }
+}
+
+/// The noise over the pixels `on_stone` of an image of pixel means `xyz` and half differences
+/// `half_difference` after `spp` samples, as [`PathImage::noise`]; `None` below two samples
+/// per pixel or if the two images differ in size.
+pub fn noise_of(
+    xyz: &[[f32; 3]],
+    half_difference: &[[f32; 3]],
+    on_stone: &[bool],
+    spp: u32,
+    xyz_to_rgb: Mat3,
+) -> Option<Noise> {
+    if spp < 2 || half_difference.len() != xyz.len() {
+        return None;
+    }
+    let m = xyz_to_rgb.as_dmat3();
+    let stone = || {
+        xyz.iter()
+            .zip(half_difference)
+            .zip(on_stone)
+            .filter(|(_, &on)| on)
+            .map(|((v, d), _)| {
+                let v = DVec3::from_array(v.map(f64::from));
+                let d = DVec3::from_array(d.map(f64::from));
+                (v, d)
+            })
+    };
+    let channel = |f: &dyn Fn(DVec3) -> f64| {
+        relative_rms(
+            stone().map(|(v, d)| PixelNoise {
+                mean: f(v),
+                half_difference: f(d),
+            }),
+            spp,
+        )
+    };
+    Some(Noise {
+        pixels: on_stone.iter().filter(|&&on| on).count(),
+        relative_rms: channel(&|v| v.y),
+        relative_rms_rgb: [0, 1, 2].map(|c| channel(&|v| (m * v)[c])),
+    })
 }
 
 #[cfg(test)]

@@ -1,0 +1,269 @@
+//! Denoising the path integrator's image: input a [`PathImage`] (each pixel's mean, the
+//! difference of its even and odd samples' means, the variance of its mean) → output a
+//! [`Denoised`] XYZ image and an estimate of the noise left in it.
+//!
+//! Dual-buffer non-local means (Rousselle, Knaus & Zwicker 2012, §5): the even samples' image
+//! `a` and the odd samples' image `b` are two independent renders of the same picture. `a` is
+//! filtered with the weights that `b` gives ([`nl_means`]) and `b` with those of `a`, so that
+//! a pixel's own noise never raises its weight; the result is their mean (weighted by their
+//! samples). A pixel averages with the pixels of its window whose neighbourhoods look alike
+//! beyond what their noise explains: within one patch of colour it averages widely, across
+//! a patch's edge hardly at all. A firefly in one half is spread over the pixels alike to it
+//! in the other, keeping its energy: a faint blur in place of a bright dot.
+//!
+//! The filtered halves `a'`, `b'` still differ by what noise is left, so `a' − b'` estimates
+//! it as the unfiltered halves' difference does ([`crate::path::noise`]). That estimate does
+//! not see the filter's bias (detail finer than the noise, averaged away); comparing with a
+//! longer render does (`BENCHMARKS.md`).
+
+pub mod nl_means;
+
+use glam::Mat3;
+
+pub use nl_means::NlMeans;
+
+use crate::path::noise::{noise_of, Noise};
+use crate::path::PathImage;
+
+impl Default for NlMeans {
+    /// Window 15 × 15, patches 5 × 5, strength 0.7: the least error against a 256-sample
+    /// reference of the black opal at 4 and 16 samples per pixel among the settings tried
+    /// (`BENCHMARKS.md`); the paper's 21 × 21, 7 × 7 and 0.45 take 4 × the time and leave
+    /// more noise at few samples.
+    fn default() -> Self {
+        Self {
+            window_radius: 7,
+            patch_radius: 2,
+            strength: 0.7,
+        }
+    }
+}
+
+/// A denoised image.
+pub struct Denoised {
+    /// CIE XYZ per pixel, row-major, on the scale of [`PathImage::xyz`].
+    pub xyz: Vec<[f32; 3]>,
+    /// Per pixel, the filtered even samples' image minus the filtered odd samples'.
+    pub half_difference: Vec<[f32; 3]>,
+}
+
+/// Denoise `image` (`width × height`) with `params`; `None` below two samples per pixel (no
+/// two halves to filter each other with).
+pub fn denoise(
+    image: &PathImage,
+    width: usize,
+    height: usize,
+    params: &NlMeans,
+) -> Option<Denoised> {
+    let n = image.spp;
+    if n < 2 || image.half_difference.len() != width * height {
+        return None;
+    }
+    // The halves and the variances of their pixels' means.
+    let (n_a, n_b) = (n.div_ceil(2) as f32, (n / 2) as f32);
+    let n = n as f32;
+    let (mut a, mut b) = (Vec::with_capacity(width * height), Vec::new());
+    b.reserve(width * height);
+    for (m, d) in image.xyz.iter().zip(&image.half_difference) {
+        a.push(std::array::from_fn(|c| m[c] + n_b / n * d[c]));
+        b.push(std::array::from_fn(|c| m[c] - n_a / n * d[c]));
+    }
+    let scaled =
+        |k: f32| -> Vec<[f32; 3]> { image.variance.iter().map(|v| v.map(|c| c * k)).collect() };
+    let (var_a, var_b) = (scaled(n / n_a), scaled(n / n_b));
+    // Each half filtered with the other's weights.
+    let a_f = nl_means::filter(&a, &b, &var_b, width, height, params);
+    let b_f = nl_means::filter(&b, &a, &var_a, width, height, params);
+    let xyz = a_f
+        .iter()
+        .zip(&b_f)
+        .map(|(p, q)| std::array::from_fn(|c| (n_a * p[c] + n_b * q[c]) / n))
+        .collect();
+    let half_difference = a_f
+        .iter()
+        .zip(&b_f)
+        .map(|(p, q)| std::array::from_fn(|c| p[c] - q[c]))
+        .collect();
+    Some(Denoised {
+        xyz,
+        half_difference,
+    })
+}
+
+impl Denoised {
+    /// The noise left over the stone's pixels (`on_stone`, after `spp` samples per pixel) as
+    /// the filtered halves' difference estimates it, the RGB channels through `xyz_to_rgb`;
+    /// blind to the filter's bias.
+    pub fn noise(&self, on_stone: &[bool], spp: u32, xyz_to_rgb: Mat3) -> Option<Noise> {
+        noise_of(&self.xyz, &self.half_difference, on_stone, spp, xyz_to_rgb)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Rng;
+    use crate::spectrum::{SpectralImage, WavelengthGrid};
+
+    const W: usize = 48;
+    const H: usize = 32;
+
+    /// A render of `truth` (per pixel) with `n` samples each `truth + N(0, sigma²)`, plus
+    /// `extra` added to one even sample of the pixel `(x, y)` if given.
+    fn render(
+        truth: &dyn Fn(usize, usize) -> [f32; 3],
+        n: u32,
+        sigma: f64,
+        extra: Option<(usize, usize, f64)>,
+    ) -> PathImage {
+        let mut rng = Rng::new(3, 0, 0);
+        let mut normal = move || {
+            let (u, v) = (1.0 - rng.uniform(), rng.uniform());
+            (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+        };
+        let (mut xyz, mut half_difference, mut variance) = (vec![], vec![], vec![]);
+        for y in 0..H {
+            for x in 0..W {
+                let t = truth(x, y);
+                let (mut halves, mut squares) = ([[0.0f64; 3]; 2], [0.0f64; 3]);
+                for s in 0..n {
+                    for c in 0..3 {
+                        let mut v = f64::from(t[c]) + sigma * normal();
+                        if s == 0 && extra.is_some_and(|(ex, ey, _)| (ex, ey) == (x, y)) {
+                            v += extra.unwrap().2;
+                        }
+                        halves[(s % 2) as usize][c] += v;
+                        squares[c] += v * v;
+                    }
+                }
+                let (na, nb, nf) = (f64::from(n.div_ceil(2)), f64::from(n / 2), f64::from(n));
+                let mean: [f64; 3] = std::array::from_fn(|c| (halves[0][c] + halves[1][c]) / nf);
+                xyz.push(mean.map(|v| v as f32));
+                half_difference.push(std::array::from_fn(|c| {
+                    (halves[0][c] / na - halves[1][c] / nb) as f32
+                }));
+                variance.push(std::array::from_fn(|c| {
+                    ((squares[c] - nf * mean[c] * mean[c]) / (nf - 1.0) / nf) as f32
+                }));
+            }
+        }
+        PathImage {
+            xyz,
+            spectral: SpectralImage::new(W, H, WavelengthGrid::default()),
+            spp: n,
+            passes: 1,
+            half_difference,
+            variance,
+            on_stone: vec![true; W * H],
+        }
+    }
+
+    /// Two flat patches of different colour meeting at `x = W / 2`.
+    fn two_patches(x: usize, _y: usize) -> [f32; 3] {
+        if x < W / 2 {
+            [1.0, 2.0, 0.5]
+        } else {
+            [3.0, 1.0, 2.5]
+        }
+    }
+
+    fn rms_error(image: &[[f32; 3]], truth: &dyn Fn(usize, usize) -> [f32; 3]) -> f64 {
+        let mut sum = 0.0;
+        for (i, v) in image.iter().enumerate() {
+            let t = truth(i % W, i / W);
+            sum += (0..3).map(|c| f64::from(v[c] - t[c]).powi(2)).sum::<f64>();
+        }
+        (sum / (3 * image.len()) as f64).sqrt()
+    }
+
+    #[test]
+    fn a_noiseless_image_passes_unchanged() {
+        // Every pixel different, no noise: no pixel is alike to another within ε.
+        let truth = |x: usize, y: usize| [x as f32, y as f32, (x * y) as f32 * 0.01];
+        let image = render(&truth, 4, 0.0, None);
+        let out = denoise(&image, W, H, &NlMeans::default()).unwrap();
+        assert!(rms_error(&out.xyz, &truth) < 1e-6);
+        assert!(out
+            .half_difference
+            .iter()
+            .flatten()
+            .all(|&d| d.abs() < 1e-6));
+    }
+
+    #[test]
+    fn noise_falls_and_a_patch_edge_stays_sharp() {
+        // Samples of σ = 1 and n = 8: each pixel's mean has an error of 1/√8 ≈ 0.354 (the
+        // raw image's RMS error, checked). Two patches whose channels differ by 1–2 (3–6 of
+        // those errors) meet in a vertical edge.
+        let image = render(&two_patches, 8, 1.0, None);
+        let raw = rms_error(&image.xyz, &two_patches);
+        assert!((raw / (1.0 / 8f64.sqrt()) - 1.0).abs() < 0.05, "{raw}");
+        let out = denoise(&image, W, H, &NlMeans::default()).unwrap();
+        let filtered = rms_error(&out.xyz, &two_patches);
+        assert!(filtered < raw / 3.0, "{filtered} against {raw}");
+        // The columns either side of the edge keep their own patch's mean: the other
+        // patch's value would be 1–2 away.
+        for x in [W / 2 - 1, W / 2] {
+            let column: Vec<_> = (0..H).map(|y| out.xyz[y * W + x]).collect();
+            for c in 0..3 {
+                let mean = column.iter().map(|v| v[c]).sum::<f32>() / H as f32;
+                let t = two_patches(x, 0)[c];
+                assert!(
+                    (mean - t).abs() < 0.25,
+                    "column {x} channel {c}: {mean} for {t}"
+                );
+            }
+        }
+        // The filtered halves' difference estimates the noise left: within a factor of two
+        // of the true error (it cannot see bias; here the bias is small).
+        let d = out.half_difference.iter().flatten();
+        let estimate =
+            (d.map(|&v| f64::from(v).powi(2)).sum::<f64>() / (3 * W * H) as f64 / 4.0).sqrt();
+        assert!(
+            estimate > filtered / 2.0 && estimate < filtered * 2.0,
+            "{estimate} {filtered}"
+        );
+    }
+
+    #[test]
+    fn a_firefly_is_spread_with_its_energy_kept() {
+        // One sample of one pixel 2000 above the rest (a flat image of 1, σ = 0.2, n = 8):
+        // the raw pixel shows 250 more; filtered, no pixel shows over a tenth of that, and
+        // the image's sum keeps the firefly's energy to within a fifth.
+        let flat = |_x: usize, _y: usize| [1.0f32; 3];
+        let (fx, fy) = (W / 2, H / 2);
+        let image = render(&flat, 8, 0.2, Some((fx, fy, 2000.0)));
+        let out = denoise(&image, W, H, &NlMeans::default()).unwrap();
+        let peak = out.xyz.iter().map(|v| v[1]).fold(0.0f32, f32::max);
+        assert!(peak - 1.0 < 25.0, "{peak}");
+        let excess = |xyz: &[[f32; 3]]| xyz.iter().map(|v| f64::from(v[1]) - 1.0).sum::<f64>();
+        let (raw, filtered) = (excess(&image.xyz), excess(&out.xyz));
+        assert!((raw - 250.0).abs() < 10.0, "{raw}");
+        assert!(
+            (filtered / raw - 1.0).abs() < 0.2,
+            "{filtered} against {raw}"
+        );
+    }
+
+    #[test]
+    fn the_filter_is_the_same_bytes_at_any_thread_count() {
+        let image = render(&two_patches, 4, 1.0, None);
+        let at = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| denoise(&image, W, H, &NlMeans::default()).unwrap().xyz)
+        };
+        let one = at(1);
+        for threads in [2, 3] {
+            assert!(at(threads) == one, "{threads} threads");
+        }
+    }
+
+    #[test]
+    fn one_sample_per_pixel_cannot_be_filtered() {
+        let image = render(&two_patches, 1, 1.0, None);
+        assert!(denoise(&image, W, H, &NlMeans::default()).is_none());
+    }
+}
