@@ -9,7 +9,8 @@
 //! the squared difference less what the noise alone would give, in units of the variance.
 //! Averaged over the channels and over a patch of `(2f + 1)²` pixel pairs around `p` and `q`
 //! it is the patch distance `D(p, q)`; `q`'s weight in `p` is `exp(−max(0, D))`, over the
-//! `(2r + 1)²` pixels of the window around `p`. A pixel of no variance takes weight only from
+//! pixels of the window around `p`, those within `r` of it (a disc: 149 pixels for r = 7, so
+//! that a spread firefly is a round spot, not a square). A pixel of no variance takes weight only from
 //! pixels alike to within `ε`, so a noiseless image passes unchanged.
 //!
 //! The image is filtered in bands of rows in parallel; within a band each offset `q − p` is
@@ -32,7 +33,7 @@ const EPSILON: f32 = 1e-10;
 /// The filter's sizes and strength.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NlMeans {
-    /// Window radius `r`, pixels: a pixel averages over `(2r + 1)²` pixels.
+    /// Window radius `r`, pixels: a pixel averages over the pixels within `r` of it.
     pub window_radius: usize,
     /// Patch radius `f`, pixels: pixels are compared by `(2f + 1)²` pixel pairs.
     pub patch_radius: usize,
@@ -110,6 +111,10 @@ fn filter_band(
     let mut weights = vec![0.0f32; rows * w];
     for dy in -r..=r {
         for dx in -r..=r {
+            // The window is a disc.
+            if dx * dx + dy * dy > r * r {
+                continue;
+            }
             // Distances of every pixel of the band (and margin) to its partner at the offset,
             // partners beyond the edge clamped to it (they only fill patches).
             for y in e0..e1 {
