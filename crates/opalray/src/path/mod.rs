@@ -64,7 +64,7 @@ use crate::sampling::Rng;
 use crate::scene::Backing;
 use crate::spectrum::SpectralImage;
 use crate::stone::body::{hg_cos, hg_phase};
-use crate::stone::{ActiveLine, Boundary, Region, Span, Stone};
+use crate::stone::{ActiveLine, Boundary, Hint, Region, Span, Stone};
 use glam::Vec3;
 
 pub use emitters::{AreaLight, LightSample};
@@ -184,6 +184,8 @@ struct PathState {
     drawn: Option<Drawn>,
     /// Whether its first scattering splits ([`scattering_split`]): the camera path's.
     splits_scattering: bool,
+    /// The cells likely to hold `pos` ([`Stone::walk`]).
+    hint: Hint,
 }
 
 struct Tracer<'a> {
@@ -196,6 +198,8 @@ struct Tracer<'a> {
     light_lines: Vec<ActiveLine>,
     /// Whether the area light is estimated at events (else found only by escaping paths).
     area_estimation: bool,
+    /// The cells likely to hold the point light is next estimated at.
+    nee_hint: Hint,
 }
 
 impl<'a> Tracer<'a> {
@@ -209,6 +213,7 @@ impl<'a> Tracer<'a> {
             light_spans: Vec::with_capacity(64),
             light_lines: Vec::with_capacity(16),
             area_estimation: true,
+            nee_hint: Hint::default(),
         }
     }
 
@@ -251,6 +256,7 @@ impl<'a> Tracer<'a> {
             region,
             drawn: None,
             splits_scattering: true,
+            hint: Hint::default(),
         };
         self.inside(start, true, 0, rng, acc, bins);
     }
@@ -310,9 +316,9 @@ impl<'a> Tracer<'a> {
             mut region,
             drawn,
             splits_scattering,
+            mut hint,
         } = state;
         let mut first_scattering = splits_scattering;
-        let mut hint = None;
         let mut first_in_cap = region == Region::Cap;
         // How a scattering or a branch drew this segment's direction, when light was also
         // sampled there: the MIS weight of its escape.
@@ -328,7 +334,9 @@ impl<'a> Tracer<'a> {
             };
             let mut event = Event::Boundary(boundary);
             let skip_first = skip.take();
-            let mut end_hint = None;
+            let mut end_hint = Hint::default();
+            // The cells of a scattering in the potch.
+            let mut scattered_in = Hint::default();
             if region == Region::Opal {
                 let mut spans = std::mem::take(&mut self.spans);
                 spans.clear();
@@ -342,6 +350,7 @@ impl<'a> Tracer<'a> {
                                 t: span.t0 + flight,
                                 albedo: potch.albedo,
                             };
+                            scattered_in = span.hint;
                             break;
                         }
                         continue;
@@ -354,13 +363,14 @@ impl<'a> Tracer<'a> {
                         if flight < chord {
                             chord = flight;
                             scatter_at = Some(span.t0 + flight);
+                            scattered_in = span.hint;
                         }
                     }
                     // A ray reflected at a domain's face leaves through that face.
                     if !(k == 0 && skip_first == Some(domain)) {
                         match self.cross_domain(
-                            &ray, span.t0, chord, domain, weight, &mut lines, split, level, rng,
-                            acc, bins,
+                            &ray, span.t0, chord, domain, span.hint, weight, &mut lines, split,
+                            level, rng, acc, bins,
                         ) {
                             Some(scale) => weight *= scale,
                             None => {
@@ -382,6 +392,8 @@ impl<'a> Tracer<'a> {
                 Event::Scattered { t, albedo } => {
                     pos = ray.at(t);
                     weight *= albedo;
+                    hint = scattered_in;
+                    self.nee_hint = hint;
                     self.light_at_potch(pos, dir, &lines, weight, rng, acc, bins);
                     let g = potch.anisotropy;
                     let incoming = dir;
@@ -416,11 +428,11 @@ impl<'a> Tracer<'a> {
                             region,
                             drawn: phase_drawn(d),
                             splits_scattering: false,
+                            hint,
                         };
                         self.inside(state, false, level + 1, rng, acc, bins);
                     }
                     dir = sample_hg(dir, g, rng);
-                    hint = None;
                     phase_drawn(dir)
                 }
                 Event::Boundary(Boundary::Surface) => {
@@ -467,6 +479,7 @@ impl<'a> Tracer<'a> {
                     if weight <= 0.0 {
                         return;
                     }
+                    self.nee_hint = hint;
                     self.light_at_back(pos, &lines, weight, rng, acc, bins);
                     if sample_env {
                         let lambert = |to: Vec3| to.z.max(0.0) / PI;
@@ -474,7 +487,6 @@ impl<'a> Tracer<'a> {
                         self.area_at(pos, &lambert, &lines, weight, rng, acc, bins);
                     }
                     dir = cosine_about_z(rng);
-                    hint = None;
                     sample_env.then(|| Drawn {
                         density: dir.z / PI,
                         from: pos,
@@ -504,7 +516,7 @@ impl<'a> Tracer<'a> {
                             pos = at + facing * EPSILON_MM;
                         }
                     }
-                    hint = None;
+                    hint = Hint::default();
                     None
                 }
             };
@@ -608,6 +620,7 @@ impl<'a> Tracer<'a> {
         t0: f32,
         chord: f32,
         domain: u32,
+        cells: Hint,
         weight: f32,
         lines: &mut Lines,
         split: bool,
@@ -617,6 +630,7 @@ impl<'a> Tracer<'a> {
         bins: &mut [f32],
     ) -> Option<f32> {
         let stone = self.stone;
+        self.nee_hint = cells;
         let dir = ray.direction;
         self.lines.clear();
         stone.lines(domain, dir, chord, &mut self.lines);
@@ -689,6 +703,7 @@ impl<'a> Tracer<'a> {
                     x,
                     dir,
                     domain,
+                    cells,
                     line,
                     Some(1.0),
                     weight,
@@ -721,6 +736,7 @@ impl<'a> Tracer<'a> {
                     x,
                     dir,
                     domain,
+                    cells,
                     &here[pick],
                     (!chooses).then_some(p_pick),
                     w,
@@ -753,6 +769,7 @@ impl<'a> Tracer<'a> {
         x: Vec3,
         dir: Vec3,
         domain: u32,
+        cells: Hint,
         line: &ActiveLine,
         p_pick: Option<f64>,
         weight: f32,
@@ -774,6 +791,7 @@ impl<'a> Tracer<'a> {
                 region: Region::Opal,
                 drawn: p_pick.and_then(|p| self.drawn_branch(x, dir, d, line, p)),
                 splits_scattering: false,
+                hint: cells,
             };
             self.inside(state, false, level + 1, rng, acc, bins);
         }
@@ -935,6 +953,7 @@ impl<'a> Tracer<'a> {
             x,
             to_light,
             distance,
+            self.nee_hint,
             skip,
             &mut self.light_spans,
             &mut self.light_lines,

@@ -124,9 +124,13 @@ impl Tracer<'_> {
         if !path.reflects() {
             // Without a reflection the path's spectrum is the light's (the notches are
             // neglected, `spectral`): only the transmittance matters.
-            let t = self
-                .stone
-                .transmittance_towards(x, to_light, distance, &mut self.light_spans);
+            let t = self.stone.transmittance_towards(
+                x,
+                to_light,
+                distance,
+                self.nee_hint,
+                &mut self.light_spans,
+            );
             if t > 1e-6 {
                 self.add(path, value(t), rng, acc, bins);
             }

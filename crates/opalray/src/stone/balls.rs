@@ -5,7 +5,7 @@
 
 use glam::{Quat, Vec3};
 
-use super::Span;
+use super::{Hint, Span};
 use crate::error::Result;
 use crate::scene::StructureConfig;
 use crate::structure::Growth;
@@ -120,6 +120,7 @@ impl Balls {
                         t0: lo,
                         t1: hi,
                         domain,
+                        hint: Hint::default(),
                     });
                 }
             }

@@ -11,7 +11,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::Span;
+use super::{Hint, Span};
 use crate::sampling::Rng;
 
 /// A power diagram of grains and what finds them.
@@ -335,6 +335,10 @@ impl Grains {
                     t0: t,
                     t1: t_next,
                     domain: Some(current),
+                    hint: Hint {
+                        column: None,
+                        grain: Some(current),
+                    },
                 },
                 current,
             );

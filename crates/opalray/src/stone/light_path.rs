@@ -11,7 +11,7 @@ use std::f32::consts::PI;
 
 use glam::Vec3;
 
-use super::{ActiveLine, Span, Stone};
+use super::{ActiveLine, Hint, Span, Stone};
 use crate::geometry::refracted_entry;
 use crate::geometry::LightSource;
 use crate::geometry::{fresnel_dielectric, refract, Ray};
@@ -110,20 +110,22 @@ impl Stone {
     /// What lies between `x` and the light's entry point `distance` mm along `to_light`: the
     /// transmittance of the potch and of the domains' haze (returned), and the line of every
     /// family of every domain crossed (except `skip`), handed to `notch` with its domain, in
-    /// order from `x`. `spans` and `lines` are scratch buffers.
+    /// order from `x`. `hint`: the cells likely to hold `x` ([`Stone::walk`]). `spans` and
+    /// `lines` are scratch buffers.
     #[allow(clippy::too_many_arguments)]
     pub fn towards_light(
         &self,
         x: Vec3,
         to_light: Vec3,
         distance: f32,
+        hint: Hint,
         skip: Option<u32>,
         spans: &mut Vec<Span>,
         lines: &mut Vec<ActiveLine>,
         notch: &mut dyn FnMut(u32, BraggLine),
     ) -> f32 {
         spans.clear();
-        self.walk(x, to_light, 0.0, distance, None, &mut |s| spans.push(s));
+        self.walk(x, to_light, 0.0, distance, hint, &mut |s| spans.push(s));
         let mut optical_depth = 0.0;
         for span in spans.iter() {
             optical_depth += self.optical_depth(span);
@@ -146,10 +148,11 @@ impl Stone {
         x: Vec3,
         to_light: Vec3,
         distance: f32,
+        hint: Hint,
         spans: &mut Vec<Span>,
     ) -> f32 {
         spans.clear();
-        self.walk(x, to_light, 0.0, distance, None, &mut |s| spans.push(s));
+        self.walk(x, to_light, 0.0, distance, hint, &mut |s| spans.push(s));
         let optical_depth: f32 = spans.iter().map(|s| self.optical_depth(s)).sum();
         (-optical_depth).exp()
     }

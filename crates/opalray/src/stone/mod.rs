@@ -47,6 +47,19 @@ pub struct Span {
     pub t1: f32,
     /// The domain, or `None` in potch.
     pub domain: Option<u32>,
+    /// The cells holding its start: a walk starting there tries them first.
+    pub hint: Hint,
+}
+
+/// Cells of the grains that likely hold a point, tried first by a walk starting there
+/// ([`Stone::walk`]): the column of the ragged outlines and the grain (in that column's shift).
+/// Only a cost: a walk finds the same spans with any hint or none.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Hint {
+    /// The outlines' column.
+    pub column: Option<u32>,
+    /// The grain.
+    pub grain: Option<u32>,
 }
 
 /// One ordered domain.
@@ -454,25 +467,26 @@ impl Stone {
     /// Call `visit` for the spans of `[t0, t1]` along `origin + t·dir` (mm; `dir` unit), in
     /// order, each in one domain or in potch. The caller keeps the segment inside the stone.
     ///
-    /// `hint` is the value `walk` returned for a walk that ended where this one starts (a
-    /// cheaper start); it returns the same for its end.
+    /// `hint` holds the cells of the start, if known (a walk's return value, where it ended,
+    /// or a span's); it returns the cells of the end.
     pub fn walk(
         &self,
         origin: Vec3,
         dir: Vec3,
         t0: f32,
         t1: f32,
-        hint: Option<u32>,
+        hint: Hint,
         visit: &mut dyn FnMut(Span),
-    ) -> Option<u32> {
+    ) -> Hint {
         if self.domains.is_empty() {
             // Potch only.
             visit(Span {
                 t0,
                 t1,
                 domain: None,
+                hint: Hint::default(),
             });
-            return None;
+            return Hint::default();
         }
         let Some(inner) = &self.bar_inner else {
             return self.walk_domains(origin, dir, t0, t1, hint, visit);
@@ -504,13 +518,16 @@ impl Stone {
                 t0: a,
                 t1: b,
                 domain: None,
+                hint: Hint::default(),
             },
             visit,
         );
         // The hint is of the walk that ends at `t1`.
-        let mut end = None;
+        let mut end = Hint::default();
         if t1 > b {
-            end = self.walk_domains(origin, dir, b, t1, None, &mut |span| emit(span, visit));
+            end = self.walk_domains(origin, dir, b, t1, Hint::default(), &mut |span| {
+                emit(span, visit)
+            });
         }
         if let Some(p) = pending {
             visit(p);
@@ -525,21 +542,22 @@ impl Stone {
         dir: Vec3,
         t0: f32,
         t1: f32,
-        hint: Option<u32>,
+        hint: Hint,
         visit: &mut dyn FnMut(Span),
-    ) -> Option<u32> {
+    ) -> Hint {
         match &self.layout {
             Layout::Single => {
                 visit(Span {
                     t0,
                     t1,
                     domain: Some(0),
+                    hint: Hint::default(),
                 });
-                None
+                Hint::default()
             }
             Layout::Balls(b) => {
                 b.walk(origin, dir, t0, t1, visit);
-                None
+                Hint::default()
             }
             Layout::Grains {
                 grains,
@@ -547,10 +565,11 @@ impl Stone {
                 outlines,
             } => {
                 let mut pending: Option<Span> = None;
-                let mut last = None;
+                let mut last = hint;
+                // A span of a domain starts in its first grain's cells.
                 let mut merge = |span: Span, grain: u32| {
-                    last = Some(grain);
-                    let domain = span.domain.and_then(|g| domain_of[g as usize]);
+                    last = span.hint;
+                    let domain = domain_of[grain as usize];
                     match pending.as_mut() {
                         Some(p) if p.domain == domain => p.t1 = span.t1,
                         _ => {
@@ -561,18 +580,14 @@ impl Stone {
                         }
                     }
                 };
-                // The hint is a column with ragged outlines, a grain without.
-                let end = match outlines {
+                match outlines {
                     Some(o) => o.walk(grains, origin, dir, t0, t1, hint, &mut merge),
-                    None => {
-                        grains.walk(origin, dir, t0, t1, hint, &mut merge);
-                        last
-                    }
-                };
+                    None => grains.walk(origin, dir, t0, t1, hint.grain, &mut merge),
+                }
                 if let Some(p) = pending {
                     visit(p);
                 }
-                end
+                last
             }
         }
     }

@@ -22,7 +22,7 @@ use glam::Vec3;
 
 use super::grains::Grains;
 use super::size_field::SizeField;
-use super::Span;
+use super::{Hint, Span};
 use crate::sampling::Rng;
 use crate::scene::{COLUMN_HEIGHT, OUTLINE_SUBDIVISION};
 
@@ -73,7 +73,8 @@ impl Outlines {
 
     /// Call `visit` for the grains of `grains` along `origin + t·dir`, `t ∈ [t0, t1]` (mm), in
     /// order, through the outlines (a grain met in two columns in a row is visited twice).
-    /// `hint`: a column likely to hold the start; returns the column the walk ended in.
+    /// `hint`: the column and grain likely to hold the start. Each span's hint names its
+    /// column.
     #[allow(clippy::too_many_arguments)]
     pub fn walk(
         &self,
@@ -82,21 +83,19 @@ impl Outlines {
         dir: Vec3,
         t0: f32,
         t1: f32,
-        hint: Option<u32>,
+        hint: Hint,
         visit: &mut dyn FnMut(Span, u32),
-    ) -> Option<u32> {
-        let mut last = None;
+    ) {
         // The grain a column's walk ended in most often holds the next column's start too (the
         // shifts are alike from column to column): it is tried first.
-        let mut grain = None;
+        let mut grain = hint.grain;
         self.columns.walk(
             origin,
             dir,
             t0,
             t1,
-            hint,
+            hint.column,
             &mut |column_span: Span, column| {
-                last = Some(column);
                 let shifted = origin + self.shift[column as usize];
                 grains.walk(
                     shifted,
@@ -106,12 +105,15 @@ impl Outlines {
                     grain,
                     &mut |span, g| {
                         grain = Some(g);
-                        visit(span, g)
+                        let hint = Hint {
+                            column: Some(column),
+                            ..span.hint
+                        };
+                        visit(Span { hint, ..span }, g)
                     },
                 );
             },
         );
-        last
     }
 }
 
@@ -119,7 +121,7 @@ impl Outlines {
 mod tests {
     use crate::sampling::{stage, Rng};
     use crate::scene::{OrientationLaw, Pattern, Scene};
-    use crate::stone::Stone;
+    use crate::stone::{Hint, Span, Stone};
     use glam::Vec3;
 
     /// Settled plates as the gem presets have them, no potch grains, outlines of `roughness`.
@@ -205,7 +207,9 @@ mod tests {
             )
             .normalize();
             let mut spans = Vec::new();
-            stone.walk(origin, dir, 0.0, 1.5, None, &mut |s| spans.push(s));
+            stone.walk(origin, dir, 0.0, 1.5, Hint::default(), &mut |s| {
+                spans.push(s)
+            });
             let mut t = 0.0;
             for s in &spans {
                 assert!((s.t0 - t).abs() < 1e-4, "gap at {t}");
@@ -223,6 +227,50 @@ mod tests {
             assert!((t - 1.5).abs() < 1e-4);
         }
         wrong / total
+    }
+
+    #[test]
+    fn a_walk_from_a_spans_cells_finds_what_a_walk_without_them_finds() {
+        // A walk's spans name the cells (column, grain) their start lies in; a later walk from
+        // there (a reflection, a scattering, light estimated) starts from them. It must cross
+        // the same domains at the same places as a walk that looks its start up, but where a
+        // hinted grain claims a sliver beyond a face its rays missed, as a walk does (6 of
+        // 1806 walks, measured).
+        let stone = plates(0.4);
+        let mut rng = Rng::new(5, stage::STONE, 97);
+        let (mut walks, mut differ) = (0, 0);
+        let walk = |origin: Vec3, dir: Vec3, t0: f32, hint: Hint| {
+            let mut spans: Vec<Span> = Vec::new();
+            let end = stone.walk(origin, dir, t0, 2.0, hint, &mut |s| spans.push(s));
+            let key: Vec<_> = spans.iter().map(|s| (s.domain, s.t1)).collect();
+            (spans, key, end)
+        };
+        for _ in 0..200 {
+            let origin = Vec3::new(
+                (rng.uniform_f32() - 0.5) * 12.0,
+                (rng.uniform_f32() - 0.5) * 8.0,
+                (rng.uniform_f32() - 0.5) * 2.0,
+            );
+            let dir = Vec3::new(
+                rng.uniform_f32() - 0.5,
+                rng.uniform_f32() - 0.5,
+                rng.uniform_f32() - 0.5,
+            )
+            .normalize();
+            let (spans, _, end) = walk(origin, dir, 0.0, Hint::default());
+            assert!(end.column.is_some() && end.grain.is_some());
+            for s in spans.iter().filter(|s| s.t1 - s.t0 > 1e-3) {
+                assert!(s.hint.column.is_some() && s.hint.grain.is_some());
+                // From a point inside the span, away from its faces.
+                let t = 0.5 * (s.t0 + s.t1);
+                let (_, with, _) = walk(origin, dir, t, s.hint);
+                let (_, without, _) = walk(origin, dir, t, Hint::default());
+                walks += 1;
+                differ += usize::from(with != without);
+            }
+        }
+        assert!(walks > 1000, "{walks} walks");
+        assert!(differ * 100 <= walks, "{differ} of {walks} walks differ");
     }
 
     #[test]

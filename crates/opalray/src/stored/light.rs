@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use crate::geometry::LightSource;
 use crate::optics::BraggLine;
-use crate::stone::{ActiveLine, Span, Stone};
+use crate::stone::{ActiveLine, Hint, Span, Stone};
 
 /// A grid point outside the stone.
 const OUTSIDE: u32 = u32::MAX;
@@ -210,6 +210,7 @@ impl StoredLight {
             x,
             to_light,
             distance,
+            Hint::default(),
             None,
             &mut scratch.spans,
             &mut scratch.lines,

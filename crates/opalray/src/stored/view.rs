@@ -36,7 +36,7 @@ use crate::optics::BraggLine;
 use crate::path::Lines;
 use crate::scene::Backing;
 use crate::stone::body::hg_phase;
-use crate::stone::{ActiveLine, Boundary, Region, Span, Stone};
+use crate::stone::{ActiveLine, Boundary, Hint, Region, Span, Stone};
 
 /// Offset of a point past a domain's face, mm (0.1 µm).
 const EPSILON_MM: f32 = 1e-4;
@@ -151,7 +151,7 @@ impl<'a> Gather<'a> {
         };
         let mut spans = std::mem::take(&mut self.spans);
         spans.clear();
-        stone.walk(p, dir, 0.0, t_end, None, &mut |s| spans.push(s));
+        stone.walk(p, dir, 0.0, t_end, Hint::default(), &mut |s| spans.push(s));
         self.eye_notches.clear();
         let mut tau = 0.0f32;
         for span in &spans {
