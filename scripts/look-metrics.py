@@ -15,6 +15,9 @@ moments; then, over the face:
   of at least 0.25 % of the face; their count, median size (the diameter of a disc of the
   same area, in mm: the face's long axis is `--face-mm` across, 20 mm for the gem presets)
   and the largest's share of the face;
+- what the rest of the face is: pale (value > 0.25, saturation ≤ 0.5: the gloss, the rim's
+  reflections, and colours of several plates mixed), dim colour (saturation > 0.5, value
+  ≤ 0.25) and dark (the rest);
 - median value of the face (sRGB, 0–1);
 - edge straightness: the coherence of the colour structure tensor (the sum over R, G, B of
   ∇c ∇cᵀ, smoothed by a Gaussian of σ = 0.4 mm), `(λ₁ − λ₂) / (λ₁ + λ₂)`, averaged over the
@@ -147,11 +150,15 @@ def measure(path, face_mm=20.0):
     coloured = mask & (sat > 0.5) & (val > 0.25)
     face = mask.sum()
     share = coloured.sum() / max(face, 1)
+    pale = mask & (sat <= 0.5) & (val > 0.25)
+    dim = mask & (sat > 0.5) & (val <= 0.25)
     sextants = np.histogram(hue[coloured], bins=6, range=(0, 360))[0]
     sextant_share = sextants / max(coloured.sum(), 1)
     return {
         "face_px": int(face),
         "colour_share": float(share),
+        "pale_share": float(pale.sum() / max(face, 1)),
+        "dim_share": float(dim.sum() / max(face, 1)),
         "sextants": [round(float(v), 3) for v in sextant_share],
         "sextants_over_5pct": int((sextant_share >= 0.05).sum()),
         "median_value": float(np.median(val[mask])) if face else 0.0,
@@ -175,7 +182,8 @@ def main():
         m = measure(path, face_mm)
         print(
             f"{path}: colour {100 * m['colour_share']:.1f} % of the face "
-            f"({m['face_px']} px); hue sextants R Y G C B M = {m['sextants']} "
+            f"({m['face_px']} px; pale {100 * m['pale_share']:.1f} %, dim colour "
+            f"{100 * m['dim_share']:.1f} %); hue sextants R Y G C B M = {m['sextants']} "
             f"({m['sextants_over_5pct']} of 6 ≥ 5 %); {m['patches']} patches, median "
             f"{m['median_patch_mm']:.1f} mm, largest {100 * m['largest_patch_share']:.0f} % of "
             f"the face; median value {m['median_value']:.2f}; edge straightness "
