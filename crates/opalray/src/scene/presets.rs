@@ -74,7 +74,7 @@ pub fn preset(name: &str) -> Result<Scene> {
             integrator: IntegratorConfig {
                 method: Method::Path,
                 // A gem's picture denoised: at 8 samples per pixel its error against a long
-                // reference is a raw render's at about 70 (11 %; 14–15 % with the ragged
+                // reference is a raw render's at about 70 (10.3 %; 14.3 % with the ragged
                 // outlines' heavier fireflies, `BENCHMARKS.md`).
                 spp: 8,
                 denoise: true,
