@@ -9,7 +9,7 @@
 //! samples). A pixel averages with the pixels of its window whose neighbourhoods look alike
 //! beyond what their noise explains: within one patch of colour it averages widely, across
 //! a patch's edge hardly at all. A firefly (one rare sample of large weight, in one half alone)
-//! is first cut to a few times its surroundings ([`FIREFLY_RATIO`]): spread with its energy
+//! is first cut to a few times its surroundings (`FIREFLY_RATIO`): spread with its energy
 //! kept, it would leave a soft spot.
 //!
 //! The filtered halves `a'`, `b'` still differ by what noise is left, so `a' − b'` estimates

@@ -189,23 +189,29 @@ mod tests {
         assert!(b > 0.8 * a && b < a, "1 mm: {a} → {b}");
     }
 
+    /// A ray from a random point of the middle of the stone, in a random direction.
+    fn random_ray(rng: &mut Rng) -> (Vec3, Vec3) {
+        let origin = Vec3::new(
+            (rng.uniform_f32() - 0.5) * 12.0,
+            (rng.uniform_f32() - 0.5) * 8.0,
+            (rng.uniform_f32() - 0.5) * 2.0,
+        );
+        let dir = Vec3::new(
+            rng.uniform_f32() - 0.5,
+            rng.uniform_f32() - 0.5,
+            rng.uniform_f32() - 0.5,
+        )
+        .normalize();
+        (origin, dir)
+    }
+
     /// Over random segments, the share of length whose walked domain differs from the point
     /// query's at the span's middle (the power diagram's walk may miss a tiny face, `grains`).
     fn walk_mismatch(stone: &Stone) -> f64 {
         let mut rng = Rng::new(3, stage::STONE, 98);
         let (mut total, mut wrong) = (0.0f64, 0.0f64);
         for _ in 0..400 {
-            let origin = Vec3::new(
-                (rng.uniform_f32() - 0.5) * 12.0,
-                (rng.uniform_f32() - 0.5) * 8.0,
-                (rng.uniform_f32() - 0.5) * 2.0,
-            );
-            let dir = Vec3::new(
-                rng.uniform_f32() - 0.5,
-                rng.uniform_f32() - 0.5,
-                rng.uniform_f32() - 0.5,
-            )
-            .normalize();
+            let (origin, dir) = random_ray(&mut rng);
             let mut spans = Vec::new();
             stone.walk(origin, dir, 0.0, 1.5, Hint::default(), &mut |s| {
                 spans.push(s)
@@ -246,17 +252,7 @@ mod tests {
             (spans, key, end)
         };
         for _ in 0..200 {
-            let origin = Vec3::new(
-                (rng.uniform_f32() - 0.5) * 12.0,
-                (rng.uniform_f32() - 0.5) * 8.0,
-                (rng.uniform_f32() - 0.5) * 2.0,
-            );
-            let dir = Vec3::new(
-                rng.uniform_f32() - 0.5,
-                rng.uniform_f32() - 0.5,
-                rng.uniform_f32() - 0.5,
-            )
-            .normalize();
+            let (origin, dir) = random_ray(&mut rng);
             let (spans, _, end) = walk(origin, dir, 0.0, Hint::default());
             assert!(end.column.is_some() && end.grain.is_some());
             for s in spans.iter().filter(|s| s.t1 - s.t0 > 1e-3) {
