@@ -74,6 +74,14 @@ fn a_thick_slab_of_potch_shows_its_tones_munsell_value() {
         // A mean free path of 20 µm: 8 mm of potch is a semi-infinite slab at any tone.
         scene.body.potch_extinction_per_mm = 50.0;
         let stone = Stone::new(&scene).unwrap();
+        // Deeper than 0.1 mm no outside light is estimated (the stone's reach bound): the
+        // body's light then comes from the escapes its deep scatterings draw.
+        let deep = Vec3::new(0.0, 0.0, -1.0);
+        assert!(
+            stone.reach_bound(deep) < 0.01,
+            "{}",
+            stone.reach_bound(deep)
+        );
         let n = stone.n_eff;
         let f0 = f64::from(((n - 1.0) / (n + 1.0)).powi(2));
         let start = std::time::Instant::now();

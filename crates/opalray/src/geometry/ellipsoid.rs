@@ -33,6 +33,14 @@ impl Ellipsoid {
         (p / self.semi_axes).length_squared() <= 1.0
     }
 
+    /// A lower bound of the distance from `p` to the surface, mm (0 outside). The solid is
+    /// convex and holds the ball of its least semi-axis `c`; `p` lies on the shrunk copy
+    /// `r E`, r = |p / semi-axes|, so `p + (1 − r) c B ⊆ r E + (1 − r) E = E`.
+    pub fn depth_bound(&self, p: Vec3) -> f32 {
+        let r = (p / self.semi_axes).length();
+        ((1.0 - r) * self.semi_axes.min_element()).max(0.0)
+    }
+
     /// Parameters `(t_near, t_far)` where the full line of `ray` crosses the surface, or
     /// `None` if it misses. Solved in the frame scaled to the unit sphere, in f64 for
     /// accuracy at grazing incidence.

@@ -87,6 +87,24 @@ impl Cabochon {
         }
     }
 
+    /// A lower bound of the distance from `p` to the surface, mm (0 outside). The solid holds
+    /// its dome's half-ellipsoid (and its back's), each the intersection of a full ellipsoid
+    /// with a half-space, and the ellipsoid of its girdle and the lower of its two heights.
+    pub fn depth_bound(&self, p: Vec3) -> f32 {
+        let q = p - Vec3::Z * self.girdle_z;
+        let half = if q.z >= 0.0 {
+            self.dome.depth_bound(q).min(q.z)
+        } else {
+            self.back.map_or(0.0, |b| b.depth_bound(q).min(-q.z))
+        };
+        let Some(back) = &self.back else {
+            return half;
+        };
+        let (a, b) = self.girdle;
+        let low = self.dome.semi_axes().z.min(back.semi_axes().z);
+        half.max(Ellipsoid::new(Vec3::new(a, b, low)).depth_bound(q))
+    }
+
     /// `(t_near, t_far)` where the full line of `ray` crosses the surface, or `None`.
     pub fn intersect(&self, ray: &Ray) -> Option<(f32, f32)> {
         let local = self.local(ray);
@@ -187,6 +205,14 @@ impl Outline {
         }
     }
 
+    /// A lower bound of the distance from `p` to the surface, mm (0 outside).
+    pub fn depth_bound(&self, p: Vec3) -> f32 {
+        match self {
+            Outline::Ellipsoid(e) => e.depth_bound(p),
+            Outline::Cabochon(c) => c.depth_bound(p),
+        }
+    }
+
     /// `(t_near, t_far)` where the full line of `ray` crosses the surface, or `None`.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<(f32, f32)> {
@@ -280,5 +306,47 @@ mod tests {
             }
             assert!(hits > 500, "{hits}");
         }
+    }
+
+    #[test]
+    fn the_depth_bound_never_exceeds_the_distance_to_the_surface_and_is_exact_at_the_centre() {
+        // Independent: the distance from p to the surface is the least exit distance over all
+        // directions from p (2000 random ones, and the six axes).
+        let mut rng = crate::sampling::Rng::new(3, 0, 0);
+        let shapes = [
+            Outline::Cabochon(cab()),
+            Outline::Cabochon(Cabochon::new(8.0, 6.0, 2.5, 0.8)),
+            Outline::Ellipsoid(Ellipsoid::new(Vec3::new(10.0, 7.5, 2.5))),
+        ];
+        for shape in shapes {
+            let s = shape.semi_axes();
+            let mut inside = 0;
+            for _ in 0..300 {
+                let p = Vec3::new(
+                    (rng.uniform_f32() * 2.0 - 1.0) * s.x,
+                    (rng.uniform_f32() * 2.0 - 1.0) * s.y,
+                    (rng.uniform_f32() * 2.0 - 1.0) * s.z,
+                );
+                let bound = shape.depth_bound(p);
+                if !shape.contains(p) {
+                    assert_eq!(bound, 0.0, "{p}");
+                    continue;
+                }
+                inside += 1;
+                let axes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
+                let nearest = (0..2000)
+                    .map(|_| rng.unit_vector())
+                    .chain(axes)
+                    .filter_map(|d| shape.intersect(&Ray::new(p, d)).map(|(_, t1)| t1))
+                    .fold(f32::INFINITY, f32::min);
+                assert!(bound <= nearest + 1e-4, "{p}: {bound} > {nearest}");
+            }
+            assert!(inside > 50, "{inside}");
+        }
+        // At the flat-backed dome's centre of height, the nearest surface is the back or the
+        // apex, half the height away.
+        let c = cab();
+        let centre = Vec3::new(0.0, 0.0, c.girdle_z() + 1.5);
+        assert!((c.depth_bound(centre) - 1.5).abs() < 1e-5);
     }
 }

@@ -87,6 +87,12 @@ const MAX_BRANCH_PROBABILITY: f64 = 0.25;
 /// its share of white light (keeps every branch possible, so the estimate unbiased).
 const MIN_SHARE_OF_WHITE: f64 = 0.01;
 
+/// Least bound of the share of outside light that can reach a scattering point
+/// ([`Stone::reach_bound`]) for the environment and an area light to be estimated there.
+/// Below it the estimate would cost a refracted solve and a walk to add almost nothing; the
+/// scattering's draw then carries the whole weight of its escape (still unbiased).
+const MIN_REACH: f32 = 0.01;
+
 /// Most directions the camera path's first scattering goes on in.
 const MAX_SCATTERING_SPLIT: u32 = 16;
 
@@ -397,6 +403,9 @@ impl<'a> Tracer<'a> {
                     self.light_at_potch(pos, dir, &lines, weight, rng, acc, bins);
                     let g = potch.anisotropy;
                     let incoming = dir;
+                    // Deep in a milky body no light from outside reaches this point: the
+                    // estimate is skipped and the scattering's own draw weighs alone.
+                    let sample_env = sample_env && stone.reach_bound(pos) >= MIN_REACH;
                     if sample_env {
                         let phase = |to: Vec3| hg_phase(g, to.dot(incoming));
                         self.environment_at(pos, &phase, &lines, weight, rng, acc, bins);

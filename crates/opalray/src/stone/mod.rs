@@ -593,6 +593,21 @@ impl Stone {
         }
     }
 
+    /// An upper bound of the share of light from outside that reaches `p` (inside the opal)
+    /// unscattered: `exp(−σ_min d)`, d a lower bound of the distance to the surface
+    /// ([`Outline::depth_bound`]) and σ_min the least extinction on the way (the potch's, or
+    /// the milky domains'; 0 where domains are clear).
+    pub fn reach_bound(&self, p: Vec3) -> f32 {
+        let sigma = if self.domains.is_empty() {
+            self.potch.extinction_per_mm
+        } else {
+            self.potch
+                .extinction_per_mm
+                .min(self.potch.domain_scattering_per_mm)
+        };
+        (-sigma * self.shape.depth_bound(p)).exp()
+    }
+
     /// The region `p` (inside the stone) lies in.
     #[inline]
     pub fn region_at(&self, p: Vec3) -> Region {
