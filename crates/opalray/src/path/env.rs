@@ -64,6 +64,8 @@ pub struct Environment {
     background: f32,
     map: Option<Arc<LuminanceMap>>,
     distribution: Arc<Distribution2D>,
+    /// The brightest texel's value ([`Environment::peak`]).
+    peak: f32,
 }
 
 impl std::fmt::Debug for Environment {
@@ -101,15 +103,19 @@ impl Environment {
             background,
             map: None,
             distribution: Arc::new(Distribution2D::new(&[1.0], 1, 1)),
+            peak: 0.0,
         };
         let (weights, width, height) = if config.kind == EnvironmentKind::File {
             let map = load_map(&config.path)?;
             let weights = map.luminance.clone();
             let (w, h) = (map.width, map.height);
             env.map = Some(Arc::new(map));
+            env.peak = weights.iter().fold(0.0f32, |m, &v| m.max(v)) * env.intensity;
             (weights, w, h)
         } else {
-            (env.rasterise(), BUILT_IN_GRID.0, BUILT_IN_GRID.1)
+            let weights = env.rasterise();
+            env.peak = weights.iter().fold(0.0f32, |m, &v| m.max(v));
+            (weights, BUILT_IN_GRID.0, BUILT_IN_GRID.1)
         };
         env.distribution = Arc::new(sampling_distribution(weights, width, height));
         Ok(env)
@@ -121,6 +127,12 @@ impl Environment {
     pub fn tilted(mut self, tilt_deg: f64) -> Self {
         self.to_env *= DQuat::from_rotation_x(tilt_deg.to_radians());
         self
+    }
+
+    /// The brightest value over its sampling raster: a map's brightest pixel, a built-in's
+    /// brightest texel (the mean of its subsamples).
+    pub fn peak(&self) -> f32 {
+        self.peak
     }
 
     /// Value seen looking along `dir` (unit, in the stone's frame).

@@ -23,7 +23,9 @@
 //! - **Domain crossing**: the families whose line can fall in the range at the ray's angle
 //!   ([`Stone::lines`], the layers set by the chord) reflect or pass it. The ray always goes
 //!   on through, carrying `1 − R` of each line; the reflections are branches: at every
-//!   crossing of the camera ray's first segment every one, later one drawn with twice the
+//!   crossing of the camera ray's first segment every one (each followed with a probability
+//!   set by what its first escape sees, `Tracer::follow_probability`: most look into the
+//!   dark room), later one drawn with twice the
 //!   lines' share of the path's light (white light before any reflection, what the line
 //!   reflects of the path's line after one; at most ¼), its weight divided by that
 //!   probability. A path already reflected does not fork: it either reflects or goes on
@@ -92,6 +94,12 @@ const MIN_SHARE_OF_WHITE: f64 = 0.01;
 /// Below it the estimate would cost a refracted solve and a walk to add almost nothing; the
 /// scattering's draw then carries the whole weight of its escape (still unbiased).
 const MIN_REACH: f32 = 0.01;
+
+/// A reflection of the camera ray's first segment whose first escape sees at least this share
+/// of the environment's brightest value is always followed ([`Tracer::follow_probability`]).
+const FOLLOW_FROM: f32 = 0.05;
+/// Least probability with which such a reflection is followed.
+const MIN_FOLLOW: f32 = 0.25;
 
 /// Most directions the camera path's first scattering goes on in.
 const MAX_SCATTERING_SPLIT: u32 = 16;
@@ -206,6 +214,9 @@ struct Tracer<'a> {
     area_estimation: bool,
     /// The cells likely to hold the point light is next estimated at.
     nee_hint: Hint,
+    /// The value seen from which a reflection of the camera ray's first segment is always
+    /// followed ([`Tracer::follow_probability`]); 0: every one is.
+    follow_from: f32,
 }
 
 impl<'a> Tracer<'a> {
@@ -220,6 +231,13 @@ impl<'a> Tracer<'a> {
             light_lines: Vec::with_capacity(16),
             area_estimation: true,
             nee_hint: Hint::default(),
+            // With a point or directional light, a reflection's worth lies in the estimates
+            // of that light along its path, which its first escape does not foretell.
+            follow_from: if setup.light.is_none() {
+                FOLLOW_FROM * setup.environment.peak()
+            } else {
+                0.0
+            },
         }
     }
 
@@ -715,6 +733,7 @@ impl<'a> Tracer<'a> {
                     cells,
                     line,
                     Some(1.0),
+                    true,
                     weight,
                     *lines,
                     level,
@@ -748,6 +767,7 @@ impl<'a> Tracer<'a> {
                     cells,
                     &here[pick],
                     (!chooses).then_some(p_pick),
+                    false,
                     w,
                     *lines,
                     level,
@@ -781,6 +801,7 @@ impl<'a> Tracer<'a> {
         cells: Hint,
         line: &ActiveLine,
         p_pick: Option<f64>,
+        cull: bool,
         weight: f32,
         lines: Lines,
         level: u32,
@@ -789,6 +810,17 @@ impl<'a> Tracer<'a> {
         bins: &mut [f32],
     ) {
         if let Some((d, l)) = self.reflection(domain, line, dir, rng) {
+            let mut weight = weight;
+            if cull {
+                // Russian roulette on what the branch's first escape will see.
+                let p = self.follow_probability(face, d);
+                if p < 1.0 {
+                    if rng.uniform_f32() >= p {
+                        return;
+                    }
+                    weight /= p;
+                }
+            }
             let mut branch = lines;
             branch.reflect(l);
             let state = PathState {
@@ -804,6 +836,35 @@ impl<'a> Tracer<'a> {
             };
             self.inside(state, false, level + 1, rng, acc, bins);
         }
+    }
+
+    /// The probability with which a reflection of the camera ray's first segment, leaving
+    /// `from` along `dir`, is followed: what the room shows where it first meets the surface
+    /// and refracts out, over [`FOLLOW_FROM`] of the room's brightest, at least [`MIN_FOLLOW`];
+    /// 1 where it meets an area light, is reflected whole (beyond the critical angle) or
+    /// meets anything but the surface first. Most reflections look into the dark room; the
+    /// bright ones, which hold the picture's colour, are all followed.
+    fn follow_probability(&self, from: Vec3, dir: Vec3) -> f32 {
+        if self.follow_from <= 0.0 {
+            return 1.0;
+        }
+        let stone = self.stone;
+        let ray = Ray {
+            origin: from,
+            direction: dir,
+        };
+        let Some((t, Boundary::Surface)) = stone.exit(&ray, Region::Opal) else {
+            return 1.0;
+        };
+        let exit = ray.at(t);
+        let Some(out) = refract(dir, stone.shape.normal(exit), stone.n_eff, 1.0) else {
+            return 1.0;
+        };
+        let (value, light) = self.escaped_to(exit, out);
+        if light {
+            return 1.0;
+        }
+        (value / self.follow_from).clamp(MIN_FOLLOW, 1.0)
     }
 
     /// A reflection of the ray along `dir` by `line` of `domain`: the lobe's normal drawn, the
@@ -1005,4 +1066,38 @@ fn sample_lobe(n: Vec3, sigma: f32, rng: &mut Rng) -> Vec3 {
     let phi = 2.0 * PI * rng.uniform_f32();
     let (t, b) = n.any_orthonormal_pair();
     (n * alpha.cos() + (t * phi.cos() + b * phi.sin()) * alpha.sin()).normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::nee::tests::{mean_y_with, studio_8x8};
+    use super::*;
+
+    #[test]
+    fn the_roulette_on_first_reflections_keeps_the_mean() {
+        // The harlequin's cabochon under the studio, seen whole: with every reflection of the
+        // camera ray's first segment followed, and with each followed at random (the bar
+        // raised over the room's brightest, so that nearly every one is followed with
+        // probability ¼, its weight over that), the mean is the same (4 standard errors).
+        let mut scene = crate::scene::preset("harlequin").unwrap();
+        scene.structure.seed = 1;
+        let stone = Stone::new(&scene).unwrap();
+        let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
+        let setup = studio_8x8(&sampler, 1.0, None, 12.0, 3);
+        let tracer = Tracer::new(&stone, &setup);
+        assert!(tracer.follow_from > 0.0);
+        // A reflection straight up from the centre looks out through the camera's dark side
+        // of the room: followed with the least probability.
+        let p = tracer.follow_probability(Vec3::ZERO, Vec3::Z);
+        assert_eq!(p, MIN_FOLLOW);
+        let spp = 400;
+        let [all, se_all, _] = mean_y_with(&stone, &setup, 0, spp, |t| t.follow_from = 0.0);
+        let bar = 4.0 * setup.environment.peak();
+        let [some, se_some, _] = mean_y_with(&stone, &setup, 1, spp, |t| t.follow_from = bar);
+        let se = (se_all * se_all + se_some * se_some).sqrt();
+        assert!(
+            (some - all).abs() <= 4.0 * se,
+            "roulette {some} vs all {all} ± {se}"
+        );
+    }
 }

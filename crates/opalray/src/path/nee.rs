@@ -328,25 +328,78 @@ impl Tracer<'_> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::geometry::Camera;
     use crate::path::{Environment, PathSetup, SpectralSampler};
     use crate::scene::{EnvironmentConfig, EnvironmentKind};
     use crate::stone::Stone;
 
+    /// An 8 × 8 face-on view, `fov_deg` wide, of a stone under the studio at `intensity`
+    /// (and `area_light`): 8 events, no gloss, no point light.
+    pub(in crate::path) fn studio_8x8(
+        sampler: &SpectralSampler,
+        intensity: f64,
+        area_light: Option<AreaLight>,
+        fov_deg: f32,
+        seed: u64,
+    ) -> PathSetup<'_> {
+        let environment = Environment::new(
+            &EnvironmentConfig {
+                kind: EnvironmentKind::Studio,
+                intensity,
+                ..EnvironmentConfig::default()
+            },
+            0.0,
+        )
+        .unwrap();
+        PathSetup {
+            camera: Camera::look_at(
+                Vec3::new(0.0, 0.0, 100.0),
+                Vec3::ZERO,
+                Vec3::Y,
+                fov_deg,
+                8,
+                8,
+            ),
+            width: 8,
+            height: 8,
+            spp: 1,
+            max_depth: 8,
+            light: None,
+            environment,
+            area_light,
+            gloss: 0.0,
+            seed,
+            spectral: sampler,
+        }
+    }
+
     /// Over the image, `spp` paths a pixel with the area light's estimation on or off: the
     /// mean of Y, its standard error, and the mean over the pixels of the paths' variance.
     fn mean_y(stone: &Stone, setup: &PathSetup, estimate: bool, spp: u64) -> [f64; 3] {
+        mean_y_with(stone, setup, u64::from(estimate), spp, |t| {
+            t.area_estimation = estimate
+        })
+    }
+
+    /// [`mean_y`] with the tracer set by `configure`, its paths drawn from `stream`.
+    pub(in crate::path) fn mean_y_with(
+        stone: &Stone,
+        setup: &PathSetup,
+        stream: u64,
+        spp: u64,
+        configure: impl Fn(&mut Tracer),
+    ) -> [f64; 3] {
         let mut tracer = Tracer::new(stone, setup);
-        tracer.area_estimation = estimate;
+        configure(&mut tracer);
         let mut bins = vec![0.0f32; setup.spectral.grid.bins];
         let pixels = (setup.width * setup.height) as u64;
         let (mut mean, mut variance) = (0.0f64, 0.0f64);
         for p in 0..pixels {
             let (mut sum, mut sum2) = (0.0f64, 0.0f64);
             for s in 0..spp {
-                let mut rng = Rng::new(setup.seed, u64::from(estimate), p * spp + s);
+                let mut rng = Rng::new(setup.seed, stream, p * spp + s);
                 let x = (p % setup.width as u64) as f32 + rng.uniform_f32();
                 let y = (p / setup.width as u64) as f32 + rng.uniform_f32();
                 let mut acc = [0.0f64; 3];
@@ -378,29 +431,9 @@ mod tests {
             scene.domains.void_fraction = void_fraction;
             let stone = Stone::new(&scene).unwrap();
             let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
-            let environment = Environment::new(
-                &EnvironmentConfig {
-                    kind: EnvironmentKind::Studio,
-                    intensity: 0.5,
-                    ..EnvironmentConfig::default()
-                },
-                0.0,
-            )
-            .unwrap();
-            let setup = PathSetup {
-                camera: Camera::look_at(Vec3::new(0.0, 0.0, 100.0), Vec3::ZERO, Vec3::Y, 8.0, 8, 8),
-                width: 8,
-                height: 8,
-                spp: 1,
-                max_depth: 8,
-                light: None,
-                environment,
-                area_light: Some(light),
-                // No gloss: its view of the light varies across the pixels, not with the paths.
-                gloss: 0.0,
-                seed: 7,
-                spectral: &sampler,
-            };
+            // No gloss in it: its view of the light varies across the pixels, not with the
+            // paths.
+            let setup = studio_8x8(&sampler, 0.5, Some(light), 8.0, 7);
             let [off, se_off, var_off] = mean_y(&stone, &setup, false, spp);
             let [on, se_on, var_on] = mean_y(&stone, &setup, true, spp / 2);
             let se = (se_off * se_off + se_on * se_on).sqrt();
