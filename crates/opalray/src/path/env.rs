@@ -110,13 +110,17 @@ impl Environment {
             let weights = map.luminance.clone();
             let (w, h) = (map.width, map.height);
             env.map = Some(Arc::new(map));
-            env.peak = weights.iter().fold(0.0f32, |m, &v| m.max(v)) * env.intensity;
             (weights, w, h)
         } else {
-            let weights = env.rasterise();
-            env.peak = weights.iter().fold(0.0f32, |m, &v| m.max(v));
-            (weights, BUILT_IN_GRID.0, BUILT_IN_GRID.1)
+            (env.rasterise(), BUILT_IN_GRID.0, BUILT_IN_GRID.1)
         };
+        // A map's raster is its luminance; a built-in's holds the intensity already.
+        let scale = if env.map.is_some() {
+            env.intensity
+        } else {
+            1.0
+        };
+        env.peak = weights.iter().fold(0.0f32, |m, &v| m.max(v)) * scale;
         env.distribution = Arc::new(sampling_distribution(weights, width, height));
         Ok(env)
     }

@@ -605,6 +605,10 @@ impl Stone {
                 .extinction_per_mm
                 .min(self.potch.domain_scattering_per_mm)
         };
+        if sigma <= 0.0 {
+            // Clear domains: no bound short of 1, and no distance worth finding.
+            return 1.0;
+        }
         (-sigma * self.shape.depth_bound(p)).exp()
     }
 
