@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use opalray::optics::BraggLine;
-use opalray::path::{Lines, SpectralSampler};
+use opalray::path::{Lines, PathSpectrum, SpectralSampler};
 use opalray::render::prepare;
 use opalray::scene::{preset, FamilyChoice, Illuminant, Pattern, Scene};
 use opalray::spectrum::WavelengthGrid;
@@ -120,21 +120,15 @@ fn a_double_reflection_is_the_mean_of_r_squared_not_the_square_of_the_bin_mean()
     let grid = WavelengthGrid::default();
     let sampler = SpectralSampler::new(Illuminant::E, &grid, 8);
     let line = BraggLine::new(0.003_712, 588.8, 1.0, 400.0);
-    let mut lines = Lines::default();
-    lines.reflect(line);
-    lines.reflect(line);
     let bin = grid.bin_of(585.0).unwrap();
     let draws = 20_000;
     let mut mean_bin = 0.0f64;
     for k in 0..draws {
+        let mut path = PathSpectrum::default();
+        path.reflect(line, &sampler, (k as f64 + 0.5) / draws as f64);
+        path.reflect(line, &sampler, 0.5);
         let (mut xyz, mut bins) = ([0.0; 3], vec![0.0f32; grid.bins]);
-        sampler.add(
-            &lines,
-            1.0,
-            (k as f64 + 0.5) / draws as f64,
-            &mut xyz,
-            &mut bins,
-        );
+        sampler.add_path(&path, 1.0, &mut xyz, &mut bins);
         mean_bin += f64::from(bins[bin]) / draws as f64;
     }
     // Brute force: the light's spectrum is flat (E), so the bin value is the light's level

@@ -78,29 +78,6 @@ impl BraggLine {
         0.5 * (grating_r(self.nu_s * ratio, sigma) + grating_r(self.nu_p * ratio, sigma))
     }
 
-    /// An upper bound of the unpolarised reflectance at every wavelength at least
-    /// `distance_nm` from the centre: per polarisation `min(1, k ν² / max(1, x²))`,
-    /// `x = πN d/λ_B`, `k = (1 − 1/(πN))⁻²`. A uniform grating's reflectance at `λ`, with
-    /// `ν' = ν λ_B/λ` and `σ = πN(λ_B/λ − 1)`, is `ν'² sin² s/(s² + ν'² sin² s) ≤ ν'²/σ²` off
-    /// its stop band (`s² = σ² − ν'²`), and `ν'²/σ² = ν²/x'²` with `x' = πN|λ − λ_B|/λ_B ≥ x`
-    /// on either side; everywhere `R ≤ tanh² ν' ≤ ν'²`, and within `x ≤ 1` of the centre
-    /// `λ_B/λ ≤ 1/(1 − 1/(πN))`. No trigonometry: cheap enough to weigh every line a path
-    /// meets.
-    #[inline]
-    pub fn bound_beyond(&self, distance_nm: f64) -> f64 {
-        let pi_n = PI * self.layers.max(1.0);
-        let x = pi_n * distance_nm.max(0.0) / self.center_nm.max(1e-9);
-        let k = (1.0 - 1.0 / pi_n).powi(-2);
-        let bound = |nu: f64| (k * nu * nu / (x * x).max(1.0)).min(1.0);
-        0.5 * (bound(self.nu_s) + bound(self.nu_p))
-    }
-
-    /// Half-width of the main lobe to its first zeros, nm: `σ = √(π² + ν²)` (s polarisation).
-    #[inline]
-    pub fn main_lobe_half_width_nm(&self) -> f64 {
-        self.center_nm * (PI * PI + self.nu_s * self.nu_s).sqrt() / (PI * self.layers).max(1e-9)
-    }
-
     /// Peak reflectance (unpolarised), `(tanh² ν_s + tanh² ν_p)/2`.
     pub fn peak(&self) -> f64 {
         0.5 * (self.nu_s.tanh().powi(2) + self.nu_p.tanh().powi(2))
@@ -170,33 +147,6 @@ mod tests {
     use super::*;
     use crate::optics::ClusterStack;
     use crate::scene::CrystalConfig;
-
-    #[test]
-    fn bound_beyond_holds_over_every_wavelength_that_far_out() {
-        // Independent: the reflectance itself, scanned finely on both sides.
-        for layers in [3.0, 10.0, 50.0, 400.0] {
-            for coupling in [0.0005, 0.0037, 0.02] {
-                for cos in [1.0, 0.8, 0.5] {
-                    let line = BraggLine::new(coupling, 600.0, cos, layers);
-                    let width = line.main_lobe_half_width_nm();
-                    for step in 0..60 {
-                        let d = width * 0.1 * f64::from(step);
-                        let bound = line.bound_beyond(d);
-                        for k in 0..400 {
-                            let off = d + width * 0.02 * f64::from(k);
-                            for w in [line.center_nm - off, line.center_nm + off] {
-                                let r = line.reflectance(w);
-                                assert!(
-                                    r <= bound * (1.0 + 1e-9) + 1e-15,
-                                    "N {layers} g {coupling} cos {cos} d {d}: R({w}) = {r} > {bound}"
-                                );
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
 
     #[test]
     fn peak_is_tanh_squared_at_normal_incidence() {

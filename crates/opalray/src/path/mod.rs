@@ -25,12 +25,12 @@
 //!   on through, carrying `1 − R` of each line; the reflections are branches: at every
 //!   crossing of the camera ray's first segment every one (each followed with a probability
 //!   set by what its first escape sees, `Tracer::follow_probability`: most look into the
-//!   dark room), later one drawn with twice the
-//!   lines' share of the path's light (white light before any reflection, what the line
-//!   reflects of the path's line after one; at most ¼), its weight divided by that
-//!   probability. A path already reflected does not fork: it either reflects or goes on
-//!   through, its weight over `1 − p` (its cost grows linearly with depth). A reflection
-//!   draws the lobe's normal `h` about the
+//!   dark room), later one drawn with twice the lines' share of white light (at most ¼),
+//!   its weight divided by that probability. A path already reflected does not fork: it
+//!   reflects, with each line's share of its own light (what the line reflects at the
+//!   wavelengths it carries, [`PathSpectrum::mean_reflectance`]; at most 0.95 in all), or
+//!   goes on through, its weight over `1 − p` (its cost grows linearly with depth, its
+//!   weight stays about 1). A reflection draws the lobe's normal `h` about the
 //!   family normal (Gaussian, the rocking width and the mosaic spread,
 //!   [`Stone::lobe_sigma`]) and mirrors the ray about `h`; its line is evaluated at the angle to
 //!   `h` — the half-vector law `λ = 2 d n̄ cos θ_h`. The reflection happens at the domain's
@@ -73,7 +73,7 @@ pub use emitters::{AreaLight, LightSample};
 pub use env::{EnvSample, Environment};
 pub use noise::Noise;
 pub use passes::{trace_passes, PassReport, Passes};
-pub use spectral::{Lines, SpectralSampler};
+pub use spectral::{Lines, PathSpectrum, SpectralSampler, MAX_DRAWS};
 
 use nee::Drawn;
 
@@ -85,6 +85,9 @@ const EPSILON_MM: f32 = 1e-4;
 const MAX_LINES_PER_CROSSING: usize = 13;
 /// Most probability of a reflection branch at a domain crossing after the first segment.
 const MAX_BRANCH_PROBABILITY: f64 = 0.25;
+/// Most probability with which an already reflected path reflects at a crossing (the rest
+/// goes on through, its weight over 1 − p).
+const MAX_CHOICE_PROBABILITY: f64 = 0.95;
 /// Least share of an already reflected path's light a line is drawn with, as a fraction of
 /// its share of white light (keeps every branch possible, so the estimate unbiased).
 const MIN_SHARE_OF_WHITE: f64 = 0.01;
@@ -189,8 +192,8 @@ struct PathState {
     pos: Vec3,
     dir: Vec3,
     weight: f32,
-    /// The lines met so far.
-    lines: Lines,
+    /// Its spectrum: the lines met so far.
+    lines: PathSpectrum,
     /// The domain whose face reflected it (left through that face).
     skip: Option<u32>,
     region: Region,
@@ -241,20 +244,20 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    fn add(&self, lines: &Lines, weight: f32, rng: &mut Rng, acc: &mut [f64; 3], bins: &mut [f32]) {
+    fn add(&self, lines: &PathSpectrum, weight: f32, acc: &mut [f64; 3], bins: &mut [f32]) {
         self.setup
             .spectral
-            .add(lines, f64::from(weight), rng.uniform(), acc, bins);
+            .add_path(lines, f64::from(weight), acc, bins);
     }
 
     /// One camera ray's path.
     fn sample(&mut self, ray: Ray, rng: &mut Rng, acc: &mut [f64; 3], bins: &mut [f32]) {
-        let plain = Lines::default();
+        let plain = PathSpectrum::default();
         let stone = self.stone;
         let shape = stone.shape;
         let Some((t0, _)) = shape.intersect(&ray).filter(|&(t0, _)| t0 > 0.0) else {
             let v = self.escaped(ray.origin, ray.direction);
-            self.add(&plain, v, rng, acc, bins);
+            self.add(&plain, v, acc, bins);
             return;
         };
         // The surface: gloss to the environment and the light's disc, the rest refracts in.
@@ -266,7 +269,7 @@ impl<'a> Tracer<'a> {
         let fresnel = fresnel_dielectric(cos_i, 1.0, n);
         let mirror = reflect(ray.direction, normal);
         let gloss = fresnel * self.setup.gloss * (self.escaped(p, mirror) + self.disc(mirror));
-        self.add(&plain, gloss, rng, acc, bins);
+        self.add(&plain, gloss, acc, bins);
         let Some(dir) = refract(ray.direction, normal, 1.0, n) else {
             return;
         };
@@ -275,7 +278,7 @@ impl<'a> Tracer<'a> {
             pos: p,
             dir,
             weight,
-            lines: Lines::default(),
+            lines: PathSpectrum::default(),
             skip: None,
             region,
             drawn: None,
@@ -418,7 +421,7 @@ impl<'a> Tracer<'a> {
                     weight *= albedo;
                     hint = scattered_in;
                     self.nee_hint = hint;
-                    self.light_at_potch(pos, dir, &lines, weight, rng, acc, bins);
+                    self.light_at_potch(pos, dir, &lines, weight, acc, bins);
                     let g = potch.anisotropy;
                     let incoming = dir;
                     // Deep in a milky body no light from outside reaches this point: the
@@ -481,7 +484,7 @@ impl<'a> Tracer<'a> {
                             }
                             if v > 0.0 {
                                 let value = weight * (1.0 - f) * n * n * v;
-                                self.add(&lines, value, rng, acc, bins);
+                                self.add(&lines, value, acc, bins);
                             }
                         }
                     }
@@ -507,7 +510,7 @@ impl<'a> Tracer<'a> {
                         return;
                     }
                     self.nee_hint = hint;
-                    self.light_at_back(pos, &lines, weight, rng, acc, bins);
+                    self.light_at_back(pos, &lines, weight, acc, bins);
                     if sample_env {
                         let lambert = |to: Vec3| to.z.max(0.0) / PI;
                         self.environment_at(pos, &lambert, &lines, weight, rng, acc, bins);
@@ -592,7 +595,7 @@ impl<'a> Tracer<'a> {
         &mut self,
         x: Vec3,
         density: &dyn Fn(Vec3) -> f32,
-        path: &Lines,
+        path: &PathSpectrum,
         weight: f32,
         rng: &mut Rng,
         acc: &mut [f64; 3],
@@ -630,7 +633,6 @@ impl<'a> Tracer<'a> {
             None,
             path,
             |transmitted| weight * f * value * irradiance * transmitted * mis / sample.pdf,
-            rng,
             acc,
             bins,
         );
@@ -649,7 +651,7 @@ impl<'a> Tracer<'a> {
         domain: u32,
         cells: Hint,
         weight: f32,
-        lines: &mut Lines,
+        lines: &mut PathSpectrum,
         split: bool,
         level: u32,
         rng: &mut Rng,
@@ -669,31 +671,37 @@ impl<'a> Tracer<'a> {
         // The branches below refill `self.lines`: this crossing keeps its own.
         let here = std::mem::take(&mut self.lines);
         let face = ray.at(t0);
-        // Unless split, one reflection, drawn with twice the lines' share of the
-        // path's light (at most ¼), as a branch: its weight is about 1/(2 × its share), never
-        // large against what its line passes. Before any reflection the path's light is white;
-        // after one it lies in that line, and a second line's share is what it reflects there
-        // (a bound of its reflectance there: a second reflection is drawn about as often as it
-        // can matter, and adds at most about half what the first would; the floor only raises
-        // the probability).
-        let core = lines.reflected_core();
+        // Unless split, one reflection, drawn with twice the lines' share of white light (at
+        // most ¼), as a branch: its weight is about 1/(2 × its share), never large against
+        // what its line passes. A path already reflected chooses (below) with each line's
+        // share of its own light, what the line reflects at the wavelengths it carries
+        // (exact: the branches' weights are then about 1 at each wavelength; the floor keeps
+        // every branch possible).
+        let reflected = lines.reflects();
         let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
-        for (e, l) in energy.iter_mut().zip(&here) {
+        // A reflected path's reflectances here, at its wavelengths: for its choice, and for
+        // its pass on through.
+        let mut at_path = reflected.then(|| [[0.0f32; MAX_DRAWS]; MAX_LINES_PER_CROSSING]);
+        for (i, (e, l)) in energy.iter_mut().zip(&here).enumerate() {
             let white = line_energy(&l.line);
-            *e = core.map_or(white, |(centre, reach)| {
-                let share = l
-                    .line
-                    .bound_beyond((l.line.center_nm - centre).abs() - reach);
-                share.max(MIN_SHARE_OF_WHITE * white)
-            });
+            *e = match &mut at_path {
+                Some(r) => lines
+                    .reflectances(&l.line, &mut r[i])
+                    .max(MIN_SHARE_OF_WHITE * white),
+                None => white,
+            };
         }
         let energy = &energy[..here.len().min(MAX_LINES_PER_CROSSING)];
         let total: f64 = energy.iter().sum();
-        let p_branch = (2.0 * total).min(MAX_BRANCH_PROBABILITY);
+        let chooses = !split && reflected;
+        let p_branch = if chooses {
+            total.min(MAX_CHOICE_PROBABILITY)
+        } else {
+            (2.0 * total).min(MAX_BRANCH_PROBABILITY)
+        };
         // A path already reflected chooses (below); it finds the area light by its branches'
         // escapes alone: estimated at its every crossing, with the weight its choices give it,
         // the estimate would add more noise than it takes away (twice the variance, measured).
-        let chooses = !split && lines.reflects();
         if !chooses && self.estimated_area_light().is_some() {
             // Each line's probability of its branch, for the balance against the area light.
             let mut pick = [1.0f64; MAX_LINES_PER_CROSSING];
@@ -779,8 +787,11 @@ impl<'a> Tracer<'a> {
         }
         // The ray goes on through the planes, carrying 1 − R of each line.
         if goes_on.is_some() {
-            for l in &here {
-                lines.transmit(l.line);
+            for (i, l) in here.iter().enumerate() {
+                match at_path.as_ref().and_then(|r| r.get(i)) {
+                    Some(r) => lines.pass(r),
+                    None => lines.transmit(l.line),
+                }
             }
         }
         self.lines = here;
@@ -803,7 +814,7 @@ impl<'a> Tracer<'a> {
         p_pick: Option<f64>,
         cull: bool,
         weight: f32,
-        lines: Lines,
+        lines: PathSpectrum,
         level: u32,
         rng: &mut Rng,
         acc: &mut [f64; 3],
@@ -822,7 +833,10 @@ impl<'a> Tracer<'a> {
                 }
             }
             let mut branch = lines;
-            branch.reflect(l);
+            branch.reflect(l, self.setup.spectral, rng.uniform());
+            if branch.is_dark() {
+                return;
+            }
             let state = PathState {
                 pos: face,
                 dir: d,
@@ -904,7 +918,7 @@ impl<'a> Tracer<'a> {
         x: Vec3,
         dir: Vec3,
         domain: u32,
-        path: &Lines,
+        path: &PathSpectrum,
         weight: f32,
         rng: &mut Rng,
         acc: &mut [f64; 3],
@@ -937,12 +951,16 @@ impl<'a> Tracer<'a> {
         };
         for &(line, density) in &hits[..count] {
             let mut lines = *path;
-            lines.reflect(self.line_at(domain, &line, cos_h));
+            lines.reflect(
+                self.line_at(domain, &line, cos_h),
+                self.setup.spectral,
+                rng.uniform(),
+            );
             for n in &notches {
                 lines.transmit(*n);
             }
             let value = weight * PI * irradiance * transmitted * density / (4.0 * cos_h);
-            self.add(&lines, value, rng, acc, bins);
+            self.add(&lines, value, acc, bins);
         }
     }
 
@@ -953,9 +971,8 @@ impl<'a> Tracer<'a> {
         &mut self,
         x: Vec3,
         dir: Vec3,
-        path: &Lines,
+        path: &PathSpectrum,
         weight: f32,
-        rng: &mut Rng,
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
@@ -971,7 +988,6 @@ impl<'a> Tracer<'a> {
             None,
             path,
             |transmitted| weight * PI * irradiance * transmitted * phase,
-            rng,
             acc,
             bins,
         );
@@ -981,9 +997,8 @@ impl<'a> Tracer<'a> {
     fn light_at_back(
         &mut self,
         x: Vec3,
-        path: &Lines,
+        path: &PathSpectrum,
         weight: f32,
-        rng: &mut Rng,
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
@@ -1002,7 +1017,6 @@ impl<'a> Tracer<'a> {
             None,
             path,
             |transmitted| weight * irradiance * transmitted * cos,
-            rng,
             acc,
             bins,
         );

@@ -30,7 +30,7 @@ use crate::geometry::LightSource;
 use crate::sampling::Rng;
 use crate::stone::ActiveLine;
 
-use super::spectral::Lines;
+use super::spectral::PathSpectrum;
 use super::AreaLight;
 
 /// The one refracted path from a direction outside to a point inside.
@@ -115,9 +115,8 @@ impl Tracer<'_> {
         to_light: Vec3,
         distance: f32,
         skip: Option<u32>,
-        path: &Lines,
+        path: &PathSpectrum,
         value: impl Fn(f32) -> f32,
-        rng: &mut Rng,
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
@@ -132,7 +131,7 @@ impl Tracer<'_> {
                 &mut self.light_spans,
             );
             if t > 1e-6 {
-                self.add(path, value(t), rng, acc, bins);
+                self.add(path, value(t), acc, bins);
             }
             return;
         }
@@ -143,7 +142,7 @@ impl Tracer<'_> {
         for n in &notches {
             lines.transmit(*n);
         }
-        self.add(&lines, value(transmitted), rng, acc, bins);
+        self.add(&lines, value(transmitted), acc, bins);
     }
 
     /// The entry point of the refracted path from the area light's centre to `x`, from which
@@ -186,7 +185,7 @@ impl Tracer<'_> {
         &mut self,
         x: Vec3,
         density: &dyn Fn(Vec3) -> f32,
-        path: &Lines,
+        path: &PathSpectrum,
         weight: f32,
         rng: &mut Rng,
         acc: &mut [f64; 3],
@@ -211,7 +210,6 @@ impl Tracer<'_> {
             None,
             path,
             |t| weight * f * value * gain * t * mis / q,
-            rng,
             acc,
             bins,
         );
@@ -228,7 +226,7 @@ impl Tracer<'_> {
         domain: u32,
         lines: &[ActiveLine],
         pick: &[f64],
-        path: &Lines,
+        path: &PathSpectrum,
         weight: f32,
         rng: &mut Rng,
         acc: &mut [f64; 3],
@@ -259,13 +257,17 @@ impl Tracer<'_> {
             }
             let p_b = p_pick as f32 * lobe / inbound.spread;
             let mis = q / (q + p_b);
-            let mut reflected: Lines = *path;
-            reflected.reflect(self.line_at(domain, line, cos_h));
+            let mut reflected: PathSpectrum = *path;
+            reflected.reflect(
+                self.line_at(domain, line, cos_h),
+                self.setup.spectral,
+                rng.uniform(),
+            );
             for n in &notches {
                 reflected.transmit(*n);
             }
             let v = weight * lobe * value * inbound.gain * transmitted * mis / q;
-            self.add(&reflected, v, rng, acc, bins);
+            self.add(&reflected, v, acc, bins);
         }
     }
 

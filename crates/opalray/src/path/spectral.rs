@@ -1,6 +1,5 @@
-//! Wavelengths for the path integrator: a path's spectral weight is kept as the list of the
-//! Bragg lines it met (reflected by, or passed through), evaluated only when the path reaches a
-//! light, at wavelengths drawn from the path's own reflection line.
+//! Wavelengths for the path integrator, and for the stored method's view: a path's spectrum
+//! is white until its first reflection by a Bragg line, and from there lies within that line.
 //!
 //! A path's geometry does not depend on wavelength (no dispersion; choices are made with
 //! wavelength-independent probabilities), so its contribution is
@@ -10,8 +9,18 @@
 //! 0.6 % of white light a line); the integral is then the light's white point. With one, the
 //! integrand lives within the line (~2 nm): λ is drawn from a truncated Cauchy law over the
 //! first reflection line (90 %) mixed with a uniform law over the range (10 %, so that every
-//! wavelength can be drawn and the estimate is unbiased), `wavelengths` draws stratified over
-//! the mixture. Narrow lines are thus sampled where they are, and never binned before colour.
+//! wavelength can be drawn and the estimate is unbiased), the draws stratified over the
+//! mixture ([`SpectralSampler::draw`]). Narrow lines are thus sampled where they are, and
+//! never binned before colour.
+//!
+//! Two carriers of the product:
+//! - [`PathSpectrum`] (the path tracer): the wavelengths are drawn once, at the path's first
+//!   reflection, and each carries the product of the path's factors at it from there (hero
+//!   wavelengths). Every later line multiplies them at once, so a path can pass any number
+//!   of lines, and the share of its light a line reflects is known exactly where the path
+//!   must choose ([`PathSpectrum::mean_reflectance`]).
+//! - [`Lines`] (the stored method's view, and references): the list of lines itself, its
+//!   product evaluated at the end, by draws or by quadrature ([`SpectralSampler::integrate`]).
 
 use crate::color::{cmf_at, illuminant_samples};
 use crate::optics::BraggLine;
@@ -93,14 +102,6 @@ impl Lines {
         self.first_reflection.is_some()
     }
 
-    /// Where most of the path's light lies: the main lobe of its first reflection line (to
-    /// its first zeros), as `(centre, half-width)` in nm; `None` for a path not yet reflected,
-    /// whose light is white.
-    pub fn reflected_core(&self) -> Option<(f64, f64)> {
-        let first = self.lines[self.first_reflection?].0;
-        Some((first.center_nm, first.main_lobe_half_width_nm()))
-    }
-
     /// The spectral factor `Π f_k(λ)`.
     #[inline]
     pub fn factor(&self, wavelength_nm: f64) -> f64 {
@@ -120,6 +121,198 @@ impl Lines {
             }
         }
         f
+    }
+}
+
+/// Most wavelengths a path carries (`integrator.wavelengths` is at most this).
+pub const MAX_DRAWS: usize = 64;
+/// Lines passed before a path's first reflection that are kept for it (further notches are
+/// neglected, as a path without reflection neglects them all).
+const MAX_PENDING: usize = 24;
+
+/// `line`'s reflectance at `wavelength_nm` within `window` (its [`BraggLine::window_nm`]), 0
+/// outside.
+#[inline]
+fn reflectance_within(line: &BraggLine, (lo, hi): (f64, f64), wavelength_nm: f64) -> f64 {
+    if (lo..=hi).contains(&wavelength_nm) {
+        line.reflectance(wavelength_nm)
+    } else {
+        0.0
+    }
+}
+
+/// A path's spectrum in the path tracer: white (with its ironstone tints) until its first
+/// reflection; from there the wavelengths drawn from that line's law
+/// ([`SpectralSampler::draw`]), each carrying `Π f_k(λ) / (draws · p(λ))` of the path's lines so
+/// far. The lines passed before the first reflection are kept (up to [`MAX_PENDING`]) and
+/// applied there.
+#[derive(Clone, Copy, Debug)]
+pub struct PathSpectrum {
+    pending: [BraggLine; MAX_PENDING],
+    pending_len: u8,
+    /// Diffuse reflections by ironstone before the first reflection.
+    tints: u8,
+    /// Wavelengths carried (0 before the first reflection).
+    draws: u8,
+    /// The path adds nothing: its product is 0 at every wavelength it carries, or it met more
+    /// ironstone than is tabulated before a reflection.
+    dark: bool,
+    waves: [f32; MAX_DRAWS],
+    weights: [f32; MAX_DRAWS],
+}
+
+impl Default for PathSpectrum {
+    fn default() -> Self {
+        PathSpectrum {
+            pending: [BraggLine::new(0.0, 1.0, 1.0, 1.0); MAX_PENDING],
+            pending_len: 0,
+            tints: 0,
+            draws: 0,
+            dark: false,
+            waves: [0.0; MAX_DRAWS],
+            weights: [0.0; MAX_DRAWS],
+        }
+    }
+}
+
+impl PathSpectrum {
+    /// A reflection by `line` (factor R). The first draws the path's wavelengths from the
+    /// line's law with `sampler`, stratified with offset `u` in [0, 1).
+    pub fn reflect(&mut self, line: BraggLine, sampler: &SpectralSampler, u: f64) {
+        if self.dark {
+            return;
+        }
+        // The reflection's own factor is not cut to its window (its far wings hold ~2 % of
+        // its light, and the path's light where notches take its core).
+        if self.draws == 0 {
+            let n = sampler.draws.clamp(1, MAX_DRAWS);
+            let pending = &self.pending[..usize::from(self.pending_len)];
+            for j in 0..n {
+                let (w, pdf) = sampler.draw(&line, j, u);
+                let mut f = line.reflectance(w) / (n as f64 * pdf);
+                if f > 0.0 {
+                    for p in pending {
+                        f *= 1.0 - reflectance_within(p, p.window_nm(), w);
+                    }
+                    if self.tints > 0 {
+                        f *= ironstone_reflectance(w).powi(i32::from(self.tints));
+                    }
+                }
+                self.waves[j] = w as f32;
+                self.weights[j] = f as f32;
+            }
+            self.draws = n as u8;
+            self.pending_len = 0;
+            self.tints = 0;
+        } else {
+            for (f, w) in self.carried_mut() {
+                if *f != 0.0 {
+                    *f *= line.reflectance(w) as f32;
+                }
+            }
+        }
+        let dark = self.carried().all(|(f, _)| f == 0.0);
+        self.dark = dark;
+    }
+
+    /// A pass through `line`'s planes (factor 1 − R).
+    pub fn transmit(&mut self, line: BraggLine) {
+        if self.dark {
+            return;
+        }
+        if self.draws == 0 {
+            let n = usize::from(self.pending_len);
+            if n < MAX_PENDING {
+                self.pending[n] = line;
+                self.pending_len += 1;
+            }
+            return;
+        }
+        let window = line.window_nm();
+        for (f, w) in self.carried_mut() {
+            if *f != 0.0 {
+                *f *= (1.0 - reflectance_within(&line, window, w)) as f32;
+            }
+        }
+    }
+
+    /// A diffuse reflection by ironstone.
+    pub fn tint(&mut self) {
+        if self.draws == 0 {
+            // Past MAX_TINTS white tables the path is dropped (it carries under 0.22⁴ = 0.2 %
+            // of the light).
+            self.dark |= usize::from(self.tints) == MAX_TINTS;
+            self.tints = self.tints.saturating_add(1);
+            return;
+        }
+        for (f, w) in self.carried_mut() {
+            *f *= ironstone_reflectance(w) as f32;
+        }
+    }
+
+    /// Whether the path was reflected by any line.
+    pub fn reflects(&self) -> bool {
+        self.draws > 0
+    }
+
+    /// Whether the path can add nothing; it need not be followed.
+    pub fn is_dark(&self) -> bool {
+        self.dark
+    }
+
+    /// The share of the path's light that `line` reflects: `Σ f_j R(λ_j) / Σ f_j` over the
+    /// wavelengths carried (0 for a path not yet reflected or dark).
+    pub fn mean_reflectance(&self, line: &BraggLine) -> f64 {
+        self.reflectances(line, &mut [0.0; MAX_DRAWS])
+    }
+
+    /// [`PathSpectrum::mean_reflectance`], keeping `line`'s reflectance at each wavelength
+    /// carried in `r` (0 where the path carries nothing) for [`PathSpectrum::pass`]: a
+    /// crossing weighs its lines and then passes them at the same wavelengths.
+    pub fn reflectances(&self, line: &BraggLine, r: &mut [f32; MAX_DRAWS]) -> f64 {
+        let window = line.window_nm();
+        let (mut total, mut reflected) = (0.0f64, 0.0f64);
+        for ((f, w), r) in self.carried().zip(r.iter_mut()) {
+            *r = 0.0;
+            if f != 0.0 {
+                let here = reflectance_within(line, window, w);
+                *r = here as f32;
+                total += f64::from(f);
+                reflected += f64::from(f) * here;
+            }
+        }
+        if total > 0.0 {
+            reflected / total
+        } else {
+            0.0
+        }
+    }
+
+    /// A pass through a line whose reflectances at the wavelengths carried are `r`, from
+    /// [`PathSpectrum::reflectances`] on this path: [`PathSpectrum::transmit`] of a reflected
+    /// path without evaluating the line again.
+    pub fn pass(&mut self, r: &[f32; MAX_DRAWS]) {
+        debug_assert!(self.reflects());
+        for ((f, _), r) in self.carried_mut().zip(r) {
+            *f *= 1.0 - r;
+        }
+    }
+
+    /// The carried weights and their wavelengths.
+    fn carried(&self) -> impl Iterator<Item = (f32, f64)> + '_ {
+        let n = usize::from(self.draws);
+        self.weights[..n]
+            .iter()
+            .zip(&self.waves[..n])
+            .map(|(f, w)| (*f, f64::from(*w)))
+    }
+
+    fn carried_mut(&mut self) -> impl Iterator<Item = (&mut f32, f64)> + '_ {
+        let n = usize::from(self.draws);
+        self.weights[..n]
+            .iter_mut()
+            .zip(&self.waves[..n])
+            .map(|(f, w)| (f, f64::from(*w)))
     }
 }
 
@@ -227,78 +420,91 @@ impl SpectralSampler {
         std::array::from_fn(|c| a[c] + (b[c] - a[c]) * f)
     }
 
-    /// Add `weight · ∫ Π f(λ) S(λ) c̄(λ) dλ` of `lines` to `xyz` and the binned spectrum to
-    /// `bins`; `u` draws the wavelengths' stratification offset.
-    pub fn add(&self, lines: &Lines, weight: f64, u: f64, xyz: &mut [f64; 3], bins: &mut [f32]) {
-        if weight == 0.0 || lines.lost {
-            return;
-        }
-        let Some(first) = lines.first_reflection else {
-            let (white_xyz, white_bins) = match lines.tints {
-                0 => (&self.white_xyz, &self.white_bins),
-                k => {
-                    let (x, b) = &self.tinted[usize::from(k) - 1];
-                    (x, b)
-                }
-            };
-            for (v, w) in xyz.iter_mut().zip(white_xyz) {
-                *v += weight * w;
-            }
-            for (b, w) in bins.iter_mut().zip(white_bins) {
-                *b += (weight * f64::from(*w)) as f32;
-            }
-            return;
-        };
-        let line = lines.lines[first].0;
+    /// The `j`-th of the stratified wavelength draws from `line`'s law (module notes) with
+    /// offset `u` in [0, 1), and its density: `(λ, p(λ))`, nm and per nm.
+    pub fn draw(&self, line: &BraggLine, j: usize, u: f64) -> (f64, f64) {
         let (lo, hi) = (self.lo_nm, self.hi_nm);
         let gamma = line.half_width_nm().max(0.05);
         let x0 = line.center_nm;
         let cdf = |w: f64| ((w - x0) / gamma).atan();
         let (c_lo, c_hi) = (cdf(lo), cdf(hi));
         let mass = c_hi - c_lo;
-        let bin_width = self.grid.bin_width_nm();
-        let per = weight / self.draws as f64;
-        for j in 0..self.draws {
-            let v = (j as f64 + u) / self.draws as f64;
-            let w = if v < LINE_SHARE && mass > 1e-12 {
-                x0 + gamma * (c_lo + mass * v / LINE_SHARE).tan()
-            } else {
-                lo + (hi - lo) * ((v - LINE_SHARE).max(0.0) / (1.0 - LINE_SHARE)).min(1.0)
-            };
-            let w = w.clamp(lo, hi);
-            let line_pdf = if mass > 1e-12 {
-                1.0 / (gamma * mass * (1.0 + ((w - x0) / gamma).powi(2)))
-            } else {
-                0.0
-            };
-            let pdf = LINE_SHARE * line_pdf + (1.0 - LINE_SHARE) / (hi - lo);
-            let f = lines.factor(w) * per / pdf;
-            if f == 0.0 {
-                continue;
+        let v = (j as f64 + u) / self.draws.max(1) as f64;
+        let w = if v < LINE_SHARE && mass > 1e-12 {
+            x0 + gamma * (c_lo + mass * v / LINE_SHARE).tan()
+        } else {
+            lo + (hi - lo) * ((v - LINE_SHARE).max(0.0) / (1.0 - LINE_SHARE)).min(1.0)
+        };
+        let w = w.clamp(lo, hi);
+        let line_pdf = if mass > 1e-12 {
+            1.0 / (gamma * mass * (1.0 + ((w - x0) / gamma).powi(2)))
+        } else {
+            0.0
+        };
+        (w, LINE_SHARE * line_pdf + (1.0 - LINE_SHARE) / (hi - lo))
+    }
+
+    /// Add `weight` × the light's white, after `tints` ironstone reflections.
+    fn add_white(&self, tints: u8, weight: f64, xyz: &mut [f64; 3], bins: &mut [f32]) {
+        let (white_xyz, white_bins) = match tints {
+            0 => (&self.white_xyz, &self.white_bins),
+            k => {
+                let (x, b) = &self.tinted[usize::from(k) - 1];
+                (x, b)
             }
-            let s = self.at(w);
-            for (v, c) in xyz.iter_mut().zip(&s) {
-                *v += f * f64::from(*c);
-            }
-            if let Some(b) = self.grid.bin_of(w) {
-                bins[b] += (f * f64::from(s[3]) / bin_width) as f32;
+        };
+        for (v, w) in xyz.iter_mut().zip(white_xyz) {
+            *v += weight * w;
+        }
+        for (b, w) in bins.iter_mut().zip(white_bins) {
+            *b += (weight * f64::from(*w)) as f32;
+        }
+    }
+
+    /// Add `f · S(λ) c̄(λ)` to `xyz` and `f · S(λ)` to λ's bin.
+    #[inline]
+    fn add_at(&self, w: f64, f: f64, xyz: &mut [f64; 3], bins: &mut [f32]) {
+        let s = self.at(w);
+        for (v, c) in xyz.iter_mut().zip(&s) {
+            *v += f * f64::from(*c);
+        }
+        if let Some(b) = self.grid.bin_of(w) {
+            bins[b] += (f * f64::from(s[3]) / self.grid.bin_width_nm()) as f32;
+        }
+    }
+
+    /// Add `weight · ∫ Π f(λ) S(λ) c̄(λ) dλ` of a path's spectrum to `xyz` and the binned
+    /// spectrum to `bins`: the light's white before a reflection, else the sum over the
+    /// wavelengths it carries.
+    pub fn add_path(&self, path: &PathSpectrum, weight: f64, xyz: &mut [f64; 3], bins: &mut [f32]) {
+        if weight == 0.0 || path.dark {
+            return;
+        }
+        if !path.reflects() {
+            self.add_white(path.tints, weight, xyz, bins);
+            return;
+        }
+        for (f, w) in path.carried() {
+            if f != 0.0 {
+                self.add_at(w, weight * f64::from(f), xyz, bins);
             }
         }
     }
 }
 
 impl SpectralSampler {
-    /// [`SpectralSampler::add`] without draws: `weight · ∫ Π f(λ) S(λ) c̄(λ) dλ` of `lines` by
+    /// By quadrature, without draws: `weight · ∫ Π f(λ) S(λ) c̄(λ) dλ` of `lines` by
     /// the midpoint rule over the first reflection's window (within the range), at steps of
     /// at most [`QUADRATURE_STEP_NM`] (a line's core, ~2 nm, takes about ten; its side lobes,
-    /// λ/N ≈ 1.5 nm apart, six each). A path without reflection adds the light's white, as
-    /// `add` does. Deterministic: the same lines give the same bits.
+    /// λ/N ≈ 1.5 nm apart, six each). A path without reflection adds the light's white. Deterministic: the same lines give the same bits.
     pub fn integrate(&self, lines: &Lines, weight: f64, xyz: &mut [f64; 3], bins: &mut [f32]) {
         let Some(first) = lines
             .first_reflection
             .filter(|_| weight != 0.0 && !lines.lost)
         else {
-            self.add(lines, weight, 0.5, xyz, bins);
+            if weight != 0.0 && !lines.lost {
+                self.add_white(lines.tints, weight, xyz, bins);
+            }
             return;
         };
         let (a, z) = lines.windows[first];
@@ -359,8 +565,14 @@ mod tests {
     fn a_white_path_adds_the_lights_white() {
         let s = SpectralSampler::new(Illuminant::D65, &WavelengthGrid::default(), 4);
         let (mut xyz, mut bins) = ([0.0; 3], vec![0.0; 40]);
-        s.add(&Lines::default(), 2.0, 0.5, &mut xyz, &mut bins);
+        s.add_path(&PathSpectrum::default(), 2.0, &mut xyz, &mut bins);
         assert!((xyz[1] - 2.0).abs() < 1e-9);
+        // So do the lines it passed: a path not reflected neglects its notches.
+        let mut passed = PathSpectrum::default();
+        passed.transmit(BraggLine::new(0.0037, 589.0, 1.0, 400.0));
+        let (mut again, mut bins) = ([0.0; 3], vec![0.0; 40]);
+        s.add_path(&passed, 2.0, &mut again, &mut bins);
+        assert_eq!(xyz, again);
     }
 
     #[test]
@@ -402,33 +614,119 @@ mod tests {
         );
     }
 
+    /// The mean over `n` stratification offsets of `add_path`'s Y for the path `build` makes
+    /// with the offset it is given.
+    fn mean_y(s: &SpectralSampler, n: usize, build: impl Fn(f64) -> PathSpectrum) -> f64 {
+        (0..n)
+            .map(|k| {
+                let path = build((k as f64 + 0.5) / n as f64);
+                let (mut xyz, mut bins) = ([0.0; 3], vec![0.0; 40]);
+                s.add_path(&path, 1.0, &mut xyz, &mut bins);
+                xyz[1] / n as f64
+            })
+            .sum()
+    }
+
+    /// `∫ f(λ) S(λ) ȳ(λ) dλ` by the midpoint rule at 0.002 nm.
+    fn brute_y(s: &SpectralSampler, f: impl Fn(f64) -> f64) -> f64 {
+        let step = 0.002;
+        (0..200_000)
+            .map(|i| {
+                let w = 380.0 + (i as f64 + 0.5) * step;
+                f(w) * f64::from(s.at(w)[1]) * step
+            })
+            .sum()
+    }
+
     #[test]
     fn a_reflected_line_is_integrated_without_bias() {
-        // Independent: brute-force quadrature of R(λ)·S·ȳ at 0.002 nm.
+        // Independent: brute-force quadrature of R(λ)·S·ȳ.
         let s = SpectralSampler::new(Illuminant::E, &WavelengthGrid::default(), 8);
         let line = BraggLine::new(0.0037, 589.0, 1.0, 400.0);
-        let mut lines = Lines::default();
-        lines.reflect(line);
-        let mut brute = 0.0;
-        let step = 0.002;
-        let mut w = 380.0;
-        while w < 780.0 {
-            brute += line.reflectance(w) * f64::from(s.at(w)[1]) * step;
-            w += step;
-        }
-        let n = 4000;
-        let mut mean = 0.0;
-        for k in 0..n {
-            let (mut xyz, mut bins) = ([0.0; 3], vec![0.0; 40]);
-            s.add(
-                &lines,
-                1.0,
-                (k as f64 + 0.5) / n as f64,
-                &mut xyz,
-                &mut bins,
-            );
-            mean += xyz[1] / n as f64;
-        }
+        let brute = brute_y(&s, |w| line.reflectance(w));
+        let mean = mean_y(&s, 4000, |u| {
+            let mut path = PathSpectrum::default();
+            path.reflect(line, &s, u);
+            path
+        });
         assert!((mean / brute - 1.0).abs() < 0.01, "{mean} vs {brute}");
+    }
+
+    #[test]
+    fn the_lines_around_a_reflection_multiply_it_at_every_wavelength() {
+        // Independent: the product R · Π (1 − R) summed at 0.002 nm, for a path that passes a
+        // notch and a thin stack's broad line before its reflection and a notch half a
+        // line-width off after it.
+        let s = SpectralSampler::new(Illuminant::D65, &WavelengthGrid::default(), 4);
+        let line = BraggLine::new(0.0037, 589.0, 1.0, 400.0);
+        let notch = BraggLine::new(0.0037, 590.0, 1.0, 300.0);
+        let before = BraggLine::new(0.0037, 588.0, 1.0, 300.0);
+        let broad = BraggLine::new(0.0037, 585.0, 1.0, 20.0);
+        // A notch is 1 − R within its window, 1 outside ([`BraggLine::window_nm`]).
+        let pass = |l: &BraggLine, w: f64| 1.0 - reflectance_within(l, l.window_nm(), w);
+        let brute = brute_y(&s, |w| {
+            line.reflectance(w) * pass(&before, w) * pass(&broad, w) * pass(&notch, w)
+        });
+        let mean = mean_y(&s, 4000, |u| {
+            let mut path = PathSpectrum::default();
+            path.transmit(before);
+            path.transmit(broad);
+            path.reflect(line, &s, u);
+            path.transmit(notch);
+            path
+        });
+        assert!((mean / brute - 1.0).abs() < 0.01, "{mean} vs {brute}");
+    }
+
+    #[test]
+    fn a_path_keeps_every_line_it_passes_after_its_reflection() {
+        // A reflected path passing 60 alike plates (a settled bar seen edge-on) carries
+        // (1 − R)⁶⁰ of them: its light falls to the line's wings. Independent: brute force.
+        // A list of the lines met, held to a fixed length, would drop the later notches.
+        let s = SpectralSampler::new(Illuminant::E, &WavelengthGrid::default(), 8);
+        let line = BraggLine::new(0.0037, 589.0, 1.0, 400.0);
+        let plate = BraggLine::new(0.0037, 589.3, 1.0, 200.0);
+        let plates = 60;
+        let window = plate.window_nm();
+        let brute = brute_y(&s, |w| {
+            line.reflectance(w) * (1.0 - reflectance_within(&plate, window, w)).powi(plates)
+        });
+        let alone = brute_y(&s, |w| line.reflectance(w));
+        assert!(brute < 0.5 * alone, "the plates matter: {brute} vs {alone}");
+        let mean = mean_y(&s, 4000, |u| {
+            let mut path = PathSpectrum::default();
+            path.reflect(line, &s, u);
+            for _ in 0..plates {
+                path.transmit(plate);
+            }
+            path
+        });
+        assert!((mean / brute - 1.0).abs() < 0.02, "{mean} vs {brute}");
+    }
+
+    #[test]
+    fn a_lines_share_of_a_reflected_paths_light_is_what_it_reflects_there() {
+        // Independent: ∫ R² S / ∫ R S by brute force (E: S flat), for the line itself and for
+        // one 30 half-widths away, whose share is about nothing.
+        let s = SpectralSampler::new(Illuminant::E, &WavelengthGrid::default(), 64);
+        let line = BraggLine::new(0.0037, 589.0, 1.0, 400.0);
+        let far = BraggLine::new(0.0037, 589.0 + 30.0 * line.half_width_nm(), 1.0, 400.0);
+        let step = 0.002;
+        let (mut r1, mut r2) = (0.0, 0.0);
+        for i in 0..200_000 {
+            let r = line.reflectance(380.0 + (f64::from(i) + 0.5) * step);
+            r1 += r;
+            r2 += r * r;
+        }
+        let mut path = PathSpectrum::default();
+        path.reflect(line, &s, 0.5);
+        let share = path.mean_reflectance(&line);
+        assert!(
+            (share / (r2 / r1) - 1.0).abs() < 0.05,
+            "{share} vs {}",
+            r2 / r1
+        );
+        assert!(path.mean_reflectance(&far) < 0.01 * share);
+        assert_eq!(PathSpectrum::default().mean_reflectance(&line), 0.0);
     }
 }
