@@ -681,7 +681,12 @@ impl<'a> Tracer<'a> {
         let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
         // A reflected path's reflectances here, at its wavelengths: for its choice, and for
         // its pass on through.
-        let mut at_path = reflected.then(|| [[0.0f32; MAX_DRAWS]; MAX_LINES_PER_CROSSING]);
+        // (Zeroed only where used.)
+        let mut at_path = if reflected {
+            Some([[0.0f32; MAX_DRAWS]; MAX_LINES_PER_CROSSING])
+        } else {
+            None
+        };
         for (i, (e, l)) in energy.iter_mut().zip(&here).enumerate() {
             let white = line_energy(&l.line);
             *e = match &mut at_path {
