@@ -47,8 +47,8 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 ///   of colour that flash together, the stone rocked by 10° (`camera.tilt_deg` −10), where
 ///   they do.
 /// - `ribbon`: settled plates stretched six times along y: ribbons of colour.
-/// - `white`: a white opal (N9): settled plates throughout a milky body (potch 10 mm⁻¹,
-///   domains scattering as much: thick to its light), pastel colour over white.
+/// - `white`: a white opal (N9): settled plates throughout a milky body (potch 4 mm⁻¹,
+///   domains scattering at half of it), pastel colour over white.
 /// - `crystal`: a crystal opal with rolling flash: clear body (N5 potch of long mean free
 ///   path), large settled plates of imperfect layers (mosaic 3°) whose colour rolls across
 ///   the face as it tilts.
@@ -193,24 +193,24 @@ pub fn preset(name: &str) -> Result<Scene> {
             cabochon(4.0, 2.0),
             1,
         )),
-        // Milky throughout: the domains scatter as much as the potch's 10 mm⁻¹, a transport
-        // depth of about 24 through the dome, so the tray below hardly shows. Its light needs
-        // many events to come back out (docs/model.md, "The white preset's body": under the
-        // tent 0.61 at 64, 0.74 at 256; N9 is 0.767); the body is bright, so the camera gives
-        // a stop less.
+        // Milky throughout: the domains scatter at half the potch's 4 mm⁻¹, a transport depth
+        // of about 5 through the dome, so little of the light reaches the tray below. Its
+        // light needs many events to come back out (the translucent body it replaced lost
+        // over a third of its light at 8; this one shows 0.53 at 32 under the tent; docs/model.md,
+        // "The white preset's body"); the body is bright, so the camera gives a stop less.
         "white" => {
             let mut scene = gem(
                 settled(2.0),
                 BodyConfig {
-                    potch_extinction_per_mm: 10.0,
-                    domain_haze: 1.0,
+                    potch_extinction_per_mm: 4.0,
+                    domain_haze: 0.5,
                     ..cabochon(4.0, 0.0)
                 },
                 9,
             );
-            scene.integrator.max_depth = 256;
+            scene.integrator.max_depth = 32;
             scene.color.exposure_ev = -1.0;
-            // The milky body veils the patches' edges, and every one of its 256 events would
+            // The milky body veils the patches' edges, and every one of its 32 events would
             // walk the outlines' columns: the grains' own edges.
             scene.domains.boundary_roughness = 0.0;
             Ok(scene)
