@@ -28,7 +28,7 @@
 //!   dark room), later one drawn with twice the lines' share of white light (at most ¼),
 //!   its weight divided by that probability. A path already reflected does not fork: it
 //!   reflects, with each line's share of its own light (what the line reflects at the
-//!   wavelengths it carries, [`PathSpectrum::mean_reflectance`]; at most 0.95 in all), or
+//!   wavelengths it carries, [`PathSpectrum::reflectances`]; at most 0.95 in all), or
 //!   goes on through, its weight over `1 − p` (its cost grows linearly with depth, its
 //!   weight stays about 1). A reflection draws the lobe's normal `h` about the
 //!   family normal (Gaussian, the rocking width and the mosaic spread,
@@ -680,8 +680,7 @@ impl<'a> Tracer<'a> {
         let reflected = lines.reflects();
         let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
         // A reflected path's reflectances here, at its wavelengths: for its choice, and for
-        // its pass on through.
-        // (Zeroed only where used.)
+        // its pass on through (the table zeroed only for such a path).
         let mut at_path = if reflected {
             Some([[0.0f32; MAX_DRAWS]; MAX_LINES_PER_CROSSING])
         } else {

@@ -18,9 +18,9 @@
 //!   reflection, and each carries the product of the path's factors at it from there (hero
 //!   wavelengths). Every later line multiplies them at once, so a path can pass any number
 //!   of lines, and the share of its light a line reflects is known exactly where the path
-//!   must choose ([`PathSpectrum::mean_reflectance`]).
-//! - [`Lines`] (the stored method's view, and references): the list of lines itself, its
-//!   product evaluated at the end, by draws or by quadrature ([`SpectralSampler::integrate`]).
+//!   must choose ([`PathSpectrum::reflectances`]).
+//! - [`Lines`] (the stored method's view): the list of lines itself, its product evaluated
+//!   at the end by quadrature ([`SpectralSampler::integrate`]).
 
 use crate::color::{cmf_at, illuminant_samples};
 use crate::optics::BraggLine;
@@ -260,15 +260,11 @@ impl PathSpectrum {
         self.dark
     }
 
-    /// The share of the path's light that `line` reflects: `Σ f_j R(λ_j) / Σ f_j` over the
-    /// wavelengths carried (0 for a path not yet reflected or dark).
-    pub fn mean_reflectance(&self, line: &BraggLine) -> f64 {
-        self.reflectances(line, &mut [0.0; MAX_DRAWS])
-    }
-
-    /// [`PathSpectrum::mean_reflectance`], keeping `line`'s reflectance at each wavelength
-    /// carried in `r` (0 where the path carries nothing) for [`PathSpectrum::pass`]: a
-    /// crossing weighs its lines and then passes them at the same wavelengths.
+    /// The share of the path's light that `line` reflects, `Σ f_j R(λ_j) / Σ f_j` over the
+    /// wavelengths carried (0 for a path not yet reflected or dark), keeping `line`'s
+    /// reflectance at each wavelength carried in `r` (0 where the path carries nothing) for
+    /// [`PathSpectrum::pass`]: a crossing weighs its lines and then passes them at the same
+    /// wavelengths.
     pub fn reflectances(&self, line: &BraggLine, r: &mut [f32; MAX_DRAWS]) -> f64 {
         let window = line.window_nm();
         let (mut total, mut reflected) = (0.0f64, 0.0f64);
@@ -493,18 +489,17 @@ impl SpectralSampler {
 }
 
 impl SpectralSampler {
-    /// By quadrature, without draws: `weight · ∫ Π f(λ) S(λ) c̄(λ) dλ` of `lines` by
-    /// the midpoint rule over the first reflection's window (within the range), at steps of
-    /// at most [`QUADRATURE_STEP_NM`] (a line's core, ~2 nm, takes about ten; its side lobes,
-    /// λ/N ≈ 1.5 nm apart, six each). A path without reflection adds the light's white. Deterministic: the same lines give the same bits.
+    /// Add `weight · ∫ Π f(λ) S(λ) c̄(λ) dλ` of `lines` to `xyz` and the binned spectrum to
+    /// `bins`, by the midpoint rule over the first reflection's window (within the range), at
+    /// steps of at most [`QUADRATURE_STEP_NM`] (a line's core, ~2 nm, takes about ten; its
+    /// side lobes, λ/N ≈ 1.5 nm apart, six each). A path without reflection adds the light's
+    /// white. Deterministic: the same lines give the same bits.
     pub fn integrate(&self, lines: &Lines, weight: f64, xyz: &mut [f64; 3], bins: &mut [f32]) {
-        let Some(first) = lines
-            .first_reflection
-            .filter(|_| weight != 0.0 && !lines.lost)
-        else {
-            if weight != 0.0 && !lines.lost {
-                self.add_white(lines.tints, weight, xyz, bins);
-            }
+        if weight == 0.0 || lines.lost {
+            return;
+        }
+        let Some(first) = lines.first_reflection else {
+            self.add_white(lines.tints, weight, xyz, bins);
             return;
         };
         let (a, z) = lines.windows[first];
@@ -718,15 +713,17 @@ mod tests {
             r1 += r;
             r2 += r * r;
         }
+        let share_of =
+            |path: &PathSpectrum, l: &BraggLine| path.reflectances(l, &mut [0.0; MAX_DRAWS]);
         let mut path = PathSpectrum::default();
         path.reflect(line, &s, 0.5);
-        let share = path.mean_reflectance(&line);
+        let share = share_of(&path, &line);
         assert!(
             (share / (r2 / r1) - 1.0).abs() < 0.05,
             "{share} vs {}",
             r2 / r1
         );
-        assert!(path.mean_reflectance(&far) < 0.01 * share);
-        assert_eq!(PathSpectrum::default().mean_reflectance(&line), 0.0);
+        assert!(share_of(&path, &far) < 0.01 * share);
+        assert_eq!(share_of(&PathSpectrum::default(), &line), 0.0);
     }
 }
