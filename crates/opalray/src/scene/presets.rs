@@ -38,7 +38,9 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 ///
 /// - `black-opal`: a fine black opal: body tone N1, a 2 mm colour bar of settled grains (thin
 ///   plates about 5 mm across and 0.24 mm thick, their layers within an RMS 20° of the face,
-///   their outlines ragged) over black potch, under a 4 mm dome.
+///   their outlines ragged) over black potch, which is also its flat back (`backing` "black",
+///   as in every black opal preset), under a 4 mm dome; sphere sizes alike over 2.5 mm;
+///   rocked by 10° (`camera.tilt_deg` −10), where it plays.
 /// - `harlequin`: a black opal of large settled plates (3 mm grains) in a 2.5 mm colour bar:
 ///   broad angular patches side by side (straight edges: the only settled preset but `white`
 ///   without ragged outlines).
@@ -65,7 +67,8 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 ///   rays per pixel.
 ///
 /// Every gem preset but `pinfire` has sphere sizes 235 nm ± 12 % varying smoothly over 2 mm
-/// (`domains.diameter_correlation_mm`); `pinfire`'s grains each draw their own.
+/// (`domains.diameter_correlation_mm`; `black-opal` 2.5 mm); `pinfire`'s grains each draw
+/// their own.
 pub fn preset(name: &str) -> Result<Scene> {
     let gem = |domains: DomainsConfig, body: BodyConfig, tone: u8| {
         let mut scene = Scene {
@@ -114,6 +117,15 @@ pub fn preset(name: &str) -> Result<Scene> {
         colour_bar_mm: bar,
         ..BodyConfig::default()
     };
+    // A black opal: its colour bar over black potch, which is also its flat back. Without the
+    // backing the bar's shell reaches the polished back near the girdle, and there the eye saw
+    // the room by total internal reflection, a grey ring over the outer third of the face
+    // (`black-opal`, structure seeds 1–4 at 160 × 120: colour over 49.2 % of the face on
+    // average, 54.8 % with the backing; BENCHMARKS.md, "2026-12-04: the black back").
+    let black_cabochon = |dome: f64, bar: f64| BodyConfig {
+        backing: Some(Backing::Black),
+        ..cabochon(dome, bar)
+    };
     // Sedimentary opal: thin plates of settled layers, 0.24 mm thick for a 2 mm grain, so a
     // colour bar holds several along the view, each reflecting its own part of the room. Their
     // outlines ragged (domains meet along wandering boundaries), not the power diagram's
@@ -146,17 +158,28 @@ pub fn preset(name: &str) -> Result<Scene> {
             // The stone picked from a parcel: of the first eight draws (structure seeds 1–8),
             // the only one with all six hue sextants and colour over more than half its face,
             // a harlequin of cyan, green, red, blue, yellow and orange patches (BENCHMARKS.md,
-            // "the default stone"; drawn with straight edges: with the ragged outlines five
-            // sextants hold 5 %, magenta 4 %).
-            let mut scene = gem(settled(2.0), cabochon(4.0, 2.0), 1);
+            // "the default stone"; drawn with straight edges). With the ragged outlines, the
+            // black back and zones of 2.5 mm it is still the draw of the most hues (five hold
+            // 5 %; BENCHMARKS.md, "2026-12-04: the black back").
+            let mut scene = gem(settled(2.0), black_cabochon(4.0, 2.0), 1);
             scene.structure.seed = 4;
+            // Sphere sizes alike over 2.5 mm: the zones, and with them the patches of one
+            // colour, a little larger than the other presets' (median 2.4 against 1.9 mm at
+            // 160 × 120 over seeds 1–8; at 640 × 480 this stone's are 1.5 mm, its plates'
+            // ragged outlines cutting them: docs/model.md).
+            scene.domains.diameter_correlation_mm = 2.5;
+            // Shown as a photographer shows a stone, rocked to where it plays: 10° towards the
+            // softbox, colour over 72 % of the face at 640 × 480 (61 % face-on; 38.7–75.2 %
+            // over ±30° at 160 × 120, `scripts/look-tilt.py --preset black-opal`;
+            // BENCHMARKS.md, "2026-12-04: the black back").
+            scene.camera.tilt_deg = -10.0;
             Ok(scene)
         }
         "harlequin" => {
             // Of the first eight draws, the most coloured (54 % of the face at 160 × 120, in
             // four sextants: red, orange, yellow and green; seed 1 showed 39 %, mostly green;
             // BENCHMARKS.md, "the default stone").
-            let mut scene = gem(settled(3.0), cabochon(4.0, 2.5), 1);
+            let mut scene = gem(settled(3.0), black_cabochon(4.0, 2.5), 1);
             scene.structure.seed = 6;
             // The pattern is named for its angular patches: the grains' own straight edges.
             scene.domains.boundary_roughness = 0.0;
@@ -164,7 +187,7 @@ pub fn preset(name: &str) -> Result<Scene> {
         }
         "pinfire" => {
             // Pinpoints of every colour side by side: each tiny grain draws its own size.
-            let mut scene = gem(grains(0.6), cabochon(4.0, 1.5), 1);
+            let mut scene = gem(grains(0.6), black_cabochon(4.0, 1.5), 1);
             scene.domains.diameter_correlation_mm = 0.0;
             Ok(scene)
         }
@@ -178,7 +201,7 @@ pub fn preset(name: &str) -> Result<Scene> {
                     orientation_spread_deg: 10.0,
                     ..settled(5.0)
                 },
-                cabochon(4.0, 2.0),
+                black_cabochon(4.0, 2.0),
                 1,
             );
             scene.camera.tilt_deg = -10.0;
@@ -190,7 +213,7 @@ pub fn preset(name: &str) -> Result<Scene> {
                 stretch: [1.0, 6.0, 0.12],
                 ..settled(2.0)
             },
-            cabochon(4.0, 2.0),
+            black_cabochon(4.0, 2.0),
             1,
         )),
         // Milky throughout: the domains scatter at half the potch's 4 mm⁻¹, a transport depth
