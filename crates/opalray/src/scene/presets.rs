@@ -49,8 +49,8 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 ///   of colour that flash together, the stone rocked by 10° (`camera.tilt_deg` −10), where
 ///   they do.
 /// - `ribbon`: settled plates stretched six times along y: ribbons of colour.
-/// - `white`: a white opal (N9): settled plates throughout a milky body (potch 4 mm⁻¹,
-///   domains scattering at half of it), pastel colour over white.
+/// - `white`: a white opal (N9): a 1.5 mm colour bar of settled plates, faintly milky, over
+///   white potch thick to its light (10 mm⁻¹), pastel colour over white.
 /// - `crystal`: a crystal opal with rolling flash: clear body (N5 potch of long mean free
 ///   path), large settled plates of imperfect layers (mosaic 3°) whose colour rolls across
 ///   the face as it tilts.
@@ -216,25 +216,26 @@ pub fn preset(name: &str) -> Result<Scene> {
             black_cabochon(4.0, 2.0),
             1,
         )),
-        // Milky throughout: the domains scatter at half the potch's 4 mm⁻¹, a transport depth
-        // of about 5 through the dome, so little of the light reaches the tray below. Its
-        // light needs many events to come back out (the translucent body it replaced lost
-        // over a third of its light at 8; this one shows 0.53 at 32 under the tent; docs/model.md,
-        // "The white preset's body"); the body is bright, so the camera gives a stop less.
+        // A white opal: a 1.5 mm colour bar of faintly milky domains (scattering at a tenth of
+        // the potch's 10 mm⁻¹) over white potch, thick to its light (a transport depth of about
+        // 15 under the bar), followed for 128 events: its diffuse light needs many to come
+        // back out. Under the tent it shows 0.735 (N9: 0.767); the body milky throughout it
+        // replaced (potch 4 mm⁻¹, domains at half of it, 32 events) showed 0.53 (docs/model.md,
+        // "The white preset's body"). The body is bright, so the camera gives a stop less.
         "white" => {
             let mut scene = gem(
                 settled(2.0),
                 BodyConfig {
-                    potch_extinction_per_mm: 4.0,
-                    domain_haze: 0.5,
-                    ..cabochon(4.0, 0.0)
+                    potch_extinction_per_mm: 10.0,
+                    domain_haze: 0.1,
+                    ..cabochon(4.0, 1.5)
                 },
                 9,
             );
-            scene.integrator.max_depth = 32;
+            scene.integrator.max_depth = 128;
             scene.color.exposure_ev = -1.0;
-            // The milky body veils the patches' edges, and every one of its 32 events would
-            // walk the outlines' columns: the grains' own edges.
+            // The milky body veils the patches' edges, and every one of its events would walk
+            // the outlines' columns: the grains' own edges.
             scene.domains.boundary_roughness = 0.0;
             Ok(scene)
         }
