@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 use glam::{Mat3, Vec3};
 use opalray::path::{Passes, PathImage};
 use opalray::render::prepare;
-use opalray::scene::{preset, OrientationLaw};
+use opalray::scene::{preset, Backing, OrientationLaw};
 use opalray::Scene;
 
 /// A channel beyond this many combined standard errors makes its pixel an outlier.
@@ -49,6 +49,9 @@ fn scene() -> Scene {
     s.domains.sphere_diameter_spread = 0.07;
     s.domains.diameter_correlation_mm = 0.0;
     s.body.colour_bar_mm = 2.0;
+    // The bare polished back the reference was rendered with (the black opal presets have
+    // since had their black potch back).
+    s.body.backing = Some(Backing::None);
     s.render.width = 48;
     s.render.height = 36;
     s.spectrum.bins = 16;
