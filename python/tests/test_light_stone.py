@@ -119,8 +119,10 @@ def test_stone_domains_follow_the_diameter_law():
 def test_stone_domain_ids_know_the_ellipsoid_and_the_potch():
     rng = np.random.default_rng(7)
     for name, potch in [("pinfire", None), ("paper", "void_ratio")]:
-        # On the paper's ellipsoid, the domains throughout (no colour bar).
-        scene = opalray.Scene.preset(name).replace(body={"cut": "ellipsoid", "colour_bar_mm": 0.0})
+        # On the paper's ellipsoid, the domains throughout (no colour bar, no backing).
+        scene = opalray.Scene.preset(name).replace(
+            body={"cut": "ellipsoid", "colour_bar_mm": 0.0, "backing": "none"}
+        )
         stages = opalray.prepare(scene)
         stone = stages.stone
         a = np.array(stone.semi_axes_mm)
