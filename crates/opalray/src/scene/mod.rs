@@ -652,6 +652,18 @@ mod tests {
                 "[domains]\ndiameter_correlation_mm = nan",
                 "domains.diameter_correlation_mm",
             ),
+            (
+                "[domains]\ntilt_correlation_mm = 0.05",
+                "domains.tilt_correlation_mm",
+            ),
+            (
+                "[domains]\ntilt_jitter_deg = -1.0",
+                "domains.tilt_jitter_deg",
+            ),
+            (
+                "[domains]\ntilt_correlation_mm = 3.0\norientation_spread_deg = 4.0",
+                "domains.tilt_jitter_deg",
+            ),
         ] {
             let err = Scene::from_toml_str(text, "t").unwrap_err().to_string();
             assert!(err.contains(field), "{text}: {err}");

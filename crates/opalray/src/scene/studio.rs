@@ -63,6 +63,8 @@ pub enum FamilyChoice {
 /// | `void_fraction`          | –    | 0.15           | [0, 1] (1: potch only)    |
 /// | `sphere_diameter_spread` | –    | 0.03           | [0, 0.3]                  |
 /// | `diameter_correlation_mm`| mm   | 0.0            | 0, or [0.1, 100]          |
+/// | `tilt_correlation_mm`    | mm   | 0.0            | 0, or [0.1, 100]          |
+/// | `tilt_jitter_deg`        | deg  | 5.0            | [0, 180]; with the fields, at most `orientation_spread_deg` |
 /// | `mosaic_spread_deg`      | deg  | 0.5            | [0, 20]                   |
 /// | `families`               | –    | "all"          | "all", "111"              |
 /// | `boundary_roughness`     | –    | 0.0            | [0, 1]                    |
@@ -93,6 +95,14 @@ pub struct DomainsConfig {
     /// correlation length this); 0: each grain draws its own. The paper's balls
     /// (`pattern = "paper"`) always draw their own.
     pub diameter_correlation_mm: f64,
+    /// Settled grains: distance over which the layers' tilt and the lattice's turn stay
+    /// alike, mm (smooth fields of correlation length this, so that neighbouring plates are
+    /// parts of one crystal and flash together); 0: each grain draws its own.
+    pub tilt_correlation_mm: f64,
+    /// Settled grains with `tilt_correlation_mm` > 0: RMS tilt (and turn) of a grain from
+    /// the fields' orientation at its place, degrees; the fields carry the rest of
+    /// `orientation_spread_deg`, so the tilts' RMS stays that.
+    pub tilt_jitter_deg: f64,
     /// Mosaic spread of a domain's planes, degrees (RMS tilt), added to the rocking width.
     pub mosaic_spread_deg: f64,
     /// The plane families that reflect.
@@ -115,6 +125,8 @@ impl Default for DomainsConfig {
             void_fraction: 0.15,
             sphere_diameter_spread: 0.03,
             diameter_correlation_mm: 0.0,
+            tilt_correlation_mm: 0.0,
+            tilt_jitter_deg: 5.0,
             mosaic_spread_deg: 0.5,
             families: FamilyChoice::All,
             boundary_roughness: 0.0,
@@ -186,13 +198,41 @@ impl DomainsConfig {
             0.3,
             0.03,
         )?;
-        let length = self.diameter_correlation_mm;
-        if !(length == 0.0 || (0.1..=100.0).contains(&length)) {
-            return Err(Error::field(
+        // A correlation length: 0 (each grain its own draw) or a length in [0.1, 100] mm.
+        for (field, length, own, example) in [
+            (
                 "domains.diameter_correlation_mm",
+                self.diameter_correlation_mm,
+                "size",
+                2,
+            ),
+            (
+                "domains.tilt_correlation_mm",
+                self.tilt_correlation_mm,
+                "tilt",
+                3,
+            ),
+        ] {
+            if !(length == 0.0 || (0.1..=100.0).contains(&length)) {
+                return Err(Error::field(
+                    field,
+                    format!(
+                        "must be 0 (each grain its own {own}) or a number in [0.1, 100], got \
+                         {length}; try {example}"
+                    ),
+                ));
+            }
+        }
+        let jitter = self.tilt_jitter_deg;
+        check_range("domains.tilt_jitter_deg", jitter, 0.0, 180.0, 5.0)?;
+        if self.tilt_correlation_mm > 0.0 && jitter > self.orientation_spread_deg {
+            return Err(Error::field(
+                "domains.tilt_jitter_deg",
                 format!(
-                    "must be 0 (each grain its own size) or a number in [0.1, 100], got \
-                     {length}; try 2"
+                    "must be in [0, orientation_spread_deg = {spread}] (a grain's part of \
+                     the tilt), got {jitter}; try {}, or raise orientation_spread_deg",
+                    self.orientation_spread_deg / 4.0,
+                    spread = self.orientation_spread_deg
                 ),
             ));
         }

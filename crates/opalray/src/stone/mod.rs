@@ -249,6 +249,18 @@ impl Stone {
                     let mut rng = Rng::new(seed, stage::STONE, 1 << 42);
                     SizeField::new(d.diameter_correlation_mm, &mut rng)
                 });
+                // Settled tilts: smooth fields over the stone, or drawn grain by grain.
+                let tilts = (d.orientation == OrientationLaw::Settled
+                    && d.tilt_correlation_mm > 0.0)
+                    .then(|| {
+                        let mut rng = Rng::new(seed, stage::STONE, 1 << 44);
+                        TiltField::new(
+                            d.tilt_correlation_mm,
+                            spread,
+                            d.tilt_jitter_deg.to_radians(),
+                            &mut rng,
+                        )
+                    });
                 let diameter_at = |i: usize, seed_q: Vec3| match &sizes {
                     None => draw_diameter(i as u64),
                     Some(field) => diameter(field.at(seed_q * stretch)),
@@ -262,9 +274,10 @@ impl Stone {
                         continue;
                     }
                     let orientation = match &parents {
-                        None if d.orientation == OrientationLaw::Settled => {
-                            settled(spread, &mut rng)
-                        }
+                        None if d.orientation == OrientationLaw::Settled => match &tilts {
+                            None => settled(spread, &mut rng),
+                            Some(field) => field.at(*seed_q * stretch, &mut rng),
+                        },
                         None => rng.rotation(),
                         Some(p) => {
                             let parent = p.at(*seed_q * stretch);
@@ -725,13 +738,55 @@ fn width_row_cos(row: usize) -> f64 {
 /// square is `spread_rad` (a two-dimensional Gaussian tilt, so the tilt's azimuth is
 /// uniform), the lattice turned about that normal by a uniform angle.
 fn settled(spread_rad: f64, rng: &mut Rng) -> Quat {
-    let align = Quat::from_rotation_arc(AXIS_111, Vec3::Z);
-    let spin = Quat::from_rotation_z((std::f64::consts::TAU * rng.uniform()) as f32);
+    let spin = std::f64::consts::TAU * rng.uniform();
     let per_axis = spread_rad / std::f64::consts::SQRT_2;
     let tilt = per_axis * (-2.0 * (1.0 - rng.uniform()).max(1e-300).ln()).sqrt();
     let azimuth = std::f64::consts::TAU * rng.uniform();
+    settled_at(tilt, azimuth, spin)
+}
+
+/// The orientation whose layers' normal is tilted from z by `tilt` towards the azimuth
+/// `azimuth` (radians), the lattice turned by `spin` about the normal first.
+fn settled_at(tilt: f64, azimuth: f64, spin: f64) -> Quat {
+    let align = Quat::from_rotation_arc(AXIS_111, Vec3::Z);
+    let turn = Quat::from_rotation_z(spin as f32);
     let axis = Vec3::new(-azimuth.sin() as f32, azimuth.cos() as f32, 0.0);
-    (Quat::from_axis_angle(axis, tilt as f32) * spin * align).normalize()
+    (Quat::from_axis_angle(axis, tilt as f32) * turn * align).normalize()
+}
+
+/// Settled grains that are parts of larger crystals: the layers' tilt and the lattice's turn
+/// vary smoothly over the stone, and each grain departs from them a little.
+///
+/// The tilt vector is `σ_f/√2 (Z₁(p), Z₂(p))` of two smooth fields ([`SizeField`], standard
+/// normal, correlation length L) plus the grain's own Gaussian vector of RMS `jitter`, with
+/// `σ_f² = spread² − jitter²`: the RMS tilt is the spread, as for independent grains. The
+/// turn is the angle of `(Z₃(p), Z₄(p))` (uniform, since an isotropic Gaussian vector's angle
+/// is) plus the grain's normal draw of RMS `jitter`.
+struct TiltField {
+    fields: [SizeField; 4],
+    field_rms: f64,
+    jitter: f64,
+}
+
+impl TiltField {
+    fn new(length_mm: f64, spread: f64, jitter: f64, rng: &mut Rng) -> TiltField {
+        TiltField {
+            fields: std::array::from_fn(|_| SizeField::new(length_mm, rng)),
+            field_rms: (spread * spread - jitter * jitter).max(0.0).sqrt(),
+            jitter,
+        }
+    }
+
+    /// The orientation of the grain whose seed is at `p` (mm), its own part drawn from `rng`.
+    fn at(&self, p: Vec3, rng: &mut Rng) -> Quat {
+        let [z1, z2, z3, z4] = self.fields.each_ref().map(|f| f64::from(f.at(p)));
+        let field = self.field_rms / std::f64::consts::SQRT_2;
+        let own = self.jitter / std::f64::consts::SQRT_2;
+        let tx = field * z1 + own * f64::from(normal(rng));
+        let ty = field * z2 + own * f64::from(normal(rng));
+        let spin = z4.atan2(z3) + self.jitter * f64::from(normal(rng));
+        settled_at(tx.hypot(ty), ty.atan2(tx), spin)
+    }
 }
 
 #[cfg(test)]
@@ -775,6 +830,96 @@ mod tests {
             "{sx} {sy}"
         );
         assert!((spin / n).abs() < 4.0 * (0.5 / n).sqrt(), "{spin}");
+    }
+
+    /// Settled grains of 0.8 mm, no potch, with tilt fields of `length` mm and `jitter`°:
+    /// each grain's seed (mm) and its layers' tilt vector (radians, towards its direction by
+    /// its angle from z) and another {111} family's azimuth on the face.
+    fn settled_tilts(length: f64, jitter: f64, seed: u64) -> Vec<(Vec3, [f64; 2], f64)> {
+        let mut scene = grains_scene();
+        scene.structure.seed = seed;
+        scene.domains.orientation = OrientationLaw::Settled;
+        scene.domains.orientation_spread_deg = 20.0;
+        scene.domains.tilt_correlation_mm = length;
+        scene.domains.tilt_jitter_deg = jitter;
+        scene.domains.void_fraction = 0.0;
+        scene.domains.grain_size_mm = 0.8;
+        let stone = Stone::new(&scene).unwrap();
+        let Layout::Grains {
+            grains, domain_of, ..
+        } = &stone.layout
+        else {
+            panic!("grains")
+        };
+        grains
+            .seeds
+            .iter()
+            .zip(domain_of)
+            .map(|(p, k)| {
+                let q = stone.domains[k.unwrap() as usize].orientation;
+                let n = q * AXIS_111;
+                let tilt = f64::from(n.z.clamp(-1.0, 1.0)).acos();
+                let across = f64::from(n.x.hypot(n.y)).max(1e-12);
+                let other = q * Vec3::new(1.0, -1.0, -1.0).normalize();
+                let t = [
+                    tilt * f64::from(n.x) / across,
+                    tilt * f64::from(n.y) / across,
+                ];
+                (*p, t, f64::from(other.y.atan2(other.x)))
+            })
+            .collect()
+    }
+
+    /// Mean of `|t_a − t_b|²` (deg²) over pairs of grains whose seeds lie in `range` (mm).
+    fn tilt_difference(grains: &[(Vec3, [f64; 2], f64)], range: std::ops::Range<f32>) -> f64 {
+        let (mut sum, mut pairs) = (0.0, 0usize);
+        for (i, a) in grains.iter().enumerate() {
+            for b in &grains[i + 1..] {
+                if range.contains(&a.0.distance(b.0)) {
+                    let d = [a.1[0] - b.1[0], a.1[1] - b.1[1]];
+                    sum += (d[0] * d[0] + d[1] * d[1]).to_degrees().to_degrees();
+                    pairs += 1;
+                }
+            }
+        }
+        assert!(pairs > 500, "{pairs} pairs");
+        sum / pairs as f64
+    }
+
+    #[test]
+    fn tilt_fields_keep_the_spread_and_leave_near_grains_their_jitter() {
+        // Fields far longer than the stone: two near grains differ by their own parts only,
+        // E|t_a − t_b|² = 2 jitter² (two independent Gaussian vectors of RMS `jitter`).
+        let long = settled_tilts(100.0, 4.0, 3);
+        let near = tilt_difference(&long, 0.0..1.0);
+        assert!((near / (2.0 * 16.0) - 1.0).abs() < 0.1, "{near} deg² near");
+        // Fields much shorter than the grains: the tilts' RMS over the stone is the spread,
+        // the lattice's turn uniform (another {111} family's azimuth: mean cosine 0).
+        let short = settled_tilts(0.3, 4.0, 3);
+        let n = short.len() as f64;
+        let rms = (short
+            .iter()
+            .map(|g| g.1[0] * g.1[0] + g.1[1] * g.1[1])
+            .sum::<f64>()
+            / n)
+            .sqrt()
+            .to_degrees();
+        assert!((rms - 20.0).abs() < 1.0, "RMS tilt {rms}° over {n} grains");
+        let spin = short.iter().map(|g| g.2.cos()).sum::<f64>() / n;
+        assert!(spin.abs() < 4.0 * (0.5 / n).sqrt(), "{spin}");
+        // Fields of 3 mm: near grains alike, grains a stone apart as unlike as independent
+        // ones (2 × 20² = 800 deg²); without fields near grains are as unlike as far ones.
+        let mid = settled_tilts(3.0, 4.0, 3);
+        let near = tilt_difference(&mid, 0.0..0.9);
+        let far = tilt_difference(&mid, 12.0..30.0);
+        assert!(near < 0.25 * far, "near {near}, far {far} deg²");
+        assert!(far > 400.0, "far {far} deg²");
+        let own = settled_tilts(0.0, 4.0, 3);
+        let near = tilt_difference(&own, 0.0..0.9);
+        assert!(
+            (near / 800.0 - 1.0).abs() < 0.15,
+            "{near} deg² near, own tilts"
+        );
     }
 
     #[test]
