@@ -209,7 +209,6 @@ struct Tracer<'a> {
     stone: &'a Stone,
     setup: &'a PathSetup<'a>,
     n_eff: f32,
-    spans: Vec<Span>,
     lines: Vec<ActiveLine>,
     light_spans: Vec<Span>,
     light_lines: Vec<ActiveLine>,
@@ -228,7 +227,6 @@ impl<'a> Tracer<'a> {
             stone,
             setup,
             n_eff: stone.n_eff,
-            spans: Vec::with_capacity(64),
             lines: Vec::with_capacity(16),
             light_spans: Vec::with_capacity(64),
             light_lines: Vec::with_capacity(16),
@@ -365,10 +363,11 @@ impl<'a> Tracer<'a> {
             // The cells of a scattering in the potch.
             let mut scattered_in = Hint::default();
             if region == Region::Opal {
-                let mut spans = std::mem::take(&mut self.spans);
-                spans.clear();
-                end_hint = stone.walk(pos, dir, 0.0, t_end, hint, &mut |s| spans.push(s));
-                for (k, span) in spans.iter().enumerate() {
+                // The domains are crossed as the walk finds them; an event ends the walk.
+                let mut first = true;
+                let mut ended = false;
+                end_hint = stone.walk(pos, dir, 0.0, t_end, hint, &mut |span| {
+                    let at_start = std::mem::replace(&mut first, false);
                     let mut chord = span.t1 - span.t0;
                     let Some(domain) = span.domain else {
                         let flight = -(1.0 - rng.uniform_f32()).ln() / potch.extinction_per_mm;
@@ -378,9 +377,9 @@ impl<'a> Tracer<'a> {
                                 albedo: potch.albedo,
                             };
                             scattered_in = span.hint;
-                            break;
+                            return false;
                         }
-                        continue;
+                        return true;
                     };
                     // Milky domains scatter too (without absorbing).
                     let mut scatter_at = None;
@@ -394,24 +393,27 @@ impl<'a> Tracer<'a> {
                         }
                     }
                     // A ray reflected at a domain's face leaves through that face.
-                    if !(k == 0 && skip_first == Some(domain)) {
+                    if !(at_start && skip_first == Some(domain)) {
                         match self.cross_domain(
                             &ray, span.t0, chord, domain, span.hint, weight, &mut lines, split,
                             level, rng, acc, bins,
                         ) {
                             Some(scale) => weight *= scale,
                             None => {
-                                self.spans = spans;
-                                return;
+                                ended = true;
+                                return false;
                             }
                         }
                     }
                     if let Some(t) = scatter_at {
                         event = Event::Scattered { t, albedo: 1.0 };
-                        break;
+                        return false;
                     }
+                    true
+                });
+                if ended {
+                    return;
                 }
-                self.spans = spans;
             }
             hint = end_hint;
             // The density a scattering drew the next segment with (see `drawn_with`).

@@ -73,8 +73,15 @@ impl Balls {
     }
 
     /// Call `visit` for the spans of `[t0, t1]` along `origin + t·dir` (mm), in order, each with
-    /// the ball it lies in (adjacent spans of one ball merged).
-    pub fn walk(&self, origin: Vec3, dir: Vec3, t0: f32, t1: f32, visit: &mut dyn FnMut(Span)) {
+    /// the ball it lies in (adjacent spans of one ball merged), until it returns false.
+    pub fn walk(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        t0: f32,
+        t1: f32,
+        visit: &mut dyn FnMut(Span) -> bool,
+    ) {
         let o = self.to_cells(origin);
         let d = dir * self.scale;
         let a = d.length_squared();
@@ -114,7 +121,9 @@ impl Balls {
                 Some(span) if span.domain == domain => span.t1 = hi,
                 _ => {
                     if let Some(span) = current.take() {
-                        visit(span);
+                        if !visit(span) {
+                            return;
+                        }
                     }
                     current = Some(Span {
                         t0: lo,
@@ -179,7 +188,10 @@ mod tests {
         let origin = Vec3::new(-9.0, -1.0, 0.3);
         let dir = Vec3::new(1.0, 0.2, -0.05).normalize();
         let mut spans = Vec::new();
-        balls.walk(origin, dir, 0.0, 18.0, &mut |s| spans.push(s));
+        balls.walk(origin, dir, 0.0, 18.0, &mut |s| {
+            spans.push(s);
+            true
+        });
         assert!((spans[0].t0 - 0.0).abs() < 1e-6 && (spans.last().unwrap().t1 - 18.0).abs() < 1e-4);
         for w in spans.windows(2) {
             assert!((w[0].t1 - w[1].t0).abs() < 1e-5 && w[0].domain != w[1].domain);

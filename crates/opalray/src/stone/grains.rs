@@ -312,7 +312,8 @@ impl Grains {
         }
     }
 
-    /// Call `visit` for the grains along `origin + t·dir`, `t ∈ [t0, t1]` (mm), in order.
+    /// Call `visit` for the grains along `origin + t·dir`, `t ∈ [t0, t1]` (mm), in order,
+    /// until it returns false; true if the walk reached `t1`.
     /// `hint`: a grain likely to hold the start, tried first, then its neighbours.
     pub fn walk(
         &self,
@@ -321,8 +322,8 @@ impl Grains {
         t0: f32,
         t1: f32,
         hint: Option<u32>,
-        visit: &mut dyn FnMut(Span, u32),
-    ) {
+        visit: &mut dyn FnMut(Span, u32) -> bool,
+    ) -> bool {
         let o = origin / self.stretch;
         let d = dir / self.stretch;
         let mut t = t0;
@@ -330,7 +331,7 @@ impl Grains {
         // Guard against a ray stuck on a boundary: at most this many grains per walk.
         for _ in 0..100_000 {
             let (t_next, next) = self.next_plane(current, o, d, t, t1);
-            visit(
+            let go_on = visit(
                 Span {
                     t0: t,
                     t1: t_next,
@@ -342,14 +343,18 @@ impl Grains {
                 },
                 current,
             );
+            if !go_on {
+                return false;
+            }
             match next {
                 Some(j) if t_next < t1 => {
                     t = t_next;
                     current = j;
                 }
-                _ => return,
+                _ => return true,
             }
         }
+        true
     }
 }
 
@@ -444,7 +449,10 @@ mod tests {
         let origin = Vec3::new(-9.5, -6.0, 2.0);
         let dir = Vec3::new(1.0, 0.7, -0.2).normalize();
         let mut spans = Vec::new();
-        g.walk(origin, dir, 0.0, 20.0, None, &mut |s, _| spans.push(s));
+        g.walk(origin, dir, 0.0, 20.0, None, &mut |s, _| {
+            spans.push(s);
+            true
+        });
         assert!(spans.len() > 5);
         for s in &spans {
             if s.t1 - s.t0 < 1e-3 {

@@ -125,7 +125,10 @@ impl Stone {
         notch: &mut dyn FnMut(u32, BraggLine),
     ) -> f32 {
         spans.clear();
-        self.walk(x, to_light, 0.0, distance, hint, &mut |s| spans.push(s));
+        self.walk(x, to_light, 0.0, distance, hint, &mut |s| {
+            spans.push(s);
+            true
+        });
         let mut optical_depth = 0.0;
         for span in spans.iter() {
             optical_depth += self.optical_depth(span);
@@ -152,7 +155,10 @@ impl Stone {
         spans: &mut Vec<Span>,
     ) -> f32 {
         spans.clear();
-        self.walk(x, to_light, 0.0, distance, hint, &mut |s| spans.push(s));
+        self.walk(x, to_light, 0.0, distance, hint, &mut |s| {
+            spans.push(s);
+            true
+        });
         let optical_depth: f32 = spans.iter().map(|s| self.optical_depth(s)).sum();
         (-optical_depth).exp()
     }

@@ -479,10 +479,11 @@ impl Stone {
     }
 
     /// Call `visit` for the spans of `[t0, t1]` along `origin + t·dir` (mm; `dir` unit), in
-    /// order, each in one domain or in potch. The caller keeps the segment inside the stone.
+    /// order, each in one domain or in potch, until it returns false (a path's event: the
+    /// rest of the segment is not walked). The caller keeps the segment inside the stone.
     ///
     /// `hint` holds the cells of the start, if known (a walk's return value, where it ended,
-    /// or a span's); it returns the cells of the end.
+    /// or a span's); it returns the cells of the end (of a walk that reached `t1`).
     pub fn walk(
         &self,
         origin: Vec3,
@@ -490,7 +491,7 @@ impl Stone {
         t0: f32,
         t1: f32,
         hint: Hint,
-        visit: &mut dyn FnMut(Span),
+        visit: &mut dyn FnMut(Span) -> bool,
     ) -> Hint {
         if self.domains.is_empty() {
             // Potch only.
@@ -515,37 +516,26 @@ impl Stone {
         };
         // Walk the domains only outside the inner surface: under it is one span of potch.
         let (a, b) = (a.max(t0), b.min(t1));
-        let mut pending: Option<Span> = None;
-        let mut emit = |span: Span, visit: &mut dyn FnMut(Span)| match pending.as_mut() {
-            Some(p) if p.domain == span.domain => p.t1 = span.t1,
-            _ => {
-                if let Some(p) = pending.replace(span) {
-                    visit(p);
-                }
-            }
-        };
+        let mut merged = Merge::default();
         if a > t0 {
-            self.walk_domains(origin, dir, t0, a, hint, &mut |span| emit(span, visit));
-        }
-        emit(
-            Span {
-                t0: a,
-                t1: b,
-                domain: None,
-                hint: Hint::default(),
-            },
-            visit,
-        );
-        // The hint is of the walk that ends at `t1`.
-        let mut end = Hint::default();
-        if t1 > b {
-            end = self.walk_domains(origin, dir, b, t1, Hint::default(), &mut |span| {
-                emit(span, visit)
+            self.walk_domains(origin, dir, t0, a, hint, &mut |span| {
+                merged.push(span, visit)
             });
         }
-        if let Some(p) = pending {
-            visit(p);
+        let under = Span {
+            t0: a,
+            t1: b,
+            domain: None,
+            hint: Hint::default(),
+        };
+        // The hint is of the walk that ends at `t1`.
+        let mut end = Hint::default();
+        if merged.push(under, visit) && t1 > b {
+            end = self.walk_domains(origin, dir, b, t1, Hint::default(), &mut |span| {
+                merged.push(span, visit)
+            });
         }
+        merged.finish(visit);
         end
     }
 
@@ -557,7 +547,7 @@ impl Stone {
         t0: f32,
         t1: f32,
         hint: Hint,
-        visit: &mut dyn FnMut(Span),
+        visit: &mut dyn FnMut(Span) -> bool,
     ) -> Hint {
         match &self.layout {
             Layout::Single => {
@@ -578,29 +568,19 @@ impl Stone {
                 domain_of,
                 outlines,
             } => {
-                let mut pending: Option<Span> = None;
+                let mut merged = Merge::default();
                 let mut last = hint;
                 // A span of a domain starts in its first grain's cells.
                 let mut merge = |span: Span, grain: u32| {
                     last = span.hint;
                     let domain = domain_of[grain as usize];
-                    match pending.as_mut() {
-                        Some(p) if p.domain == domain => p.t1 = span.t1,
-                        _ => {
-                            if let Some(p) = pending.take() {
-                                visit(p);
-                            }
-                            pending = Some(Span { domain, ..span });
-                        }
-                    }
+                    merged.push(Span { domain, ..span }, visit)
                 };
                 match outlines {
                     Some(o) => o.walk(grains, origin, dir, t0, t1, hint, &mut merge),
                     None => grains.walk(origin, dir, t0, t1, hint.grain, &mut merge),
-                }
-                if let Some(p) = pending {
-                    visit(p);
-                }
+                };
+                merged.finish(visit);
                 last
             }
         }
@@ -726,6 +706,39 @@ impl Stone {
         let i = (x as usize).min(WIDTH_ROWS - 2);
         let f = (x - i as f64) as f32;
         table[i] * (1.0 - f) + table[i + 1] * f
+    }
+}
+
+/// Adjacent spans of one domain merged into one before they are visited; once `visit` has
+/// said stop, nothing more is visited.
+#[derive(Default)]
+struct Merge {
+    pending: Option<Span>,
+    stopped: bool,
+}
+
+impl Merge {
+    /// Take the next span in order; false once the walk should stop.
+    fn push(&mut self, span: Span, visit: &mut dyn FnMut(Span) -> bool) -> bool {
+        if self.stopped {
+            return false;
+        }
+        match self.pending.as_mut() {
+            Some(p) if p.domain == span.domain => p.t1 = span.t1,
+            _ => {
+                if let Some(p) = self.pending.replace(span) {
+                    self.stopped = !visit(p);
+                }
+            }
+        }
+        !self.stopped
+    }
+
+    /// Visit the last span, unless the walk was stopped.
+    fn finish(self, visit: &mut dyn FnMut(Span) -> bool) {
+        if let (Some(p), false) = (self.pending, self.stopped) {
+            visit(p);
+        }
     }
 }
 
@@ -920,6 +933,37 @@ mod tests {
             (near / 800.0 - 1.0).abs() < 0.15,
             "{near} deg² near, own tilts"
         );
+    }
+
+    #[test]
+    fn a_walk_told_to_stop_visits_what_a_full_walk_visits_first_and_no_more() {
+        // The default stone: a colour bar of ragged plates over potch, so spans are merged
+        // from columns and grains and split at the bar's inner surface.
+        let stone = Stone::new(&crate::scene::preset("black-opal").unwrap()).unwrap();
+        let origin = Vec3::new(-3.0, 1.0, 3.9);
+        let dir = Vec3::new(0.3, -0.1, -1.0).normalize();
+        let Some((_, t1)) = stone.shape.intersect(&Ray {
+            origin: origin - dir * 10.0,
+            direction: dir,
+        }) else {
+            panic!("the ray misses the stone")
+        };
+        let t1 = t1 - 10.0;
+        let mut full = Vec::new();
+        stone.walk(origin, dir, 0.0, t1, Hint::default(), &mut |s| {
+            full.push(s);
+            true
+        });
+        assert!(full.len() > 5, "{} spans", full.len());
+        assert!(full.iter().any(|s| s.domain.is_none()), "no potch met");
+        for k in 1..=full.len() {
+            let mut seen = Vec::new();
+            stone.walk(origin, dir, 0.0, t1, Hint::default(), &mut |s| {
+                seen.push(s);
+                seen.len() < k
+            });
+            assert_eq!(seen, full[..k], "stopped after {k}");
+        }
     }
 
     #[test]

@@ -84,8 +84,8 @@ impl Outlines {
         t0: f32,
         t1: f32,
         hint: Hint,
-        visit: &mut dyn FnMut(Span, u32),
-    ) {
+        visit: &mut dyn FnMut(Span, u32) -> bool,
+    ) -> bool {
         // The grain a column's walk ended in most often holds the next column's start too (the
         // shifts are alike from column to column): it is tried first.
         let mut grain = hint.grain;
@@ -111,9 +111,9 @@ impl Outlines {
                         };
                         visit(Span { hint, ..span }, g)
                     },
-                );
+                )
             },
-        );
+        )
     }
 }
 
@@ -214,7 +214,8 @@ mod tests {
             let (origin, dir) = random_ray(&mut rng);
             let mut spans = Vec::new();
             stone.walk(origin, dir, 0.0, 1.5, Hint::default(), &mut |s| {
-                spans.push(s)
+                spans.push(s);
+                true
             });
             let mut t = 0.0;
             for s in &spans {
@@ -247,7 +248,10 @@ mod tests {
         let (mut walks, mut differ) = (0, 0);
         let walk = |origin: Vec3, dir: Vec3, t0: f32, hint: Hint| {
             let mut spans: Vec<Span> = Vec::new();
-            let end = stone.walk(origin, dir, t0, 2.0, hint, &mut |s| spans.push(s));
+            let end = stone.walk(origin, dir, t0, 2.0, hint, &mut |s| {
+                spans.push(s);
+                true
+            });
             let key: Vec<_> = spans.iter().map(|s| (s.domain, s.t1)).collect();
             (spans, key, end)
         };

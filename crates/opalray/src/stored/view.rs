@@ -151,7 +151,10 @@ impl<'a> Gather<'a> {
         };
         let mut spans = std::mem::take(&mut self.spans);
         spans.clear();
-        stone.walk(p, dir, 0.0, t_end, Hint::default(), &mut |s| spans.push(s));
+        stone.walk(p, dir, 0.0, t_end, Hint::default(), &mut |s| {
+            spans.push(s);
+            true
+        });
         self.eye_notches.clear();
         let mut tau = 0.0f32;
         for span in &spans {
