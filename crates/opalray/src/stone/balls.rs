@@ -5,7 +5,7 @@
 
 use glam::{Quat, Vec3};
 
-use super::{Hint, Span};
+use super::{Hint, Merge, Span};
 use crate::error::Result;
 use crate::scene::StructureConfig;
 use crate::structure::Growth;
@@ -105,7 +105,7 @@ impl Balls {
             cuts.extend([lo.max(t0), hi.min(t1)]);
         }
         cuts.sort_by(f32::total_cmp);
-        let mut current: Option<Span> = None;
+        let mut merged = Merge::default();
         for w in cuts.windows(2) {
             let (lo, hi) = (w[0], w[1]);
             if hi <= lo {
@@ -117,26 +117,17 @@ impl Balls {
                 .filter(|h| h.0 <= mid && mid <= h.1)
                 .map(|h| h.2)
                 .max();
-            match current.as_mut() {
-                Some(span) if span.domain == domain => span.t1 = hi,
-                _ => {
-                    if let Some(span) = current.take() {
-                        if !visit(span) {
-                            return;
-                        }
-                    }
-                    current = Some(Span {
-                        t0: lo,
-                        t1: hi,
-                        domain,
-                        hint: Hint::default(),
-                    });
-                }
+            let span = Span {
+                t0: lo,
+                t1: hi,
+                domain,
+                hint: Hint::default(),
+            };
+            if !merged.push(span, visit) {
+                return;
             }
         }
-        if let Some(span) = current {
-            visit(span);
-        }
+        merged.finish(visit);
     }
 }
 
