@@ -99,13 +99,40 @@ fn grating_r(nu: f64, sigma: f64) -> f64 {
         let sh2 = sh * sh;
         nu2 * sh2 / (d + nu2 * sh2)
     } else if d < -1e-12 {
-        let s = (-d).sqrt();
-        let sn = s.sin();
-        let sn2 = sn * sn;
+        let sn2 = sin_squared((-d).sqrt());
         nu2 * sn2 / (-d + nu2 * sn2)
     } else {
         nu2 / (1.0 + nu2)
     }
+}
+
+/// `sin² x` (libm's past 10⁶, where the lines never reach): x reduced by the nearest multiple of π (sin² has period π)
+/// to `r ∈ [−π/2, π/2]`, then sin r by its Taylor series to r¹⁵, whose first term left out
+/// is at most 6.1·10⁻¹² there. The side lobes of every line a path crosses are evaluated here,
+/// and libm's `sin`, with its general range reduction, took an eighth of a render's time.
+#[inline]
+fn sin_squared(x: f64) -> f64 {
+    if x.is_nan() || x.abs() >= 1e6 {
+        return x.sin().powi(2);
+    }
+    // π as the sum of two doubles, the first of 33 bits so that k·PI_HI is exact for k < 2²⁰
+    // and x − k·PI_HI loses nothing (Cody & Waite); what is left of π is under 10⁻²⁶.
+    const PI_HI: f64 = 3.141_592_653_468_251_2;
+    const PI_LO: f64 = 1.215_420_101_301_238_4e-10;
+    let k = (x * (1.0 / PI)).round();
+    let r = (x - k * PI_HI) - k * PI_LO;
+    let r2 = r * r;
+    // sin r = r (1 − r²/3! + r⁴/5! − … − r¹⁴/15!), in Horner form.
+    let mut p = -1.0 / 1_307_674_368_000.0;
+    p = p * r2 + 1.0 / 6_227_020_800.0;
+    p = p * r2 - 1.0 / 39_916_800.0;
+    p = p * r2 + 1.0 / 362_880.0;
+    p = p * r2 - 1.0 / 5_040.0;
+    p = p * r2 + 1.0 / 120.0;
+    p = p * r2 - 1.0 / 6.0;
+    p = p * r2 + 1.0;
+    let sn = r * p;
+    sn * sn
 }
 
 /// Full width at half maximum of the rocking curve, radians: the reflectance at the fixed
@@ -147,6 +174,31 @@ mod tests {
     use super::*;
     use crate::optics::ClusterStack;
     use crate::scene::CrystalConfig;
+
+    #[test]
+    fn sin_squared_agrees_with_libm() {
+        // Over the side lobes' range (and far past it), near the zeros and the peaks.
+        let mut worst = 0.0f64;
+        let mut worst_near_zero = 0.0f64;
+        for i in 0..200_000 {
+            let x = f64::from(i) * 0.013_7 + 1e-7 * f64::from(i % 7);
+            let exact = x.sin().powi(2);
+            worst = worst.max((sin_squared(x) - exact).abs());
+            // Near a zero, relative accuracy: the reduction must not lose the small remainder.
+            let k = f64::from(i % 3000);
+            let z = k * PI + 1e-6;
+            let exact_z = z.sin().powi(2);
+            worst_near_zero = worst_near_zero.max((sin_squared(z) / exact_z - 1.0).abs());
+        }
+        assert!(worst < 2e-11, "largest difference {worst:e}");
+        for x in [-2.5, 1e6, 3.7e7] {
+            assert!((sin_squared(x) - x.sin().powi(2)).abs() < 2e-11, "at {x}");
+        }
+        assert!(
+            worst_near_zero < 1e-6,
+            "largest relative difference near zeros {worst_near_zero:e}"
+        );
+    }
 
     #[test]
     fn peak_is_tanh_squared_at_normal_incidence() {
