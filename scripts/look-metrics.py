@@ -19,6 +19,9 @@ moments; then, over the face:
   reflections, and colours of several plates mixed), dim colour (saturation > 0.5, value
   ≤ 0.25) and dark (the rest);
 - median value of the face (sRGB, 0–1);
+- tint: the share of the face at saturation > 0.25 (any value), beside the face's median
+  saturation: a milky white opal's play is pastel, under the colour's 0.5, over a body at
+  about 0.2;
 - edge straightness: the coherence of the colour structure tensor (the sum over R, G, B of
   ∇c ∇cᵀ, smoothed by a Gaussian of σ = 0.4 mm), `(λ₁ − λ₂) / (λ₁ + λ₂)`, averaged over the
   face (its rim excluded) weighted by the tensor's trace, i.e. by edge strength: 1 where the
@@ -162,6 +165,8 @@ def measure(path, face_mm=20.0):
         "sextants": [round(float(v), 3) for v in sextant_share],
         "sextants_over_5pct": int((sextant_share >= 0.05).sum()),
         "median_value": float(np.median(val[mask])) if face else 0.0,
+        "tint_share": float((mask & (sat > 0.25)).sum() / max(face, 1)),
+        "median_saturation": float(np.median(sat[mask])) if face else 0.0,
         "hue": hue,
         "coloured": coloured,
         "mask": mask,
@@ -187,7 +192,8 @@ def main():
             f"({m['sextants_over_5pct']} of 6 ≥ 5 %); {m['patches']} patches, median "
             f"{m['median_patch_mm']:.1f} mm, largest {100 * m['largest_patch_share']:.0f} % of "
             f"the face; median value {m['median_value']:.2f}; edge straightness "
-            f"{m['edge_straightness']:.2f}"
+            f"{m['edge_straightness']:.2f}; tint {100 * m['tint_share']:.1f} % (S > 0.25), "
+            f"median saturation {m['median_saturation']:.2f}"
         )
 
 

@@ -240,9 +240,9 @@ pub fn preset(name: &str) -> Result<Scene> {
             scene.color.exposure_ev = -1.0;
             // The stone picked from a parcel and shown rocked to where it plays, as
             // `black-opal` is, with its zones of 2.5 mm: of structure seeds 1–5 so rocked
-            // (160 × 120 × 4), seed 2's face is the most in pastel colour (HSV saturation over
-            // 0.25 on 13 % of it, where the milky body sits at 0.2; the preset before, seed 1
-            // face-on, 4.5 %), and its body reads 0.689 under the tent (docs/model.md, "The
+            // (160 × 120 × 4), seed 2's face is the most in pastel colour (`look-metrics.py`'s
+            // tint, HSV saturation over 0.25, on 13 % of it, where the milky body sits at 0.2;
+            // the preset before, seed 1 face-on, 4.5 %), and its body reads 0.689 under the tent (docs/model.md, "The
             // white preset's play").
             scene.structure.seed = 2;
             scene.camera.tilt_deg = -10.0;
