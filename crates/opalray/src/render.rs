@@ -15,6 +15,7 @@ use crate::light_pass::{
     trace_light, ClusterOptics, EnergyLedger, LightField, LightSetup, LightSource, StoneCells,
     Termination,
 };
+use crate::lobe::{render_lobes, LobeSetup};
 use crate::optics::{build_optics, OpticsTables};
 use crate::path::{
     trace_passes, AreaLight, Environment, Noise, Passes, PathImage, PathLight, PathSetup,
@@ -23,6 +24,7 @@ use crate::path::{
 use crate::sampling::mix64;
 use crate::scene::{LightKind, Method, Scene, BODY_EXTINCTION_PER_MM};
 use crate::spectrum::SpectralImage;
+use crate::stone::body::munsell_y;
 use crate::stone::Stone;
 use crate::stored::{gather_view, store_light, StoredSetup, StoredStats};
 use crate::structure::{grow_structure, Structure};
@@ -160,7 +162,7 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
     times.optics = seconds(start);
     let (stone, environment) = match scene.integrator.method {
         Method::TwoPass => (None, None),
-        Method::Path | Method::Stored => {
+        Method::Path | Method::Stored | Method::Lobe => {
             let start = Instant::now();
             let stone = Stone::new(scene)?;
             times.structure += seconds(start);
@@ -238,8 +240,10 @@ impl Prepared {
     /// report after each pass); the two passes ignore `passes`.
     pub fn render_progressive(&self, light_angle_deg: f64, passes: &Passes) -> Frame {
         if let (Some(stone), Some(environment)) = (&self.stone, &self.environment) {
-            if self.scene.integrator.method == Method::Stored {
-                return self.render_stored(stone, environment, light_angle_deg);
+            match self.scene.integrator.method {
+                Method::Stored => return self.render_stored(stone, environment, light_angle_deg),
+                Method::Lobe => return self.render_lobe(stone, environment, light_angle_deg),
+                _ => {}
             }
             return self.render_path(stone, environment, light_angle_deg, passes);
         }
@@ -454,6 +458,54 @@ impl Prepared {
                 spp: setup.spp,
                 light: light.stats(),
             }),
+        }
+    }
+
+    /// The lobe integrator's frame for light angle `light_angle_deg`.
+    fn render_lobe(&self, stone: &Stone, environment: &Environment, light_angle_deg: f64) -> Frame {
+        let s = &self.scene;
+        let mut times = self.times;
+        let (camera, source) = self.placement(light_angle_deg);
+        let sampler = SpectralSampler::new(
+            s.light.illuminant,
+            &s.spectrum,
+            s.integrator.wavelengths as usize,
+        );
+        let light = matches!(s.light.kind, LightKind::Directional | LightKind::Point).then_some(
+            PathLight {
+                source,
+                intensity: s.light.intensity as f32,
+                disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
+            },
+        );
+        let setup = LobeSetup {
+            camera,
+            width: s.render.width as usize,
+            height: s.render.height as usize,
+            spp: s.integrator.spp,
+            light,
+            environment,
+            gloss: s.render.gloss as f32,
+            seed: sample_seed(s.structure.seed, s.integrator.seed),
+            body_reflectance: munsell_y(f64::from(s.render.body_tone)) as f32,
+            spectral: &sampler,
+        };
+        let start = Instant::now();
+        let image = render_lobes(stone, &setup);
+        times.view_pass = seconds(start);
+        let start = Instant::now();
+        let m = self.display_matrix(sampler.white_xyz);
+        let rgb = rgb_of_xyz(&image.xyz, m, setup.width, setup.height);
+        times.color = seconds(start);
+        Frame {
+            spectral: image.spectral,
+            rgb,
+            light_rays: 0,
+            ledger: EnergyLedger::default(),
+            times,
+            void_ratio: self.structure.stats.void_ratio,
+            path: None,
+            stored: None,
         }
     }
 

@@ -46,6 +46,8 @@ use crate::error::{Error, Result};
 use crate::sampling::distribution::Distribution2D;
 use crate::scene::{EnvironmentConfig, EnvironmentKind};
 
+mod filter;
+
 /// Texels (width, height) of a built-in environment's sampling raster.
 pub const BUILT_IN_GRID: (usize, usize) = (256, 128);
 /// Values per texel side when a built-in environment is rasterised (4 × 4 a texel).
@@ -63,6 +65,9 @@ pub struct Environment {
     to_env: DQuat,
     background: f32,
     map: Option<Arc<LuminanceMap>>,
+    /// A map's mip chain (each level the 2 × 2 means of the one before), for
+    /// [`Environment::filtered`].
+    mips: Arc<Vec<LuminanceMap>>,
     distribution: Arc<Distribution2D>,
     /// The brightest texel's value ([`Environment::peak`]).
     peak: f32,
@@ -102,6 +107,7 @@ impl Environment {
             to_env: DQuat::from_rotation_z(-config.rotation_deg.to_radians()),
             background,
             map: None,
+            mips: Arc::new(Vec::new()),
             distribution: Arc::new(Distribution2D::new(&[1.0], 1, 1)),
             peak: 0.0,
         };
@@ -109,6 +115,7 @@ impl Environment {
             let map = load_map(&config.path)?;
             let weights = map.luminance.clone();
             let (w, h) = (map.width, map.height);
+            env.mips = Arc::new(filter::mip_chain(&map));
             env.map = Some(Arc::new(map));
             (weights, w, h)
         } else {

@@ -338,6 +338,17 @@ pub struct Sample {
 }
 
 impl SpectralSampler {
+    /// XYZ and bins of the light after `k` ironstone reflections (1 ..= [`MAX_TINTS`]).
+    pub fn tinted_white(&self, k: usize) -> (&[f64; 3], &[f32]) {
+        let (xyz, bins) = &self.tinted[k.clamp(1, MAX_TINTS) - 1];
+        (xyz, bins)
+    }
+
+    /// The wavelength range it covers, nm.
+    pub fn range_nm(&self) -> (f64, f64) {
+        (self.lo_nm, self.hi_nm)
+    }
+
     /// For light of `illuminant` on `grid`, with `draws` wavelengths per contribution.
     pub fn new(illuminant: Illuminant, grid: &WavelengthGrid, draws: usize) -> Self {
         let (lo, hi) = (grid.min_nm, grid.max_nm);
@@ -408,7 +419,9 @@ impl SpectralSampler {
         }
     }
 
-    fn at(&self, w: f64) -> [f32; 4] {
+    /// `(S x̄, S ȳ, S z̄, S)` at `w` nm (S of luminance 1 over the range), linear between the
+    /// table's steps.
+    pub fn at(&self, w: f64) -> [f32; 4] {
         let x = ((w - self.lo_nm) / TABLE_STEP_NM).max(0.0);
         let i = (x as usize).min(self.table.len() - 2);
         let f = (x - i as f64).min(1.0) as f32;

@@ -26,6 +26,8 @@ pub mod stage {
     pub const PATH: u64 = 6;
     /// The stored method's sub-pixel positions.
     pub const STORED: u64 = 7;
+    /// The lobe integrator's sub-pixel positions.
+    pub const LOBE: u64 = 8;
 }
 
 /// SplitMix64 finaliser: a bijective 64-bit mix (Steele, Lea, Flood 2014).

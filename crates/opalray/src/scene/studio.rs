@@ -391,6 +391,10 @@ pub enum Method {
     /// then gathered from the eye (eq. (2)), each domain's lines at their exact wavelengths.
     /// Single reflection only; deterministic, no noise (`integrator.spp`, `cell_mm`).
     Stored,
+    /// The lobe integrator on the stone model: every Bragg lobe integrated against the
+    /// environment and the light, the body as its Munsell value; deterministic, no noise,
+    /// seconds a frame (`integrator.spp`: stratified sub-pixel positions).
+    Lobe,
 }
 
 /// Most samples per pixel of the path integrator (`integrator.spp`).
@@ -400,7 +404,7 @@ pub const MAX_SPP: u32 = 65_536;
 ///
 /// | field       | unit | default    | valid               |
 /// |-------------|------|------------|---------------------|
-/// | `method`    | –    | "two-pass" | "two-pass", "path", "stored" |
+/// | `method`    | –    | "two-pass" | "two-pass", "path", "stored", "lobe" |
 /// | `spp`       | –    | 16         | 1 ..= 65536         |
 /// | `max_depth` | –    | 8          | 1 ..= 256           |
 /// | `wavelengths` | –  | 4          | 1 ..= 64            |

@@ -1,0 +1,240 @@
+//! The lobe integrator: a deterministic renderer of the stone model that integrates every
+//! Bragg lobe against the lights instead of sampling it (`integrator.method = "lobe"`).
+//!
+//! Input: a [`Stone`] and a [`LobeSetup`] → output: a [`LobeImage`] (XYZ per pixel and the
+//! binned spectrum). No random numbers but the stratified sub-pixel positions (`spp`, keyed
+//! by pixel): the same bytes at any thread count. Per camera ray ([`trace`]):
+//!
+//! - **Surface**: the gloss shows the environment (exact for a smooth surface) and the
+//!   light's disc; `(1 − F)/n²` refracts in.
+//! - **Domain crossing**, for every line met ([`Stone::lines`]): the mirror direction about
+//!   the family normal is followed out of the stone (the domains on the way notch it, the
+//!   potch and haze dim it; at the surface `(1 − F) n²` escapes, the rest is reflected
+//!   inside and followed again, up to [`trace::MAX_SEGMENTS`] segments), and the
+//!   environment is read there through the lobe, its width the mosaic spread carried
+//!   through the refraction ([`crate::path::Environment::filtered`]). The line's colour is
+//!   its equivalent width times the light × colour-matching functions over its profile
+//!   ([`colour`]), times the notches of the lines crossed before, each at the line's centre.
+//!   A point or directional light adds `π E R D(h)/(4 cos θ_h)`, the lobe's density at the
+//!   half vector, as the path tracer's estimate does. The ray goes on through.
+//! - **Body**: where the eye ray is scattered by the potch (or a milky domain's haze), with
+//!   probability `1 − e^{−τ}` over a span, it sees the body as a chip of its Munsell value
+//!   lit by the environment's irradiance at the surface it entered ([`Irradiance`]) — the
+//!   calibrated slab's reflectance as a Lambertian response, not its multiple scattering.
+//! - **Exit**: the environment through the far surface (`(1 − F) n²`, the rest reflected
+//!   inside, bounded); a backing shows its reflectance under the environment's irradiance
+//!   from above, dimmed as the eye ray was.
+//!
+//! Left out, and measured in `docs/model.md`: Bragg reflections of reflected light (a second
+//! line), the lobe's colour change across its width, the lensing of the dome on the lobe's
+//! width, the notches of the lines on the body's and the environment's broadband light
+//! except those of the eye ray, and the cap plane's reflection of a triplet.
+
+pub mod colour;
+mod trace;
+
+use std::f32::consts::PI;
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use crate::geometry::Camera;
+use crate::path::{Environment, PathLight, SpectralSampler};
+use crate::sampling::{stage, Rng};
+use crate::spectrum::SpectralImage;
+use crate::stone::Stone;
+
+pub use colour::LineColours;
+
+/// Everything the lobe integrator needs besides the stone.
+pub struct LobeSetup<'a> {
+    /// The camera.
+    pub camera: Camera,
+    /// Image width, pixels.
+    pub width: usize,
+    /// Image height, pixels.
+    pub height: usize,
+    /// Camera rays per pixel, at stratified positions (anti-aliasing only).
+    pub spp: u32,
+    /// The scene's point or directional light, if any.
+    pub light: Option<PathLight>,
+    /// The environment.
+    pub environment: &'a Environment,
+    /// Scale of the surface's gloss.
+    pub gloss: f32,
+    /// Seed of the sub-pixel positions.
+    pub seed: u64,
+    /// Luminous reflectance of the body (its tone's Munsell value, `munsell_y`).
+    pub body_reflectance: f32,
+    /// Wavelength range, the light's spectrum and the colour-matching functions.
+    pub spectral: &'a SpectralSampler,
+}
+
+/// The lobe integrator's image.
+pub struct LobeImage {
+    /// CIE XYZ per pixel, row-major (Y = 1: a white diffuser under the light).
+    pub xyz: Vec<[f32; 3]>,
+    /// The spectral image (bin averages).
+    pub spectral: SpectralImage,
+}
+
+/// Render `stone` as `setup` says.
+pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
+    let (w, h) = (setup.width, setup.height);
+    let grid = setup.spectral.grid;
+    let bins = grid.bins;
+    let colours = LineColours::new(setup.spectral);
+    let irradiance = Irradiance::new(setup.environment);
+    let mut xyz = vec![[0.0f32; 3]; w * h];
+    let mut spectral = SpectralImage::new(w, h, grid);
+    let spp = setup.spp.max(1) as usize;
+    let white_xyz = setup.spectral.white_xyz;
+    let white_bins = &setup.spectral.white_bins;
+    xyz.par_chunks_mut(w)
+        .zip(spectral.data.par_chunks_mut(w * bins))
+        .enumerate()
+        .for_each(|(y, (xyz_row, bins_row))| {
+            let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance);
+            let mut order = vec![0usize; spp];
+            for (x, (out, out_bins)) in xyz_row
+                .iter_mut()
+                .zip(bins_row.chunks_mut(bins))
+                .enumerate()
+            {
+                let pixel = (y * w + x) as u64;
+                let mut rng = Rng::new(setup.seed, stage::LOBE, pixel);
+                // Stratified in x and y at once: sample k in column k, its row shuffled.
+                for (k, o) in order.iter_mut().enumerate() {
+                    *o = k;
+                }
+                for k in (1..spp).rev() {
+                    order.swap(k, rng.below(k as u64 + 1) as usize);
+                }
+                let mut sums = trace::Sums {
+                    white: 0.0,
+                    xyz: [0.0; 3],
+                    bins: out_bins,
+                };
+                for (k, &row) in order.iter().enumerate() {
+                    let px = x as f32 + (k as f32 + rng.uniform_f32()) / spp as f32;
+                    let py = y as f32 + (row as f32 + rng.uniform_f32()) / spp as f32;
+                    tracer.sample(setup.camera.ray(px, py), &mut sums);
+                }
+                let scale = 1.0 / spp as f64;
+                for c in 0..3 {
+                    out[c] = ((sums.xyz[c] + sums.white * white_xyz[c]) * scale) as f32;
+                }
+                for (b, wb) in sums.bins.iter_mut().zip(white_bins) {
+                    *b = ((f64::from(*b) + sums.white * f64::from(*wb)) * scale) as f32;
+                }
+            }
+        });
+    LobeImage { xyz, spectral }
+}
+
+/// Rows (polar angle) and columns (azimuth) of the irradiance table.
+const IRRADIANCE_GRID: (usize, usize) = (33, 64);
+/// Rows of the quadrature over the environment (twice as many columns).
+const QUADRATURE_ROWS: usize = 48;
+
+/// The environment's cosine-weighted mean over the hemisphere about every normal,
+/// `Ē(n) = (1/π) ∫ L(ω) max(0, n·ω) dω` in the environment's units (a white diffuser facing
+/// `n` shows Ē), tabulated over the normal's polar angle and azimuth in the stone's frame and
+/// read bilinearly. The quadrature reads the environment through lobes of its own spacing.
+pub struct Irradiance {
+    values: Vec<f32>,
+}
+
+impl Irradiance {
+    /// The table of `environment`.
+    pub fn new(environment: &Environment) -> Self {
+        let rows = QUADRATURE_ROWS;
+        let cols = 2 * rows;
+        let spacing = PI / rows as f32;
+        let mut dirs = Vec::with_capacity(rows * cols);
+        for i in 0..rows {
+            let theta = (i as f32 + 0.5) * spacing;
+            let solid = spacing * spacing * theta.sin();
+            for j in 0..cols {
+                let phi = (j as f32 + 0.5) * spacing;
+                let d = polar(theta, phi);
+                dirs.push((d, environment.filtered(d, 0.5 * spacing) * solid));
+            }
+        }
+        let (n_rows, n_cols) = IRRADIANCE_GRID;
+        let mut values = vec![0.0f32; n_rows * n_cols];
+        values
+            .par_chunks_mut(n_cols)
+            .enumerate()
+            .for_each(|(i, row)| {
+                let theta = PI * i as f32 / (n_rows - 1) as f32;
+                for (j, v) in row.iter_mut().enumerate() {
+                    let n = polar(theta, 2.0 * PI * j as f32 / n_cols as f32);
+                    let sum: f64 = dirs
+                        .iter()
+                        .map(|&(d, l)| f64::from(l * n.dot(d).max(0.0)))
+                        .sum();
+                    *v = (sum / std::f64::consts::PI) as f32;
+                }
+            });
+        Irradiance { values }
+    }
+
+    /// `Ē(n)` for the unit normal `n` (the stone's frame).
+    pub fn at(&self, n: Vec3) -> f32 {
+        let (rows, cols) = IRRADIANCE_GRID;
+        let theta = n.z.clamp(-1.0, 1.0).acos();
+        let phi = n.y.atan2(n.x).rem_euclid(2.0 * PI);
+        let y = theta / PI * (rows - 1) as f32;
+        let x = phi / (2.0 * PI) * cols as f32;
+        let (i, j) = ((y as usize).min(rows - 2), x as usize % cols);
+        let (fy, fx) = (y - i as f32, x - x.floor());
+        let j1 = (j + 1) % cols;
+        let v = |r: usize, c: usize| self.values[r * cols + c];
+        let top = v(i, j) * (1.0 - fx) + v(i, j1) * fx;
+        let bottom = v(i + 1, j) * (1.0 - fx) + v(i + 1, j1) * fx;
+        top * (1.0 - fy) + bottom * fy
+    }
+}
+
+/// The unit vector at polar angle `theta` from +z and azimuth `phi` from +x.
+fn polar(theta: f32, phi: f32) -> Vec3 {
+    let (s, c) = theta.sin_cos();
+    Vec3::new(s * phi.cos(), s * phi.sin(), c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{EnvironmentConfig, EnvironmentKind};
+
+    #[test]
+    fn irradiance_of_a_uniform_environment_is_its_value_and_of_a_half_space_half() {
+        let uniform = Environment::new(
+            &EnvironmentConfig {
+                kind: EnvironmentKind::Uniform,
+                ..EnvironmentConfig::default()
+            },
+            0.0,
+        )
+        .unwrap();
+        let table = Irradiance::new(&uniform);
+        for n in [Vec3::Z, Vec3::X, Vec3::new(0.3, -0.5, 0.8).normalize()] {
+            assert!((table.at(n) - 1.0).abs() < 0.01, "{n}: {}", table.at(n));
+        }
+        // `none` with a backdrop of 1 below the horizon: a normal along +x sees half of it
+        // (π/2 of the cosine-weighted π), one facing down all of it.
+        let backdrop = Environment::new(
+            &EnvironmentConfig {
+                kind: EnvironmentKind::None,
+                ..EnvironmentConfig::default()
+            },
+            1.0,
+        )
+        .unwrap();
+        let table = Irradiance::new(&backdrop);
+        assert!((table.at(Vec3::X) - 0.5).abs() < 0.01, "{}", table.at(Vec3::X));
+        assert!((table.at(-Vec3::Z) - 1.0).abs() < 0.01);
+        assert!(table.at(Vec3::Z) < 0.01);
+    }
+}

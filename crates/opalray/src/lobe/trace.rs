@@ -1,0 +1,459 @@
+//! One camera ray of the lobe integrator (module notes in [`super`]): a loop over the eye
+//! ray's segments, and for every line it meets a loop over the reflected ray's segments out
+//! of the stone. Bounded loops, no recursion, no random numbers.
+
+use std::f32::consts::PI;
+
+use glam::Vec3;
+
+use super::{Irradiance, LineColours, LobeSetup};
+use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
+use crate::optics::BraggLine;
+use crate::scene::Backing;
+use crate::stone::{ActiveLine, Boundary, Hint, Region, Span, Stone};
+
+/// Most segments of a ray inside the stone between surface events (its refraction in or its
+/// reflection, then up to three internal reflections).
+pub const MAX_SEGMENTS: usize = 4;
+/// Offset of a new ray's origin along its way, mm (0.1 µm).
+const EPSILON_MM: f32 = 1e-4;
+/// An eye ray whose weight falls below this adds nothing more.
+const MIN_WEIGHT: f32 = 1e-4;
+/// Most lines of the eye ray kept for the notches of later reflections.
+const MAX_EYE_LINES: usize = 96;
+
+/// What one pixel's camera rays add up to.
+pub(super) struct Sums<'b> {
+    /// Radiance of the light's white (its spectrum, luminance 1) added.
+    pub white: f64,
+    /// XYZ of the rest.
+    pub xyz: [f64; 3],
+    /// Bins of the rest.
+    pub bins: &'b mut [f32],
+}
+
+/// One thread's camera rays.
+pub(super) struct Tracer<'a> {
+    stone: &'a Stone,
+    setup: &'a LobeSetup<'a>,
+    colours: &'a LineColours,
+    irradiance: &'a Irradiance,
+    spans: Vec<Span>,
+    lines: Vec<ActiveLine>,
+    out_spans: Vec<Span>,
+    out_lines: Vec<ActiveLine>,
+    /// The lines the eye ray has crossed, with their windows.
+    eye_lines: Vec<(BraggLine, (f64, f64))>,
+    /// XYZ the eye ray's notches take from a white of luminance 1.
+    notch_xyz: [f64; 3],
+    /// The same per bin.
+    notch_bins: Vec<f32>,
+    bin_width_nm: f64,
+}
+
+impl<'a> Tracer<'a> {
+    pub(super) fn new(
+        stone: &'a Stone,
+        setup: &'a LobeSetup<'a>,
+        colours: &'a LineColours,
+        irradiance: &'a Irradiance,
+    ) -> Self {
+        Tracer {
+            stone,
+            setup,
+            colours,
+            irradiance,
+            spans: Vec::with_capacity(64),
+            lines: Vec::with_capacity(16),
+            out_spans: Vec::with_capacity(64),
+            out_lines: Vec::with_capacity(16),
+            eye_lines: Vec::with_capacity(MAX_EYE_LINES),
+            notch_xyz: [0.0; 3],
+            notch_bins: vec![0.0; setup.spectral.grid.bins],
+            bin_width_nm: setup.spectral.grid.bin_width_nm(),
+        }
+    }
+
+    /// One camera ray.
+    pub(super) fn sample(&mut self, ray: Ray, sums: &mut Sums) {
+        let stone = self.stone;
+        let env = self.setup.environment;
+        let Some((t0, _)) = stone.shape.intersect(&ray).filter(|&(t0, _)| t0 > 0.0) else {
+            sums.white += f64::from(env.value(ray.direction));
+            return;
+        };
+        self.eye_lines.clear();
+        self.notch_xyz = [0.0; 3];
+        self.notch_bins.iter_mut().for_each(|b| *b = 0.0);
+        // The surface: the gloss, and the refracted part goes in.
+        let p = ray.at(t0);
+        let normal = stone.shape.normal(p);
+        let region = stone.region_at(p - normal * EPSILON_MM);
+        let n = stone.index_of(region);
+        let fresnel = fresnel_dielectric(-ray.direction.dot(normal), 1.0, n);
+        let mirror = reflect(ray.direction, normal);
+        sums.white += f64::from(fresnel * self.setup.gloss * (env.value(mirror) + self.disc(mirror)));
+        let Some(dir) = refract(ray.direction, normal, 1.0, n) else {
+            return;
+        };
+        let entry = Entry {
+            normal,
+            fresnel_normal: fresnel_dielectric(1.0, 1.0, n),
+        };
+        self.inside(p, dir, region, (1.0 - fresnel) / (n * n), entry, sums);
+    }
+
+    /// The eye ray inside the stone from `pos` along `dir` in `region`, with weight `w`.
+    fn inside(
+        &mut self,
+        mut pos: Vec3,
+        mut dir: Vec3,
+        mut region: Region,
+        mut w: f32,
+        entry: Entry,
+        sums: &mut Sums,
+    ) {
+        let stone = self.stone;
+        let potch = stone.potch;
+        let mut optical_depth = 0.0f32;
+        for _ in 0..MAX_SEGMENTS {
+            let ray = Ray {
+                origin: pos,
+                direction: dir,
+            };
+            let Some((t_end, boundary)) = stone.exit(&ray, region) else {
+                return;
+            };
+            if region == Region::Opal {
+                self.spans.clear();
+                let spans = &mut self.spans;
+                stone.walk(pos, dir, 0.0, t_end, Hint::default(), &mut |s| {
+                    spans.push(s);
+                    true
+                });
+                for k in 0..self.spans.len() {
+                    let span = self.spans[k];
+                    let sigma = match span.domain {
+                        None => potch.extinction_per_mm,
+                        Some(domain) => {
+                            self.cross(&ray, span, domain, w, sums);
+                            potch.domain_scattering_per_mm
+                        }
+                    };
+                    if sigma > 0.0 {
+                        let tau = sigma * (span.t1 - span.t0);
+                        let kept = (-tau).exp();
+                        self.body(w * (1.0 - kept), &entry, sums);
+                        w *= kept;
+                        optical_depth += tau;
+                    }
+                    if w < MIN_WEIGHT {
+                        return;
+                    }
+                }
+            }
+            let at = ray.at(t_end);
+            match boundary {
+                Boundary::Surface => {
+                    let n = stone.index_of(region);
+                    let normal = stone.shape.normal(at);
+                    let f = fresnel_dielectric(dir.dot(normal), n, 1.0);
+                    if let Some(out) = refract(dir, normal, n, 1.0) {
+                        let v = w * (1.0 - f) * n * n * self.setup.environment.value(out);
+                        self.add_notched_white(f64::from(v), sums);
+                    }
+                    w *= f;
+                    dir = reflect(dir, normal);
+                    pos = at - normal * EPSILON_MM;
+                }
+                Boundary::Back => {
+                    self.backing(w * (-optical_depth).exp(), sums);
+                    return;
+                }
+                Boundary::CapPlane => {
+                    (pos, dir, region, w) = self.cap_plane(at, dir, region, w);
+                }
+            }
+            if w < MIN_WEIGHT {
+                return;
+            }
+        }
+    }
+
+    /// The eye ray along `ray` crossing `domain` over `span`, with weight `w`: every line's
+    /// reflection of the lights, then its notch on the way on.
+    fn cross(&mut self, ray: &Ray, span: Span, domain: u32, w: f32, sums: &mut Sums) {
+        let stone = self.stone;
+        let dir = ray.direction;
+        let mut lines = std::mem::take(&mut self.lines);
+        lines.clear();
+        stone.lines(domain, dir, span.t1 - span.t0, &mut lines);
+        let face = ray.at(span.t0);
+        for l in &lines {
+            let (xyz, s) = self.colours.of(&l.line);
+            let t_in = self.eye_transmittance(l.line.center_nm);
+            let weight = w * t_in as f32;
+            if weight * xyz[1] as f32 > 1e-7 {
+                let cos_theta = -dir.dot(l.normal);
+                let sigma = stone.lobe_sigma(l.kind, cos_theta);
+                let seen = self.reflected(face, reflect(dir, l.normal), domain, &l.line, sigma);
+                self.add_line(f64::from(weight * seen), xyz, s, l.line.center_nm, sums);
+            }
+            if self.setup.light.is_some() {
+                self.light_at(ray.at(span.t0 + EPSILON_MM), dir, domain, l, weight, sums);
+            }
+        }
+        // The ray goes on through, carrying each line's notch.
+        for l in &lines {
+            if self.eye_lines.len() >= MAX_EYE_LINES {
+                break;
+            }
+            let (xyz, s) = self.colours.of(&l.line);
+            let t_prev = self.eye_transmittance(l.line.center_nm);
+            for c in 0..3 {
+                self.notch_xyz[c] += t_prev * xyz[c];
+            }
+            if let Some(b) = self.setup.spectral.grid.bin_of(l.line.center_nm) {
+                self.notch_bins[b] += (t_prev * s / self.bin_width_nm) as f32;
+            }
+            self.eye_lines.push((l.line, l.line.window_nm()));
+        }
+        self.lines = lines;
+    }
+
+    /// `Π (1 − R)` at `wavelength_nm` of the lines the eye ray has crossed.
+    fn eye_transmittance(&self, wavelength_nm: f64) -> f64 {
+        let mut t = 1.0;
+        for (line, (lo, hi)) in &self.eye_lines {
+            if wavelength_nm > *lo && wavelength_nm < *hi {
+                t *= 1.0 - line.reflectance(wavelength_nm);
+            }
+        }
+        t
+    }
+
+    /// The radiance (in the stone, relative to the light's) that reaches the domain's face
+    /// `face` against `dir`, the mirror direction of `line` whose lobe has width `sigma`
+    /// (over normals, radians): the environment through the lobe, carried in through every
+    /// surface event up to [`MAX_SEGMENTS`], notched at the line's centre by the lines on
+    /// the way and dimmed by the potch and haze.
+    fn reflected(&mut self, face: Vec3, dir: Vec3, domain: u32, line: &BraggLine, sigma: f32) -> f32 {
+        let stone = self.stone;
+        let wavelength = line.center_nm;
+        let n_eff = stone.n_eff;
+        let (mut pos, mut dir, mut region) = (face, dir, Region::Opal);
+        let mut skip = Some(domain);
+        let (mut w, mut seen) = (1.0f32, 0.0f32);
+        for _ in 0..MAX_SEGMENTS {
+            let ray = Ray {
+                origin: pos,
+                direction: dir,
+            };
+            let Some((t_end, boundary)) = stone.exit(&ray, region) else {
+                break;
+            };
+            if region == Region::Opal {
+                let mut notches = 1.0f64;
+                let kept = stone.towards_light(
+                    pos,
+                    dir,
+                    t_end,
+                    Hint::default(),
+                    skip.take(),
+                    &mut self.out_spans,
+                    &mut self.out_lines,
+                    &mut |_, l| {
+                        let (lo, hi) = l.window_nm();
+                        if wavelength > lo && wavelength < hi {
+                            notches *= 1.0 - l.reflectance(wavelength);
+                        }
+                    },
+                );
+                w *= kept * notches as f32;
+            }
+            if w < MIN_WEIGHT {
+                break;
+            }
+            let at = ray.at(t_end);
+            match boundary {
+                Boundary::Surface => {
+                    let n = stone.index_of(region);
+                    let normal = stone.shape.normal(at);
+                    let cos_in = dir.dot(normal);
+                    let f = fresnel_dielectric(cos_in, n, 1.0);
+                    if let Some(out) = refract(dir, normal, n, 1.0) {
+                        // The lobe's width over directions, twice its width over normals,
+                        // widened by the refraction out (its mean over the two axes).
+                        let cos_out = out.dot(normal).max(1e-3);
+                        let spread = 2.0 * sigma * n_eff * (cos_in.max(1e-3) / cos_out).sqrt();
+                        seen += w * (1.0 - f) * n * n * self.setup.environment.filtered(out, spread);
+                    }
+                    w *= f;
+                    dir = reflect(dir, normal);
+                    pos = at - normal * EPSILON_MM;
+                }
+                Boundary::Back => break,
+                Boundary::CapPlane => {
+                    (pos, dir, region, w) = self.cap_plane(at, dir, region, w);
+                }
+            }
+        }
+        seen
+    }
+
+    /// A ray along `dir` with weight `w` in `region` meeting the plane between a triplet's
+    /// slice and its cap at `at`: refracted into the other region with `(1 − F)` and the
+    /// radiance's `(n₁/n₂)²`, or reflected whole beyond the critical angle (the plane's
+    /// partial reflection is left out: F is under 10⁻³ between silica and quartz).
+    fn cap_plane(&self, at: Vec3, dir: Vec3, region: Region, w: f32) -> (Vec3, Vec3, Region, f32) {
+        let stone = self.stone;
+        let other = match region {
+            Region::Opal => Region::Cap,
+            Region::Cap => Region::Opal,
+        };
+        let (n1, n2) = (stone.index_of(region), stone.index_of(other));
+        let facing = if dir.z > 0.0 { -Vec3::Z } else { Vec3::Z };
+        match refract(dir, facing, n1, n2) {
+            Some(d) => {
+                let f = fresnel_dielectric(-dir.dot(facing), n1, n2);
+                (at - facing * EPSILON_MM, d, other, w * (1.0 - f) * (n1 / n2) * (n1 / n2))
+            }
+            None => (at + facing * EPSILON_MM, reflect(dir, facing), region, w),
+        }
+    }
+
+    /// The scene's point or directional light reflected by `line` of `domain` at `x` towards
+    /// the eye ray along `dir`, with weight `w`: `π E R(λ, θ_h) D(h) / (4 cos θ_h)`.
+    fn light_at(&mut self, x: Vec3, dir: Vec3, domain: u32, line: &ActiveLine, w: f32, sums: &mut Sums) {
+        let stone = self.stone;
+        let Some(light) = self.setup.light else {
+            return;
+        };
+        let Some((to_light, irradiance, distance)) = stone.light_entry(&light.source, x) else {
+            return;
+        };
+        let h = (to_light - dir).normalize_or_zero();
+        let cos_h = h.dot(to_light);
+        if cos_h <= 0.0 {
+            return;
+        }
+        let density = stone.lobe_density(line, h, cos_h);
+        if density <= 0.0 {
+            return;
+        }
+        let at_h = stone.line_at(domain, line, cos_h);
+        let wavelength = at_h.center_nm;
+        let mut notches = 1.0f64;
+        let kept = stone.towards_light(
+            x,
+            to_light,
+            distance,
+            Hint::default(),
+            Some(domain),
+            &mut self.out_spans,
+            &mut self.out_lines,
+            &mut |_, l| {
+                let (lo, hi) = l.window_nm();
+                if wavelength > lo && wavelength < hi {
+                    notches *= 1.0 - l.reflectance(wavelength);
+                }
+            },
+        );
+        let (xyz, s) = self.colours.of(&at_h);
+        let value = w
+            * PI
+            * irradiance
+            * light.intensity
+            * kept
+            * notches as f32
+            * self.eye_transmittance(wavelength) as f32
+            * density
+            / (4.0 * cos_h);
+        self.add_line(f64::from(value), xyz, s, wavelength, sums);
+    }
+
+    /// The body seen by the share `w` of the eye ray scattered in it: its Munsell reflectance
+    /// under the environment's irradiance at the surface the eye ray entered (the chip's
+    /// reflectance includes the surface's `1 − F₀` on the way in, which the eye ray's weight
+    /// holds already).
+    fn body(&mut self, w: f32, entry: &Entry, sums: &mut Sums) {
+        let n = self.stone.n_eff;
+        let e = self.irradiance.at(entry.normal);
+        let v = w * n * n * self.setup.body_reflectance * e / (1.0 - entry.fresnel_normal);
+        self.add_notched_white(f64::from(v), sums);
+    }
+
+    /// The backing seen by the eye ray with weight `w`: its reflectance under the
+    /// environment's irradiance from above.
+    fn backing(&mut self, w: f32, sums: &mut Sums) {
+        let stone = self.stone;
+        let Some(back) = stone.back else {
+            return;
+        };
+        let n = stone.n_eff;
+        let v = w * n * n * self.irradiance.at(Vec3::Z);
+        match back.kind {
+            Backing::None => {}
+            Backing::Black => self.add_notched_white(f64::from(v * back.reflectance(550.0) as f32), sums),
+            Backing::Ironstone => {
+                let (xyz, bins) = self.setup.spectral.tinted_white(1);
+                for c in 0..3 {
+                    sums.xyz[c] += f64::from(v) * xyz[c];
+                }
+                for (b, t) in sums.bins.iter_mut().zip(bins) {
+                    *b += v * t;
+                }
+            }
+        }
+    }
+
+    /// Add `v` of the light's white less the eye ray's notches.
+    fn add_notched_white(&self, v: f64, sums: &mut Sums) {
+        if v == 0.0 {
+            return;
+        }
+        sums.white += v;
+        for c in 0..3 {
+            sums.xyz[c] -= v * self.notch_xyz[c];
+        }
+        for (b, n) in sums.bins.iter_mut().zip(&self.notch_bins) {
+            *b -= (v * f64::from(*n)) as f32;
+        }
+    }
+
+    /// Add `v` times a line's colour `xyz` (and `s`, its `∫ R S dλ`) at `center_nm`.
+    fn add_line(&self, v: f64, xyz: [f64; 3], s: f64, center_nm: f64, sums: &mut Sums) {
+        if v == 0.0 {
+            return;
+        }
+        for c in 0..3 {
+            sums.xyz[c] += v * xyz[c];
+        }
+        if let Some(b) = self.setup.spectral.grid.bin_of(center_nm) {
+            sums.bins[b] += (v * s / self.bin_width_nm) as f32;
+        }
+    }
+
+    /// The light's disc seen along `dir` from outside, in image units (as the path tracer's
+    /// gloss shows it).
+    fn disc(&self, dir: Vec3) -> f32 {
+        let Some(light) = self.setup.light else {
+            return 0.0;
+        };
+        let r = light.disc_radius_rad;
+        let to_light = light.source.direction_to_light(Vec3::ZERO);
+        if r > 0.0 && dir.dot(to_light) >= r.cos() {
+            light.intensity / (r * r)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Where the eye ray entered the stone.
+struct Entry {
+    /// The surface's outward normal there.
+    normal: Vec3,
+    /// The surface's Fresnel reflectance at normal incidence.
+    fresnel_normal: f32,
+}
