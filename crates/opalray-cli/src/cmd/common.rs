@@ -14,8 +14,8 @@ pub struct SceneArgs {
     #[arg(value_name = "SCENE.toml")]
     pub scene: Option<PathBuf>,
     /// Start from a named preset instead of a file: black-opal, harlequin, pinfire,
-    /// broad-flash, ribbon, white, crystal, boulder, doublet, triplet (gem stones, path
-    /// tracer), paper (the paper's model), paper-path (its stone, path-traced), paper-stone
+    /// broad-flash, ribbon, white, crystal, boulder, doublet, triplet (gem stones, the lobe
+    /// integrator), paper (the paper's model), paper-path (its stone, path-traced), paper-stone
     /// (its stone, the stored method's two passes).
     #[arg(long, value_name = "NAME", conflicts_with = "scene")]
     pub preset: Option<String>,
@@ -151,9 +151,15 @@ pub struct LookArgs {
     #[arg(long, value_name = "EV", allow_hyphen_values = true)]
     pub exposure: Option<f64>,
     /// Samples per pixel of the path integrator (integrator.spp): more for smoother edges and
-    /// less noise, in proportion to the time; the stored method's camera rays per pixel.
+    /// less noise, in proportion to the time; the stored method's camera rays per pixel; the
+    /// lobe integrator's rays through each pixel at an edge.
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub spp: Option<u32>,
+    /// The renderer (integrator.method): lobe (the gem presets': every Bragg lobe integrated
+    /// against the lights, seconds a frame, no noise), path (the reference path tracer: add
+    /// --denoise and --spp 8 or more), stored, or two-pass (the paper's).
+    #[arg(long, value_name = "NAME", value_parser = ["lobe", "path", "stored", "two-pass"])]
+    pub method: Option<String>,
     /// Rock the stone: tilt it towards the camera about the picture's horizontal axis,
     /// degrees, the lights staying with the camera (camera.tilt_deg).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
@@ -202,6 +208,10 @@ impl LookArgs {
         if let Some(v) = self.spp {
             scene.integrator.spp = v;
         }
+        if let Some(name) = &self.method {
+            scene.integrator.method = serde_json::from_value(serde_json::json!(name))
+                .map_err(|e| anyhow::anyhow!("--method {name}: {e}"))?;
+        }
         if let Some(v) = self.tilt {
             scene.camera.tilt_deg = v;
         }
@@ -237,6 +247,7 @@ impl LookArgs {
             ("render.body_tone", "--body-tone", self.body_tone.is_some()),
             ("color.exposure_ev", "--exposure", self.exposure.is_some()),
             ("integrator.spp", "--spp", self.spp.is_some()),
+            ("integrator.method", "--method", self.method.is_some()),
             ("camera.tilt_deg", "--tilt", self.tilt.is_some()),
             ("integrator.denoise", "--denoise", self.denoise),
         ];

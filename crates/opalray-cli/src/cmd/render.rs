@@ -17,11 +17,12 @@ use crate::outputs::Outputs;
 /// Render the opal (paper figs. 10–11) to a PNG or EXR, and optionally its spectral image.
 ///
 /// Renders the scene (default: the `black-opal` preset, a black opal cabochon under the
-/// studio environment, path-traced at 640 × 480; `--preset paper` is the paper's opal with
+/// studio environment, by the lobe integrator at 640 × 480 in seconds; `--method path` renders
+/// it by the reference path tracer; `--preset paper` is the paper's opal with
 /// the light at 30° to the view direction) and prints the time of each stage.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_long_help = "Examples:\n  opalray render\n  opalray render --preset white --spp 32 --output white.png\n  opalray render --preset paper --light-angle -45 --output flash.png\n  opalray render my-opal.toml --width 1280 --height 960 --stats stats.json\n  opalray render --diameter 220 --output linear.exr --spectral cube.exr\n  opalray render --preset harlequin --time-limit 60 --stats stats.json"
+    after_long_help = "Examples:\n  opalray render\n  opalray render --preset white --output white.png\n  opalray render --method path --denoise --spp 16 --output reference.png\n  opalray render --preset paper --light-angle -45 --output flash.png\n  opalray render my-opal.toml --width 1280 --height 960 --stats stats.json\n  opalray render --diameter 220 --output linear.exr --spectral cube.exr\n  opalray render --preset harlequin --time-limit 60 --stats stats.json"
 )]
 pub struct Args {
     #[command(flatten)]

@@ -83,8 +83,7 @@ impl LineColours {
 
     /// The smoothed table at `center_nm` for a profile of standard deviation `sigma_nm`.
     fn at(&self, center_nm: f64, sigma_nm: f64) -> [f64; 4] {
-        if !(center_nm > self.lo_nm - 4.0 * sigma_nm && center_nm < self.hi_nm + 4.0 * sigma_nm)
-        {
+        if !(center_nm > self.lo_nm - 4.0 * sigma_nm && center_nm < self.hi_nm + 4.0 * sigma_nm) {
             return [0.0; 4];
         }
         let row_f = row_of(sigma_nm);
@@ -197,7 +196,8 @@ mod tests {
                 0.5 * (h1 + h2 - 2.0 * PI)
             };
         }
-        let t = 1.0 - 0.17 * (h_bar - PI / 6.0).cos() + 0.24 * (2.0 * h_bar).cos()
+        let t = 1.0 - 0.17 * (h_bar - PI / 6.0).cos()
+            + 0.24 * (2.0 * h_bar).cos()
             + 0.32 * (3.0 * h_bar + PI / 30.0).cos()
             - 0.20 * (4.0 * h_bar - 63.0 * PI / 180.0).cos();
         let d_theta = PI / 6.0 * (-((h_bar * 180.0 / PI - 275.0) / 25.0).powi(2)).exp();
@@ -206,8 +206,7 @@ mod tests {
         let sc = 1.0 + 0.045 * cp_bar;
         let sh = 1.0 + 0.015 * cp_bar * t;
         let rt = -(2.0 * d_theta).sin() * rc;
-        ((dl / sl).powi(2) + (dc / sc).powi(2) + (dhh / sh).powi(2)
-            + rt * (dc / sc) * (dhh / sh))
+        ((dl / sl).powi(2) + (dc / sc).powi(2) + (dhh / sh).powi(2) + rt * (dc / sc) * (dhh / sh))
             .sqrt()
     }
 
@@ -242,7 +241,13 @@ mod tests {
     #[test]
     fn equivalent_width_is_the_integrated_reflectance() {
         // Thin to thick stacks, face-on and oblique, of the (111) coupling of silica in cement.
-        for (cos, layers) in [(1.0, 30.0), (1.0, 200.0), (0.8, 400.0), (0.6, 800.0), (0.9, 5.0)] {
+        for (cos, layers) in [
+            (1.0, 30.0),
+            (1.0, 200.0),
+            (0.8, 400.0),
+            (0.6, 800.0),
+            (0.9, 5.0),
+        ] {
             let line = BraggLine::new(0.0066, 588.8, cos, layers);
             let (a, z) = line.window_nm();
             let step = 0.001;
@@ -252,7 +257,10 @@ mod tests {
                 .sum();
             let w = equivalent_width_nm(&line);
             // The window leaves out about 1 % of a line's area (optics::line).
-            assert!((w / direct - 1.0).abs() < 0.03, "{cos} {layers}: {w} vs {direct}");
+            assert!(
+                (w / direct - 1.0).abs() < 0.03,
+                "{cos} {layers}: {w} vs {direct}"
+            );
         }
     }
 

@@ -78,7 +78,9 @@ pub struct LobeImage {
     pub spectral: SpectralImage,
 }
 
-/// Render `stone` as `setup` says.
+/// Render `stone` as `setup` says: one camera ray through every pixel's centre, then
+/// `setup.spp` stratified rays through each pixel whose first ray differs from a neighbour's
+/// by more than [`EDGE_CONTRAST`] (domain edges, the silhouette, the gloss's rim).
 pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
     let (w, h) = (setup.width, setup.height);
     let grid = setup.spectral.grid;
@@ -88,48 +90,120 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
     let mut xyz = vec![[0.0f32; 3]; w * h];
     let mut spectral = SpectralImage::new(w, h, grid);
     let spp = setup.spp.max(1) as usize;
-    let white_xyz = setup.spectral.white_xyz;
-    let white_bins = &setup.spectral.white_bins;
+    // Every pixel's centre.
     xyz.par_chunks_mut(w)
         .zip(spectral.data.par_chunks_mut(w * bins))
         .enumerate()
         .for_each(|(y, (xyz_row, bins_row))| {
             let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance);
-            let mut order = vec![0usize; spp];
             for (x, (out, out_bins)) in xyz_row
                 .iter_mut()
                 .zip(bins_row.chunks_mut(bins))
                 .enumerate()
             {
-                let pixel = (y * w + x) as u64;
-                let mut rng = Rng::new(setup.seed, stage::LOBE, pixel);
-                // Stratified in x and y at once: sample k in column k, its row shuffled.
-                for (k, o) in order.iter_mut().enumerate() {
-                    *o = k;
-                }
-                for k in (1..spp).rev() {
-                    order.swap(k, rng.below(k as u64 + 1) as usize);
-                }
-                let mut sums = trace::Sums {
-                    white: 0.0,
-                    xyz: [0.0; 3],
-                    bins: out_bins,
-                };
-                for (k, &row) in order.iter().enumerate() {
-                    let px = x as f32 + (k as f32 + rng.uniform_f32()) / spp as f32;
-                    let py = y as f32 + (row as f32 + rng.uniform_f32()) / spp as f32;
-                    tracer.sample(setup.camera.ray(px, py), &mut sums);
-                }
-                let scale = 1.0 / spp as f64;
-                for c in 0..3 {
-                    out[c] = ((sums.xyz[c] + sums.white * white_xyz[c]) * scale) as f32;
-                }
-                for (b, wb) in sums.bins.iter_mut().zip(white_bins) {
-                    *b = ((f64::from(*b) + sums.white * f64::from(*wb)) * scale) as f32;
-                }
+                let centre = [(x as f32 + 0.5, y as f32 + 0.5)];
+                pixel(&mut tracer, setup, &centre, out, out_bins);
+            }
+        });
+    if spp == 1 {
+        return LobeImage { xyz, spectral };
+    }
+    // The pixels at an edge, again with `spp` stratified rays.
+    let edges = edge_pixels(&xyz, w, h);
+    xyz.par_chunks_mut(w)
+        .zip(spectral.data.par_chunks_mut(w * bins))
+        .zip(edges.par_chunks(w))
+        .enumerate()
+        .for_each(|(y, ((xyz_row, bins_row), edge_row))| {
+            let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance);
+            let mut positions = vec![(0.0f32, 0.0f32); spp];
+            for (x, ((out, out_bins), _)) in xyz_row
+                .iter_mut()
+                .zip(bins_row.chunks_mut(bins))
+                .zip(edge_row)
+                .enumerate()
+                .filter(|(_, (_, &edge))| edge)
+            {
+                let mut rng = Rng::new(setup.seed, stage::LOBE, (y * w + x) as u64);
+                stratified(&mut rng, x, y, &mut positions);
+                out_bins.iter_mut().for_each(|b| *b = 0.0);
+                pixel(&mut tracer, setup, &positions, out, out_bins);
             }
         });
     LobeImage { xyz, spectral }
+}
+
+/// Two neighbouring first rays differing by more than this in any of √X, √Y, √Z (about
+/// the perceptual steps of an sRGB image) mark both pixels as an edge.
+const EDGE_CONTRAST: f32 = 0.02;
+
+/// Per pixel, whether its first ray differs from one of its eight neighbours' by more than
+/// [`EDGE_CONTRAST`].
+fn edge_pixels(xyz: &[[f32; 3]], w: usize, h: usize) -> Vec<bool> {
+    let tone = |v: [f32; 3]| v.map(|c| c.max(0.0).sqrt());
+    let mut edges = vec![false; w * h];
+    edges.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+        for (x, edge) in row.iter_mut().enumerate() {
+            let here = tone(xyz[y * w + x]);
+            'around: for dy in -1i64..=1 {
+                for dx in -1i64..=1 {
+                    let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                    if (dx, dy) == (0, 0) || nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                        continue;
+                    }
+                    let there = tone(xyz[ny as usize * w + nx as usize]);
+                    if (0..3).any(|c| (here[c] - there[c]).abs() > EDGE_CONTRAST) {
+                        *edge = true;
+                        break 'around;
+                    }
+                }
+            }
+        }
+    });
+    edges
+}
+
+/// `positions.len()` positions in pixel `(x, y)`, stratified in x and y at once: position k
+/// in column k, its row shuffled by `rng`, jittered within its cell.
+fn stratified(rng: &mut Rng, x: usize, y: usize, positions: &mut [(f32, f32)]) {
+    let n = positions.len();
+    let mut order: Vec<usize> = (0..n).collect();
+    for k in (1..n).rev() {
+        order.swap(k, rng.below(k as u64 + 1) as usize);
+    }
+    for (k, (p, &row)) in positions.iter_mut().zip(&order).enumerate() {
+        *p = (
+            x as f32 + (k as f32 + rng.uniform_f32()) / n as f32,
+            y as f32 + (row as f32 + rng.uniform_f32()) / n as f32,
+        );
+    }
+}
+
+/// The mean of the camera rays through `positions` (pixel coordinates) into `out` (XYZ) and
+/// `out_bins` (zeroed by the caller).
+fn pixel(
+    tracer: &mut trace::Tracer,
+    setup: &LobeSetup,
+    positions: &[(f32, f32)],
+    out: &mut [f32; 3],
+    out_bins: &mut [f32],
+) {
+    let mut sums = trace::Sums {
+        white: 0.0,
+        xyz: [0.0; 3],
+        bins: out_bins,
+    };
+    for &(px, py) in positions {
+        tracer.sample(setup.camera.ray(px, py), &mut sums);
+    }
+    let scale = 1.0 / positions.len() as f64;
+    let white_xyz = setup.spectral.white_xyz;
+    for c in 0..3 {
+        out[c] = ((sums.xyz[c] + sums.white * white_xyz[c]) * scale) as f32;
+    }
+    for (b, wb) in sums.bins.iter_mut().zip(&setup.spectral.white_bins) {
+        *b = ((f64::from(*b) + sums.white * f64::from(*wb)) * scale) as f32;
+    }
 }
 
 /// Rows (polar angle) and columns (azimuth) of the irradiance table.
@@ -233,7 +307,11 @@ mod tests {
         )
         .unwrap();
         let table = Irradiance::new(&backdrop);
-        assert!((table.at(Vec3::X) - 0.5).abs() < 0.01, "{}", table.at(Vec3::X));
+        assert!(
+            (table.at(Vec3::X) - 0.5).abs() < 0.01,
+            "{}",
+            table.at(Vec3::X)
+        );
         assert!((table.at(-Vec3::Z) - 1.0).abs() < 0.01);
         assert!(table.at(Vec3::Z) < 0.01);
     }

@@ -19,6 +19,9 @@ pub const MAX_SEGMENTS: usize = 4;
 const EPSILON_MM: f32 = 1e-4;
 /// An eye ray whose weight falls below this adds nothing more.
 const MIN_WEIGHT: f32 = 1e-4;
+/// A line's reflection adding less luminance than this (relative to a white diffuser under
+/// the light) is left out: 1/30 of the darkest step of an 8-bit sRGB image.
+const CUT: f32 = 1e-5;
 /// Most lines of the eye ray kept for the notches of later reflections.
 const MAX_EYE_LINES: usize = 96;
 
@@ -49,6 +52,8 @@ pub(super) struct Tracer<'a> {
     /// The same per bin.
     notch_bins: Vec<f32>,
     bin_width_nm: f64,
+    /// The most radiance any reflection can see: the environment's peak, through the surface.
+    peak: f32,
 }
 
 impl<'a> Tracer<'a> {
@@ -71,6 +76,7 @@ impl<'a> Tracer<'a> {
             notch_xyz: [0.0; 3],
             notch_bins: vec![0.0; setup.spectral.grid.bins],
             bin_width_nm: setup.spectral.grid.bin_width_nm(),
+            peak: setup.environment.peak() * stone.n_eff * stone.n_eff,
         }
     }
 
@@ -92,7 +98,8 @@ impl<'a> Tracer<'a> {
         let n = stone.index_of(region);
         let fresnel = fresnel_dielectric(-ray.direction.dot(normal), 1.0, n);
         let mirror = reflect(ray.direction, normal);
-        sums.white += f64::from(fresnel * self.setup.gloss * (env.value(mirror) + self.disc(mirror)));
+        sums.white +=
+            f64::from(fresnel * self.setup.gloss * (env.value(mirror) + self.disc(mirror)));
         let Some(dir) = refract(ray.direction, normal, 1.0, n) else {
             return;
         };
@@ -193,10 +200,12 @@ impl<'a> Tracer<'a> {
             let (xyz, s) = self.colours.of(&l.line);
             let t_in = self.eye_transmittance(l.line.center_nm);
             let weight = w * t_in as f32;
-            if weight * xyz[1] as f32 > 1e-7 {
+            if weight * xyz[1] as f32 * self.peak > CUT {
                 let cos_theta = -dir.dot(l.normal);
                 let sigma = stone.lobe_sigma(l.kind, cos_theta);
-                let seen = self.reflected(face, reflect(dir, l.normal), domain, &l.line, sigma);
+                let mirror = reflect(dir, l.normal);
+                let seen =
+                    self.reflected(face, mirror, domain, &l.line, sigma, weight * xyz[1] as f32);
                 self.add_line(f64::from(weight * seen), xyz, s, l.line.center_nm, sums);
             }
             if self.setup.light.is_some() {
@@ -236,8 +245,35 @@ impl<'a> Tracer<'a> {
     /// `face` against `dir`, the mirror direction of `line` whose lobe has width `sigma`
     /// (over normals, radians): the environment through the lobe, carried in through every
     /// surface event up to [`MAX_SEGMENTS`], notched at the line's centre by the lines on
-    /// the way and dimmed by the potch and haze.
-    fn reflected(&mut self, face: Vec3, dir: Vec3, domain: u32, line: &BraggLine, sigma: f32) -> f32 {
+    /// the way and dimmed by the potch and haze. Where `weight` times the line's luminance
+    /// times what the surface alone lets through is under [`CUT`], 0: the walks through the
+    /// domains, which only dim it, are then left out.
+    fn reflected(
+        &mut self,
+        face: Vec3,
+        dir: Vec3,
+        domain: u32,
+        line: &BraggLine,
+        sigma: f32,
+        weight: f32,
+    ) -> f32 {
+        let bound = self.follow_out(face, dir, domain, line, sigma, false);
+        if weight * bound < CUT {
+            return 0.0;
+        }
+        self.follow_out(face, dir, domain, line, sigma, true)
+    }
+
+    /// [`Tracer::reflected`]; with `walk` false, without the domains and the potch on the way.
+    fn follow_out(
+        &mut self,
+        face: Vec3,
+        dir: Vec3,
+        domain: u32,
+        line: &BraggLine,
+        sigma: f32,
+        walk: bool,
+    ) -> f32 {
         let stone = self.stone;
         let wavelength = line.center_nm;
         let n_eff = stone.n_eff;
@@ -252,7 +288,7 @@ impl<'a> Tracer<'a> {
             let Some((t_end, boundary)) = stone.exit(&ray, region) else {
                 break;
             };
-            if region == Region::Opal {
+            if walk && region == Region::Opal {
                 let mut notches = 1.0f64;
                 let kept = stone.towards_light(
                     pos,
@@ -286,7 +322,8 @@ impl<'a> Tracer<'a> {
                         // widened by the refraction out (its mean over the two axes).
                         let cos_out = out.dot(normal).max(1e-3);
                         let spread = 2.0 * sigma * n_eff * (cos_in.max(1e-3) / cos_out).sqrt();
-                        seen += w * (1.0 - f) * n * n * self.setup.environment.filtered(out, spread);
+                        seen +=
+                            w * (1.0 - f) * n * n * self.setup.environment.filtered(out, spread);
                     }
                     w *= f;
                     dir = reflect(dir, normal);
@@ -316,7 +353,12 @@ impl<'a> Tracer<'a> {
         match refract(dir, facing, n1, n2) {
             Some(d) => {
                 let f = fresnel_dielectric(-dir.dot(facing), n1, n2);
-                (at - facing * EPSILON_MM, d, other, w * (1.0 - f) * (n1 / n2) * (n1 / n2))
+                (
+                    at - facing * EPSILON_MM,
+                    d,
+                    other,
+                    w * (1.0 - f) * (n1 / n2) * (n1 / n2),
+                )
             }
             None => (at + facing * EPSILON_MM, reflect(dir, facing), region, w),
         }
@@ -324,7 +366,15 @@ impl<'a> Tracer<'a> {
 
     /// The scene's point or directional light reflected by `line` of `domain` at `x` towards
     /// the eye ray along `dir`, with weight `w`: `π E R(λ, θ_h) D(h) / (4 cos θ_h)`.
-    fn light_at(&mut self, x: Vec3, dir: Vec3, domain: u32, line: &ActiveLine, w: f32, sums: &mut Sums) {
+    fn light_at(
+        &mut self,
+        x: Vec3,
+        dir: Vec3,
+        domain: u32,
+        line: &ActiveLine,
+        w: f32,
+        sums: &mut Sums,
+    ) {
         let stone = self.stone;
         let Some(light) = self.setup.light else {
             return;
@@ -394,7 +444,9 @@ impl<'a> Tracer<'a> {
         let v = w * n * n * self.irradiance.at(Vec3::Z);
         match back.kind {
             Backing::None => {}
-            Backing::Black => self.add_notched_white(f64::from(v * back.reflectance(550.0) as f32), sums),
+            Backing::Black => {
+                self.add_notched_white(f64::from(v * back.reflectance(550.0) as f32), sums)
+            }
             Backing::Ironstone => {
                 let (xyz, bins) = self.setup.spectral.tinted_white(1);
                 for c in 0..3 {

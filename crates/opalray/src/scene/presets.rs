@@ -32,9 +32,9 @@ pub const DEFAULT_RENDER_PRESET: &str = "black-opal";
 /// The scene called `name`.
 ///
 /// The gem presets are cabochons 20 × 15 mm under the studio environment, rendered by the
-/// path tracer at exposure 0 (the environment is bright enough: a Bragg line reflects about
-/// 1 % of white light) with 8 samples per pixel, denoised, the potch calibrated to its body
-/// tone:
+/// lobe integrator at exposure 0 (the environment is bright enough: a Bragg line reflects
+/// about 1 % of white light) with 4 rays per edge pixel, the potch calibrated to its body
+/// tone (`integrator.method = "path"` renders the same stone by the path tracer):
 ///
 /// - `black-opal`: a fine black opal: body tone N1, a 2 mm colour bar of settled grains (thin
 ///   plates about 5 mm across and 0.24 mm thick, their layers within an RMS 20° of the face,
@@ -78,12 +78,11 @@ pub fn preset(name: &str) -> Result<Scene> {
             domains,
             body,
             integrator: IntegratorConfig {
-                method: Method::Path,
-                // A gem's picture denoised: at 8 samples per pixel its error against a long
-                // reference is a raw render's at about 70 (10.3 %; 14.3 % with the ragged
-                // outlines' heavier fireflies, `BENCHMARKS.md`).
-                spp: 8,
-                denoise: true,
+                // Every lobe integrated, no noise: four stratified rays through each pixel
+                // at a domain edge or the silhouette, one elsewhere. The path tracer
+                // (`method = "path"`, denoised at 8 samples per pixel) is the reference.
+                method: Method::Lobe,
+                spp: 4,
                 ..IntegratorConfig::default()
             },
             ..Scene::default()

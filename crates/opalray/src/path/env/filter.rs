@@ -53,7 +53,8 @@ impl Environment {
             }
             EnvironmentKind::Studio => {
                 let softbox = soft(
-                    deg(SOFTBOX_RADIUS_DEG) - d.dot(SOFTBOX_AXIS.normalize()).clamp(-1.0, 1.0).acos(),
+                    deg(SOFTBOX_RADIUS_DEG)
+                        - d.dot(SOFTBOX_AXIS.normalize()).clamp(-1.0, 1.0).acos(),
                     sigma,
                 );
                 let left = band(azimuth, 0.0, deg(30.0), elevation, sigma);
@@ -64,7 +65,10 @@ impl Environment {
             }
             EnvironmentKind::Window => {
                 let h = elevation;
-                let az = soft(deg(25.0) - wrap(azimuth - deg(115.0)).abs(), sigma / h.cos().max(0.05));
+                let az = soft(
+                    deg(25.0) - wrap(azimuth - deg(115.0)).abs(),
+                    sigma / h.cos().max(0.05),
+                );
                 let window = az * soft(h - deg(20.0), sigma) * soft(deg(60.0) - h, sigma);
                 up * (window + 0.04 * (1.0 - window)) + (1.0 - up) * 0.02
             }
@@ -75,9 +79,7 @@ impl Environment {
                 let dome = (1.0 - port - hem).max(0.0);
                 up * (0.004 * port + 0.3 * hem + dome) + (1.0 - up) * 0.0004
             }
-            EnvironmentKind::Overcast => {
-                up * (1.0 + 2.0 * d.z.max(0.0)) / 3.0 + (1.0 - up) * 0.1
-            }
+            EnvironmentKind::Overcast => up * (1.0 + 2.0 * d.z.max(0.0)) / 3.0 + (1.0 - up) * 0.1,
         };
         v * self.intensity
     }
@@ -120,7 +122,8 @@ pub(crate) fn erf(x: f64) -> f64 {
     let t = 1.0 / (1.0 + 0.327_591_1 * x.abs());
     let poly = t
         * (0.254_829_592
-            + t * (-0.284_496_736 + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
+            + t * (-0.284_496_736
+                + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
     let y = 1.0 - poly * (-x * x).exp();
     if x >= 0.0 {
         y
@@ -181,7 +184,8 @@ pub(super) fn mip_chain(map: &LuminanceMap) -> Vec<LuminanceMap> {
             for c in 0..w {
                 let t = |rr: usize, cc: usize| prev.luminance[rr * prev.width + cc];
                 let (r2, c2) = (2 * r, 2 * c);
-                luminance.push(0.25 * (t(r2, c2) + t(r2, c2 + 1) + t(r2 + 1, c2) + t(r2 + 1, c2 + 1)));
+                luminance
+                    .push(0.25 * (t(r2, c2) + t(r2, c2 + 1) + t(r2 + 1, c2) + t(r2 + 1, c2 + 1)));
             }
         }
         levels.push(LuminanceMap {
@@ -228,7 +232,11 @@ mod tests {
     #[test]
     fn erf_matches_known_values() {
         // erf(0.5) = 0.520 499 878, erf(1) = 0.842 700 793, erf(2) = 0.995 322 265 (A & S table 7.1).
-        for (x, e) in [(0.5, 0.520_499_878), (1.0, 0.842_700_793), (2.0, 0.995_322_265)] {
+        for (x, e) in [
+            (0.5, 0.520_499_878),
+            (1.0, 0.842_700_793),
+            (2.0, 0.995_322_265),
+        ] {
             assert!((erf(x) - e).abs() < 2e-7, "{x}");
             assert!((erf(-x) + e).abs() < 2e-7, "{x}");
         }
@@ -246,7 +254,10 @@ mod tests {
             let dir = (axis * angle.cos() + across * angle.sin()).normalize();
             let exact = brute_force(&env, dir, sigma);
             let filtered = f64::from(env.filtered(dir, sigma));
-            assert!((filtered - exact).abs() < 0.01, "{k}: {filtered} vs {exact}");
+            assert!(
+                (filtered - exact).abs() < 0.01,
+                "{k}: {filtered} vs {exact}"
+            );
         }
         // Far from an edge the filter changes nothing.
         assert!((env.filtered(axis, sigma) - 1.0).abs() < 1e-6);
@@ -255,7 +266,9 @@ mod tests {
     #[test]
     fn a_filtered_map_keeps_a_uniform_value_and_blurs_an_edge() {
         let (w, h) = (64, 32);
-        let luminance = (0..w * h).map(|i| if i % w < w / 2 { 1.0 } else { 0.0 }).collect();
+        let luminance = (0..w * h)
+            .map(|i| if i % w < w / 2 { 1.0 } else { 0.0 })
+            .collect();
         let map = LuminanceMap {
             width: w,
             height: h,
