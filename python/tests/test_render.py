@@ -46,7 +46,8 @@ def test_a_denoised_render_is_the_clis_and_smoother(tmp_path, cli):
     # The harlequin at 48 x 36, 4 spp: denoised from Python and by `--denoise`, the same bytes;
     # the noise left (the filtered halves' estimate) below the raw render's.
     scene = opalray.Scene.preset("harlequin").replace(
-        render={"width": 48, "height": 36}, integrator={"spp": 4, "denoise": True}
+        render={"width": 48, "height": 36},
+        integrator={"method": "path", "spp": 4, "denoise": True},
     )
     scene_path = tmp_path / "h.toml"
     scene.replace(integrator={"denoise": False}).save(scene_path)

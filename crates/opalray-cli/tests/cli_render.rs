@@ -104,7 +104,16 @@ fn time_limited_render_is_the_render_with_the_spp_it_reached() {
     // A limit of a millisecond stops after the first pass (2 spp): its image is the bytes of
     // `--spp 2`, and the stats say how many samples it reached and its noise.
     let dir = tempfile::tempdir().unwrap();
-    let tiny = ["--preset", "harlequin", "--width", "32", "--height", "24"];
+    let tiny = [
+        "--preset",
+        "harlequin",
+        "--method",
+        "path",
+        "--width",
+        "32",
+        "--height",
+        "24",
+    ];
     let limited = opalray(
         dir.path(),
         &args(

@@ -54,7 +54,7 @@ fn lossless(scene: &Scene) -> Stone {
 fn a_lossless_stone_with_domains_in_a_furnace_shows_the_furnace() {
     // Every line reflects what it takes from the light going on: gloss, reflections and the
     // notched light through the stone add up to the furnace's 1.
-    for name in ["black-opal", "harlequin", "crystal"] {
+    for name in ["black-opal", "harlequin", "crystal", "white", "pinfire"] {
         let scene = preset(name).unwrap();
         let stone = lossless(&scene);
         let image = face(&stone, &scene, &uniform(), 16, 5.0);

@@ -165,6 +165,7 @@ fn path_tracer_is_identical_at_one_two_and_three_threads() {
     use opalray::path::Passes;
     use std::time::Duration;
     let mut scene = preset("harlequin").unwrap();
+    scene.integrator.method = opalray::scene::Method::Path;
     scene.render.width = 48;
     scene.render.height = 36;
     scene.integrator.spp = 5;

@@ -45,6 +45,8 @@ pub(super) struct Tracer<'a> {
     lines: Vec<ActiveLine>,
     out_spans: Vec<Span>,
     out_lines: Vec<ActiveLine>,
+    /// The colours of the lines of the crossing at hand.
+    line_colours: Vec<([f64; 3], f64)>,
     /// The lines the eye ray has crossed, with their windows.
     eye_lines: Vec<(BraggLine, (f64, f64))>,
     /// XYZ the eye ray's notches take from a white of luminance 1.
@@ -72,6 +74,7 @@ impl<'a> Tracer<'a> {
             lines: Vec::with_capacity(16),
             out_spans: Vec::with_capacity(64),
             out_lines: Vec::with_capacity(16),
+            line_colours: Vec::with_capacity(16),
             eye_lines: Vec::with_capacity(MAX_EYE_LINES),
             notch_xyz: [0.0; 3],
             notch_bins: vec![0.0; setup.spectral.grid.bins],
@@ -196,16 +199,24 @@ impl<'a> Tracer<'a> {
         lines.clear();
         stone.lines(domain, dir, span.t1 - span.t0, &mut lines);
         let face = ray.at(span.t0);
+        let mut colours = std::mem::take(&mut self.line_colours);
+        colours.clear();
         for l in &lines {
             let (xyz, s) = self.colours.of(&l.line);
+            colours.push((xyz, s));
             let t_in = self.eye_transmittance(l.line.center_nm);
             let weight = w * t_in as f32;
             if weight * xyz[1] as f32 * self.peak > CUT {
                 let cos_theta = -dir.dot(l.normal);
                 let sigma = stone.lobe_sigma(l.kind, cos_theta);
                 let mirror = reflect(dir, l.normal);
-                let seen =
-                    self.reflected(face, mirror, domain, &l.line, sigma, weight * xyz[1] as f32);
+                let out = Out {
+                    face,
+                    dir: mirror,
+                    domain,
+                    hint: span.hint,
+                };
+                let seen = self.reflected(&out, &l.line, sigma, weight * xyz[1] as f32);
                 self.add_line(f64::from(weight * seen), xyz, s, l.line.center_nm, sums);
             }
             if self.setup.light.is_some() {
@@ -213,11 +224,10 @@ impl<'a> Tracer<'a> {
             }
         }
         // The ray goes on through, carrying each line's notch.
-        for l in &lines {
+        for (l, &(xyz, s)) in lines.iter().zip(&colours) {
             if self.eye_lines.len() >= MAX_EYE_LINES {
                 break;
             }
-            let (xyz, s) = self.colours.of(&l.line);
             let t_prev = self.eye_transmittance(l.line.center_nm);
             for c in 0..3 {
                 self.notch_xyz[c] += t_prev * xyz[c];
@@ -227,6 +237,7 @@ impl<'a> Tracer<'a> {
             }
             self.eye_lines.push((l.line, l.line.window_nm()));
         }
+        self.line_colours = colours;
         self.lines = lines;
     }
 
@@ -248,37 +259,24 @@ impl<'a> Tracer<'a> {
     /// the way and dimmed by the potch and haze. Where `weight` times the line's luminance
     /// times what the surface alone lets through is under [`CUT`], 0: the walks through the
     /// domains, which only dim it, are then left out.
-    fn reflected(
-        &mut self,
-        face: Vec3,
-        dir: Vec3,
-        domain: u32,
-        line: &BraggLine,
-        sigma: f32,
-        weight: f32,
-    ) -> f32 {
-        let bound = self.follow_out(face, dir, domain, line, sigma, false);
+    fn reflected(&mut self, out: &Out, line: &BraggLine, sigma: f32, weight: f32) -> f32 {
+        let bound = self.seen_out(out.face, out.dir, Region::Opal, sigma);
         if weight * bound < CUT {
             return 0.0;
         }
-        self.follow_out(face, dir, domain, line, sigma, true)
+        self.follow_out(out, line.center_nm, sigma)
     }
 
-    /// [`Tracer::reflected`]; with `walk` false, without the domains and the potch on the way.
-    fn follow_out(
-        &mut self,
-        face: Vec3,
-        dir: Vec3,
-        domain: u32,
-        line: &BraggLine,
-        sigma: f32,
-        walk: bool,
-    ) -> f32 {
+    /// [`Tracer::reflected`] through the domains: each segment in the opal walked, dimmed by
+    /// the potch and haze, notched at `wavelength` by the lines it crosses; what a line
+    /// takes from it is reflected again and seen through the surface along its own mirror
+    /// direction ([`Tracer::seen_out`]: a second Bragg reflection, so that no light is lost).
+    fn follow_out(&mut self, out: &Out, wavelength: f64, sigma: f32) -> f32 {
         let stone = self.stone;
-        let wavelength = line.center_nm;
-        let n_eff = stone.n_eff;
-        let (mut pos, mut dir, mut region) = (face, dir, Region::Opal);
-        let mut skip = Some(domain);
+        let potch = stone.potch;
+        let (mut pos, mut dir, mut region) = (out.face, out.dir, Region::Opal);
+        let mut skip = Some(out.domain);
+        let mut hint = out.hint;
         let (mut w, mut seen) = (1.0f32, 0.0f32);
         for _ in 0..MAX_SEGMENTS {
             let ray = Ray {
@@ -288,54 +286,120 @@ impl<'a> Tracer<'a> {
             let Some((t_end, boundary)) = stone.exit(&ray, region) else {
                 break;
             };
-            if walk && region == Region::Opal {
-                let mut notches = 1.0f64;
-                let kept = stone.towards_light(
-                    pos,
-                    dir,
-                    t_end,
-                    Hint::default(),
-                    skip.take(),
-                    &mut self.out_spans,
-                    &mut self.out_lines,
-                    &mut |_, l| {
-                        let (lo, hi) = l.window_nm();
-                        if wavelength > lo && wavelength < hi {
-                            notches *= 1.0 - l.reflectance(wavelength);
+            if region == Region::Opal {
+                self.out_spans.clear();
+                let spans = &mut self.out_spans;
+                stone.walk(pos, dir, 0.0, t_end, std::mem::take(&mut hint), &mut |s| {
+                    spans.push(s);
+                    true
+                });
+                let skipped = skip.take();
+                for k in 0..self.out_spans.len() {
+                    let span = self.out_spans[k];
+                    let len = span.t1 - span.t0;
+                    let Some(domain) = span.domain else {
+                        w *= (-potch.extinction_per_mm * len).exp();
+                        continue;
+                    };
+                    w *= (-potch.domain_scattering_per_mm * len).exp();
+                    if Some(domain) == skipped {
+                        continue;
+                    }
+                    self.out_lines.clear();
+                    stone.lines(domain, dir, len, &mut self.out_lines);
+                    for l in &self.out_lines {
+                        let (lo, hi) = l.line.window_nm();
+                        if wavelength <= lo || wavelength >= hi {
+                            continue;
                         }
-                    },
-                );
-                w *= kept * notches as f32;
+                        let r = l.line.reflectance(wavelength) as f32;
+                        let again = reflect(dir, l.normal);
+                        seen += w * r * self.seen_out(ray.at(span.t0), again, region, sigma);
+                        w *= 1.0 - r;
+                    }
+                }
             }
             if w < MIN_WEIGHT {
                 break;
             }
             let at = ray.at(t_end);
-            match boundary {
-                Boundary::Surface => {
-                    let n = stone.index_of(region);
-                    let normal = stone.shape.normal(at);
-                    let cos_in = dir.dot(normal);
-                    let f = fresnel_dielectric(cos_in, n, 1.0);
-                    if let Some(out) = refract(dir, normal, n, 1.0) {
-                        // The lobe's width over directions, twice its width over normals,
-                        // widened by the refraction out (its mean over the two axes).
-                        let cos_out = out.dot(normal).max(1e-3);
-                        let spread = 2.0 * sigma * n_eff * (cos_in.max(1e-3) / cos_out).sqrt();
-                        seen +=
-                            w * (1.0 - f) * n * n * self.setup.environment.filtered(out, spread);
-                    }
-                    w *= f;
-                    dir = reflect(dir, normal);
-                    pos = at - normal * EPSILON_MM;
-                }
-                Boundary::Back => break,
-                Boundary::CapPlane => {
-                    (pos, dir, region, w) = self.cap_plane(at, dir, region, w);
-                }
+            let event;
+            (event, pos, dir, region, w) = self.boundary_out(at, dir, region, boundary, w, sigma);
+            seen += event;
+            if boundary == Boundary::Back {
+                break;
             }
         }
         seen
+    }
+
+    /// What a ray from `pos` along `dir` in `region` sees through the surface (up to
+    /// [`MAX_SEGMENTS`] surface events, no domains on the way): the environment through a
+    /// lobe of width `sigma` over normals, in the stone's radiance.
+    fn seen_out(&self, pos: Vec3, dir: Vec3, region: Region, sigma: f32) -> f32 {
+        let (mut pos, mut dir, mut region) = (pos, dir, region);
+        let (mut w, mut seen) = (1.0f32, 0.0f32);
+        for _ in 0..MAX_SEGMENTS {
+            let ray = Ray {
+                origin: pos,
+                direction: dir,
+            };
+            let Some((t_end, boundary)) = self.stone.exit(&ray, region) else {
+                break;
+            };
+            let event;
+            (event, pos, dir, region, w) =
+                self.boundary_out(ray.at(t_end), dir, region, boundary, w, sigma);
+            seen += event;
+            if boundary == Boundary::Back || w < MIN_WEIGHT {
+                break;
+            }
+        }
+        seen
+    }
+
+    /// A ray of weight `w` along `dir` in `region` meeting `boundary` at `at`: what it sees
+    /// escaping there (the environment through a lobe of width `sigma` over normals, times
+    /// `(1 − F) n²`), and the ray going on (reflected inside, or into a triplet's other
+    /// region; a backing ends it).
+    fn boundary_out(
+        &self,
+        at: Vec3,
+        dir: Vec3,
+        region: Region,
+        boundary: Boundary,
+        w: f32,
+        sigma: f32,
+    ) -> (f32, Vec3, Vec3, Region, f32) {
+        let stone = self.stone;
+        match boundary {
+            Boundary::Surface => {
+                let n = stone.index_of(region);
+                let normal = stone.shape.normal(at);
+                let cos_in = dir.dot(normal);
+                let f = fresnel_dielectric(cos_in, n, 1.0);
+                let mut seen = 0.0;
+                if let Some(out) = refract(dir, normal, n, 1.0) {
+                    // The lobe's width over directions, twice its width over normals,
+                    // widened by the refraction out (its mean over the two axes).
+                    let cos_out = out.dot(normal).max(1e-3);
+                    let spread = 2.0 * sigma * stone.n_eff * (cos_in.max(1e-3) / cos_out).sqrt();
+                    seen = w * (1.0 - f) * n * n * self.setup.environment.filtered(out, spread);
+                }
+                (
+                    seen,
+                    at - normal * EPSILON_MM,
+                    reflect(dir, normal),
+                    region,
+                    w * f,
+                )
+            }
+            Boundary::Back => (0.0, at, dir, region, 0.0),
+            Boundary::CapPlane => {
+                let (pos, dir, region, w) = self.cap_plane(at, dir, region, w);
+                (0.0, pos, dir, region, w)
+            }
+        }
     }
 
     /// A ray along `dir` with weight `w` in `region` meeting the plane between a triplet's
@@ -500,6 +564,15 @@ impl<'a> Tracer<'a> {
             0.0
         }
     }
+}
+
+/// A reflection leaving a domain: its face, its direction, the domain (the reflected ray
+/// leaves it through that face) and the cells likely to hold the face.
+struct Out {
+    face: Vec3,
+    dir: Vec3,
+    domain: u32,
+    hint: Hint,
 }
 
 /// Where the eye ray entered the stone.
