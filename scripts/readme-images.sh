@@ -17,12 +17,12 @@ import opalray
 scene = opalray.Scene.preset("paper").replace(render={"width": 320, "height": 240})
 opalray.render(scene, light={"angle_deg": -45}).save("docs/images/python-flash.png")'
 fi
-# The path tracer on the stone model (about 20 min on two cores): each preset given about a
-# minute, its samples per pixel as many as that buys (8 for the slowest; white takes five).
-for p in black-opal:8 harlequin:16 broad-flash:16 ribbon:8 white:8 crystal:32 boulder:8 \
-    doublet:16 triplet:64 pinfire:16; do
-    "$bin" render --preset "${p%%:*}" --width 320 --height 240 --spp "${p##*:}" \
-        --output "docs/images/${p%%:*}.png"
+# The gem presets by their method, the lobe integrator (seconds each), and the default stone
+# by the path tracer beside it (the reference: about two minutes at 8 spp, denoised).
+for p in black-opal harlequin broad-flash ribbon white crystal boulder doublet triplet pinfire; do
+    "$bin" render --preset "$p" --width 320 --height 240 --output "docs/images/$p.png"
 done
+"$bin" render --preset black-opal --method path --denoise --spp 8 --width 320 --height 240 \
+    --output docs/images/black-opal-path.png
 "$bin" sweep --preset paper-path --from -30 --to 30 --frames 3 --columns 3 --width 256 \
     --height 192 --spp 4 --sheet docs/images/paper-path-sweep.png
