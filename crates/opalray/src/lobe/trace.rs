@@ -229,8 +229,8 @@ impl<'a> Tracer<'a> {
                 break;
             }
             let t_prev = self.eye_transmittance(l.line.center_nm);
-            for c in 0..3 {
-                self.notch_xyz[c] += t_prev * xyz[c];
+            for (n, v) in self.notch_xyz.iter_mut().zip(xyz) {
+                *n += t_prev * v;
             }
             if let Some(b) = self.setup.spectral.grid.bin_of(l.line.center_nm) {
                 self.notch_bins[b] += (t_prev * s / self.bin_width_nm) as f32;
@@ -513,8 +513,8 @@ impl<'a> Tracer<'a> {
             }
             Backing::Ironstone => {
                 let (xyz, bins) = self.setup.spectral.tinted_white(1);
-                for c in 0..3 {
-                    sums.xyz[c] += f64::from(v) * xyz[c];
+                for (sum, x) in sums.xyz.iter_mut().zip(xyz) {
+                    *sum += f64::from(v) * x;
                 }
                 for (b, t) in sums.bins.iter_mut().zip(bins) {
                     *b += v * t;
@@ -542,8 +542,8 @@ impl<'a> Tracer<'a> {
         if v == 0.0 {
             return;
         }
-        for c in 0..3 {
-            sums.xyz[c] += v * xyz[c];
+        for (sum, x) in sums.xyz.iter_mut().zip(xyz) {
+            *sum += v * x;
         }
         if let Some(b) = self.setup.spectral.grid.bin_of(center_nm) {
             sums.bins[b] += (v * s / self.bin_width_nm) as f32;

@@ -34,7 +34,7 @@ impl Environment {
         }
         let d = (self.to_env * dir.as_dvec3()).as_vec3();
         if self.map.is_some() {
-            return self.from_mips(d, sigma_rad) * self.intensity;
+            return self.read_mips(d, sigma_rad) * self.intensity;
         }
         self.built_in_filtered(d, dir, sigma_rad)
     }
@@ -85,7 +85,7 @@ impl Environment {
     }
 
     /// A map's mip chain read along `d` (its frame) at the level of the lobe's width.
-    fn from_mips(&self, d: Vec3, sigma: f32) -> f32 {
+    fn read_mips(&self, d: Vec3, sigma: f32) -> f32 {
         let levels = &self.mips;
         let Some(base) = self.map.as_deref() else {
             return 0.0;
