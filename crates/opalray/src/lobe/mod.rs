@@ -79,8 +79,8 @@ pub struct LobeImage {
 }
 
 /// Render `stone` as `setup` says: one camera ray through every pixel's centre, then
-/// `setup.spp` stratified rays through each pixel whose first ray differs from a neighbour's
-/// by more than [`EDGE_CONTRAST`] (domain edges, the silhouette, the gloss's rim).
+/// `setup.spp − 1` more, stratified, through each pixel whose first ray differs from a
+/// neighbour's by more than [`EDGE_CONTRAST`] (domain edges, the silhouette, the gloss's rim).
 pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
     let (w, h) = (setup.width, setup.height);
     let grid = setup.spectral.grid;
@@ -116,7 +116,9 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
         .enumerate()
         .for_each(|(y, ((xyz_row, bins_row), edge_row))| {
             let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance);
-            let mut positions = vec![(0.0f32, 0.0f32); spp];
+            // The centre's ray counts as one of the pixel's `spp`.
+            let mut positions = vec![(0.0f32, 0.0f32); spp - 1];
+            let mut centre_bins = vec![0.0f32; bins];
             for (x, ((out, out_bins), _)) in xyz_row
                 .iter_mut()
                 .zip(bins_row.chunks_mut(bins))
@@ -126,8 +128,17 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
             {
                 let mut rng = Rng::new(setup.seed, stage::LOBE, (y * w + x) as u64);
                 stratified(&mut rng, x, y, &mut positions);
+                let centre = *out;
+                centre_bins.copy_from_slice(out_bins);
                 out_bins.iter_mut().for_each(|b| *b = 0.0);
                 pixel(&mut tracer, setup, &positions, out, out_bins);
+                let k = (spp - 1) as f32;
+                for (v, c) in out.iter_mut().zip(centre) {
+                    *v = (*v * k + c) / spp as f32;
+                }
+                for (v, c) in out_bins.iter_mut().zip(&centre_bins) {
+                    *v = (*v * k + c) / spp as f32;
+                }
             }
         });
     LobeImage { xyz, spectral }
