@@ -39,14 +39,14 @@ fn names(dir: &Path) -> Vec<String> {
 fn a_killed_run_leaves_no_temporary_name() {
     let tiny = ["--width", "64", "--height", "48"];
     let runs: Vec<Vec<&str>> = vec![
-        // The two passes, 9 frames of a sweep, a sweep into a frames folder, a path-traced
+        // The two passes, 25 frames of a sweep, a sweep into a frames folder, a path-traced
         // render: each takes seconds, and is killed at 1.5 s.
         [
             "render", "--preset", "paper", "--rays", "4000000", "-o", "r.png",
         ]
         .into(),
         [
-            "sweep", "--preset", "paper", "--frames", "9", "--sheet", "s.png",
+            "sweep", "--preset", "paper", "--frames", "25", "--sheet", "s.png",
         ]
         .into(),
         [
@@ -54,7 +54,7 @@ fn a_killed_run_leaves_no_temporary_name() {
             "--preset",
             "paper",
             "--frames",
-            "9",
+            "25",
             "--sheet",
             "f.png",
             "--frames-dir",
