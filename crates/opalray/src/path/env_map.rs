@@ -50,10 +50,11 @@ pub fn luminance(rgb: [f32; 3]) -> f32 {
 /// Most pixels along either side of an environment map.
 pub const MAX_MAP_SIDE: usize = 8192;
 
-/// Bytes a map's pixel holds while it is read and sampled: its luminance, the sampling
-/// weights and the distribution's function and cumulative sums (4 bytes each), a scanline's
-/// share and headroom.
-pub const MAP_PIXEL_BYTES: u64 = 24;
+/// Bytes a map's pixel holds while it is read and sampled: reading an OpenEXR map at the size
+/// limit peaked at 782 MB, 23 bytes a pixel (a 457-byte file the `maps` fuzz target grew,
+/// RELIABILITY.md); then the sampling weights and the distribution's function and cumulative
+/// sums, 4 bytes each; rounded up.
+pub const MAP_PIXEL_BYTES: u64 = 48;
 
 /// Read `path` as `.hdr` / `.pic` (Radiance) or `.exr` (OpenEXR) by its extension. The error
 /// is one line: what is wrong with the file and what to do.
