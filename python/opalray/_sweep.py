@@ -3,6 +3,7 @@ cluster, one task per frame or per scene."""
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import threading
@@ -119,6 +120,56 @@ def _check_angles(angles: Sequence[float]) -> list[float]:
     return angles
 
 
+def _read_manifest(out_dir: str, manifest: dict, n: int) -> list[str | None]:
+    """The checksums of the frames ``out_dir`` holds of the sweep ``manifest`` (None where
+    none is trusted). A folder with files but no manifest, or a manifest that is not one of
+    ours, is refused; a manifest that cannot be read trusts no frame (all are rendered again);
+    one of another sweep is refused."""
+    path = os.path.join(out_dir, _MANIFEST)
+    if not os.path.lexists(path):
+        if any(not name.startswith(".opalray-") for name in os.listdir(out_dir)):
+            raise ValueError(
+                f"out_dir {out_dir}: holds files but no {_MANIFEST} of opalray, so it is not a "
+                "sweep's folder; use a new or empty folder"
+            )
+        return [None] * n
+    if not os.path.isfile(path):
+        raise ValueError(f"out_dir {out_dir}: its {_MANIFEST} is not a regular file; use a new or empty folder")
+    try:
+        with open(path, encoding="utf-8") as f:
+            found = json.load(f)
+    except (OSError, ValueError):
+        return [None] * n
+    if not (isinstance(found, dict) and "angles_deg" in found and "scene" in found):
+        raise ValueError(
+            f"out_dir {out_dir}: its {_MANIFEST} was not written by opalray; use a new or empty folder"
+        )
+    if {k: found[k] for k in ("angles_deg", "scene")} != manifest:
+        raise ValueError(
+            f"out_dir {out_dir}: holds a sweep of another scene or other angles; "
+            "use a new folder or empty this one"
+        )
+    checksums = found.get("checksums")
+    if not (isinstance(checksums, list) and len(checksums) == n):
+        return [None] * n
+    return [c if isinstance(c, str) else None for c in checksums]
+
+
+def _write_manifest(out_dir: str, manifest: dict) -> None:
+    """Write ``sweep.json`` whole or not at all (a temporary file, then a rename)."""
+    path = os.path.join(out_dir, _MANIFEST)
+    temp = os.path.join(out_dir, f".opalray-{_MANIFEST}.{os.getpid()}.tmp")
+    with open(temp, "w", encoding="utf-8") as f:
+        json.dump(manifest, f, indent=1)
+    os.replace(temp, path)
+
+
+def _checksum(path: str) -> str:
+    """SHA-256 of a file's bytes, hex."""
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
 def _check_out(path: str, allowed: tuple[str, ...], what: str) -> None:
     if os.path.splitext(path)[1].lower() not in allowed:
         raise ValueError(f"{what} {path}: unsupported file type; use a name ending in {' or '.join(allowed)}")
@@ -164,21 +215,14 @@ def sweep(
         if sheet is None:
             sheet = "sweep.png"
         manifest = {"angles_deg": angles, "scene": scene.to_toml()}
-        manifest_path = os.path.join(out_dir, _MANIFEST)
-        if os.path.exists(manifest_path):
-            with open(manifest_path, encoding="utf-8") as f:
-                if json.load(f) != manifest:
-                    raise ValueError(
-                        f"out_dir {out_dir}: holds a sweep of another scene or other angles; "
-                        "use a new folder or empty this one"
-                    )
-        else:
-            scene.save(os.path.join(out_dir, _SCENE_FILE))
-            with open(manifest_path, "w", encoding="utf-8") as f:
-                json.dump(manifest, f, indent=1)
+        checksums = _read_manifest(out_dir, manifest, n)
+        manifest["checksums"] = checksums
+        scene.save(os.path.join(out_dir, _SCENE_FILE))
+        _write_manifest(out_dir, manifest)
         frame_paths = [os.path.join(out_dir, f"frame_{k:04d}.png") for k in range(n)]
         for k, path in enumerate(frame_paths):
-            if os.path.exists(path):
+            # Only a regular file whose bytes match the manifest's checksum is reused.
+            if checksums[k] is not None and os.path.isfile(path) and _checksum(path) == checksums[k]:
                 w, h, codes = _opalray.read_png_rgb8(path)
                 if (w, h) == (width, height):
                     frames[k] = codes
@@ -201,6 +245,8 @@ def sweep(
         frames[k] = codes
         if frame_paths:
             _opalray.write_png_rgb8(frame_paths[k], width, height, codes)
+            manifest["checksums"][k] = _checksum(frame_paths[k])
+            _write_manifest(out_dir, manifest)
         done += 1
         if report:
             report(f"{angles[k]:.0f}°", done, n)

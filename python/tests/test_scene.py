@@ -91,6 +91,9 @@ BAD = [
     ({"render": {"width": 1 << 70}}, "render.width"),
     ({"render": {"width": object()}}, "render.width"),
     ({"integrator": {"denoise": True}}, "integrator.denoise"),
+    ({"domains": {"stretch": [1.0, 2.0, 3.0, 4.0]}}, "domains.stretch"),
+    ({"domains": {"stretch": [1.0, 2.0]}}, "domains.stretch"),
+    ({"light": {"size_mm": [10.0, 20.0, 30.0]}}, "light.size_mm"),
 ]
 
 
@@ -126,8 +129,11 @@ def test_dict_errors_match_the_scene_files(tmp_path):
 def test_malformed_toml_and_unknown_preset():
     with pytest.raises(ValueError, match="line 1"):
         opalray.Scene.from_toml_str("[structure\n", "s.toml")
-    with pytest.raises(ValueError, match="nonesuch"):
+    with pytest.raises(ValueError, match="nonesuch") as err:
         opalray.Scene.preset("nonesuch")
+    # A Python argument, not the command's flag.
+    assert "--preset" not in str(err.value), err.value
+    assert "Scene.preset(name)" in str(err.value), err.value
     with pytest.raises(ValueError, match="dict"):
         opalray.Scene([1, 2])  # type: ignore[arg-type]
 

@@ -129,3 +129,27 @@ def test_dask_sweep_spreads_its_tail_over_the_idle_threads(dask_client, small):
     local = opalray.sweep(small, angles)
     for a, b in zip(local.frames, remote.frames):
         np.testing.assert_array_equal(a, b)
+
+
+def test_out_dir_follows_the_frames_folder_rules(tmp_path, small):
+    # A folder of the user's own files (no manifest of ours) is refused, untouched.
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "frame_0000.png").write_bytes(b"my picture")
+    (mine / "sweep.json").write_text('{"mine": 1}')
+    with pytest.raises(ValueError, match="not written by opalray"):
+        opalray.sweep(small, ANGLES, out_dir=mine)
+    (mine / "sweep.json").unlink()
+    with pytest.raises(ValueError, match="no sweep.json"):
+        opalray.sweep(small, ANGLES, out_dir=mine)
+    assert (mine / "frame_0000.png").read_bytes() == b"my picture"
+    # A frame swapped for another of the same size is rendered again, not mixed in.
+    out = tmp_path / "out"
+    whole = opalray.sweep(small, ANGLES, out_dir=out)
+    (out / "frame_0000.png").write_bytes((out / "frame_0001.png").read_bytes())
+    again = opalray.sweep(small, ANGLES, out_dir=out)
+    assert again.rendered == [0]
+    assert all((a == b).all() for a, b in zip(whole.frames, again.frames))
+    # Under a damaged manifest every frame is rendered again.
+    (out / "sweep.json").write_text('{"angles_deg": [0.0')
+    assert opalray.sweep(small, ANGLES, out_dir=out).rendered == list(range(len(ANGLES)))

@@ -3,6 +3,7 @@
 //! Every subcommand reads a scene (a preset, a TOML file, flags on top), runs the stages it
 //! needs and writes its files atomically. Errors are one line on stderr and exit code 2.
 
+mod anonymous;
 mod cmd;
 mod outputs;
 mod stdio;
@@ -16,11 +17,19 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 /// Spectral rendering of precious opal's play of colour.
 #[derive(Parser)]
-#[command(name = "opalray", version, about, long_about = None)]
+#[command(name = "opalray", version, about, long_about = None, after_help = ENVIRONMENT_HELP)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
 }
+
+/// The environment variables the command reads, shown under `--help`.
+const ENVIRONMENT_HELP: &str = "Environment:
+  OPALRAY_MAX_MEMORY_MB  the most memory a command plans for, MiB (64 to 16777216); a run
+                         estimated to need more is refused before any work, naming the value
+                         to lower. Unset: 80 % of this machine's memory.
+  RAYON_NUM_THREADS      worker threads, 1 to 256. Unset: every core.
+  OPALRAY_SIMD           portable, widest or auto: which copy of the inner loops runs.";
 
 #[derive(Subcommand)]
 enum Command {
@@ -41,23 +50,25 @@ enum Command {
 }
 
 fn main() {
+    if let Some(line) = dash_typed_flag(std::env::args_os().skip(1)) {
+        stdio::note(format_args!("error: {} (see --help)", excerpt_words(&line)));
+        std::process::exit(2);
+    }
     let cli = Cli::try_parse().unwrap_or_else(|err| {
         use clap::error::ErrorKind;
+        if err.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+            // No subcommand: the usage is the error, on stderr.
+            stdio::note(format_args!("{}", err.render().to_string().trim_end()));
+            std::process::exit(2);
+        }
         if matches!(
             err.kind(),
-            ErrorKind::DisplayHelp
-                | ErrorKind::DisplayVersion
-                | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ErrorKind::DisplayHelp | ErrorKind::DisplayVersion
         ) {
             // clap's own `exit` ignores a failed stdout; a full device must not pass.
-            let code = if err.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
-                2
-            } else {
-                0
-            };
             match stdio::out_raw(&err.render().to_string()) {
-                Ok(()) => std::process::exit(code),
-                Err(e) if e.is_closed_pipe() => std::process::exit(code),
+                Ok(()) => std::process::exit(0),
+                Err(e) if e.is_closed_pipe() => std::process::exit(0),
                 Err(e) => {
                     stdio::note(format_args!("error: {e}"));
                     std::process::exit(2);
@@ -77,6 +88,10 @@ fn main() {
             if let Some(next) = lines.next() {
                 first = format!("{first} {next}");
             }
+        }
+        // Keep clap's tip (`a similar argument exists: '--width'`) on the same line.
+        if let Some(tip) = text.lines().map(str::trim).find(|l| l.starts_with("tip:")) {
+            first = format!("{first}; {tip}");
         }
         let first = first.as_str();
         let first = first.strip_prefix("error: ").unwrap_or(first);
@@ -122,6 +137,39 @@ fn negative_for_flag(err: &clap::Error) -> Option<String> {
     Some(format!(
         "{flag} {bad}: must not be negative; give a number from the range in --help"
     ))
+}
+
+/// Dashes a flag's `--` becomes when typed in a word processor or pasted from one: the em
+/// dash, the en dash, the minus sign and the hyphen (Unicode).
+const LOOKALIKE_DASHES: [char; 4] = ['\u{2014}', '\u{2013}', '\u{2212}', '\u{2010}'];
+
+/// The first argument that starts with a dash other than the ASCII hyphen-minus followed by a
+/// letter or a digit (`—width`, `−60`), as an error saying what to type instead: clap would
+/// take `—width` for the scene file and name its value.
+fn dash_typed_flag(args: impl Iterator<Item = std::ffi::OsString>) -> Option<String> {
+    for arg in args {
+        let arg = arg.to_string_lossy();
+        if arg == "--" {
+            return None;
+        }
+        let rest = arg.trim_start_matches(LOOKALIKE_DASHES);
+        let Some(dash) = arg.chars().next().filter(|c| LOOKALIKE_DASHES.contains(c)) else {
+            continue;
+        };
+        let typed: String = arg[..arg.len() - rest.len()].to_string();
+        let name = format!("U+{:04X}", u32::from(dash));
+        if rest.starts_with(|c: char| c.is_ascii_digit() || c == '.') {
+            return Some(format!(
+                "`{arg}`: starts with `{typed}` ({name}), not the ASCII minus; write -{rest}"
+            ));
+        }
+        if rest.starts_with(|c: char| c.is_ascii_alphabetic()) {
+            return Some(format!(
+                "`{arg}`: starts with `{typed}` ({name}), not two hyphens; write --{rest}"
+            ));
+        }
+    }
+    None
 }
 
 /// Longest run of text without a space kept whole in an error line; longer runs (a

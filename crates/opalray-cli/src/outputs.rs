@@ -1,12 +1,16 @@
 //! A command's output files as one transaction: every path is checked and a temporary file
 //! created beside it before any work, each output is written to its temporary file, and
 //! only when all are written are they renamed over their targets. A failed or interrupted
-//! run leaves every earlier file as it was; a killed run's temporary files are removed by
-//! the next run that writes the same target.
+//! run leaves every earlier file as it was. The temporary files are nameless where the
+//! system allows ([`crate::anonymous`]: a killed run leaves no name behind); elsewhere they
+//! are named `.opalray-HASH.PID.tmp`, and a killed run's are removed by the next run that
+//! writes the same target.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Result};
+
+use crate::anonymous::Anonymous;
 
 /// One staged output.
 struct Staged {
@@ -14,8 +18,11 @@ struct Staged {
     flag: &'static str,
     /// The file the user asked for.
     target: PathBuf,
-    /// The temporary file it is written to first.
+    /// The temporary file it is written to first: `/proc/self/fd/N` of `anonymous`, or a
+    /// named file beside the target.
     temp: PathBuf,
+    /// The nameless file, where there is one.
+    anonymous: Option<Anonymous>,
 }
 
 /// The outputs of one command; dropping it without [`Outputs::commit`] removes the
@@ -53,26 +60,55 @@ impl Outputs {
             );
         }
         opalray::output::remove_stale_temps(path);
-        let temp = opalray::output::temp_path(path);
         let dir = opalray::output::parent_dir(path);
-        if let Err(err) = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&temp)
-        {
-            bail!(
-                "{flag} {}: cannot write in directory {}: {}; choose another path",
-                path.display(),
-                dir.display(),
-                plain_io(&err)
-            );
-        }
+        let (temp, anonymous) = match Anonymous::create(&dir) {
+            Ok(file) => (file.path().to_path_buf(), Some(file)),
+            Err(_) => {
+                let temp = opalray::output::temp_path(path);
+                if let Err(err) = std::fs::OpenOptions::new()
+                    .write(true)
+                    .create_new(true)
+                    .open(&temp)
+                {
+                    bail!(
+                        "{flag} {}: cannot write in directory {}: {}; choose another path",
+                        path.display(),
+                        dir.display(),
+                        plain_io(&err)
+                    );
+                }
+                (temp, None)
+            }
+        };
         self.staged.push(Staged {
             flag,
             target: path.to_path_buf(),
             temp,
+            anonymous,
         });
         Ok(Output(self.staged.len() - 1))
+    }
+
+    /// Refuse `dir`, a folder the command writes into (named by `flag`), if it is one of the
+    /// outputs or holds one: its files would replace them, or they it.
+    pub fn check_folder(&self, flag: &str, dir: &Path) -> Result<()> {
+        let folder = dir.canonicalize().ok();
+        for staged in &self.staged {
+            let parent = opalray::output::parent_dir(&staged.target)
+                .canonicalize()
+                .ok();
+            let inside = folder.is_some() && parent == folder;
+            if same_file(&staged.target, dir) || inside {
+                bail!(
+                    "{flag} {}: the same path as {} {} or a folder holding it; give the folder \
+                     its own name",
+                    dir.display(),
+                    staged.flag,
+                    staged.target.display()
+                );
+            }
+        }
+        Ok(())
     }
 
     /// Write `output` with `write`, given the temporary path; an error names the flag and the
@@ -99,8 +135,7 @@ impl Outputs {
     /// Rename every temporary file over its target.
     pub fn commit(mut self) -> Result<()> {
         for staged in std::mem::take(&mut self.staged) {
-            if let Err(err) = std::fs::rename(&staged.temp, &staged.target) {
-                let _ = std::fs::remove_file(&staged.temp);
+            if let Err(err) = place(&staged) {
                 bail!(
                     "{} {}: {}",
                     staged.flag,
@@ -115,10 +150,29 @@ impl Outputs {
 
 impl Drop for Outputs {
     fn drop(&mut self) {
-        for staged in &self.staged {
+        // A nameless file goes with its handle; a named one is removed.
+        for staged in self.staged.iter().filter(|s| s.anonymous.is_none()) {
             let _ = std::fs::remove_file(&staged.temp);
         }
     }
+}
+
+/// Put a written output in place of its target: a nameless file is linked under a temporary
+/// name beside the target, then renamed over it (the name lives for the two calls alone); a
+/// named one is renamed. On failure no temporary name is left.
+fn place(staged: &Staged) -> std::io::Result<()> {
+    let named = match &staged.anonymous {
+        Some(file) => {
+            let named = opalray::output::temp_path(&staged.target);
+            let _ = std::fs::remove_file(&named);
+            file.link(&named)?;
+            named
+        }
+        None => staged.temp.clone(),
+    };
+    std::fs::rename(&named, &staged.target).inspect_err(|_| {
+        let _ = std::fs::remove_file(&named);
+    })
 }
 
 /// An I/O error's text without Rust's ` (os error N)`.

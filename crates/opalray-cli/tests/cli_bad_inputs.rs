@@ -1,11 +1,12 @@
 //! The bad-input corpus (`tests/bad_inputs/cases.txt`, written by `generate.py` there): each
 //! case runs `opalray` in a folder holding the user's files and asserts the exit code, one
 //! error line holding the expected text (a field or flag), no panic, and every file of the
-//! user's untouched, none added.
+//! user's untouched, none added, within a time limit (a command that blocks fails).
 
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::Command;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 /// One line of the corpus.
 struct Case {
@@ -13,7 +14,9 @@ struct Case {
     code: i32,
     env: Vec<(String, String)>,
     args: Vec<String>,
-    file: Option<(String, Vec<u8>)>,
+    /// Files written beside the fixtures: `NAME:TEXT`, several joined by ` & `; a TEXT of
+    /// `@fifo` makes a named pipe.
+    files: Vec<(String, Vec<u8>)>,
     expected: String,
 }
 
@@ -69,26 +72,29 @@ fn cases() -> Vec<Case> {
                     }
                 })
                 .collect();
-            let file = match cols[3] {
-                "-" => None,
-                spec => {
-                    let (name, body) = spec.split_once(':').unwrap();
-                    Some((name.to_string(), unescape(body)))
-                }
+            let files = match cols[3] {
+                "-" => vec![],
+                specs => specs
+                    .split(" & ")
+                    .map(|spec| {
+                        let (name, body) = spec.split_once(':').unwrap();
+                        (name.to_string(), unescape(body))
+                    })
+                    .collect(),
             };
             Case {
                 line: i + 1,
                 code: cols[0].parse().unwrap(),
                 env,
                 args,
-                file,
+                files,
                 expected: cols[4].to_string(),
             }
         })
         .collect()
 }
 
-/// Every path under `dir` with its bytes (folders as empty).
+/// Every path under `dir` with its bytes (folders as empty, named pipes as `<fifo>`).
 fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
     let mut all = BTreeMap::new();
     let mut stack = vec![dir.to_path_buf()];
@@ -99,6 +105,8 @@ fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
             if path.is_dir() {
                 all.insert(format!("{name}/"), Vec::new());
                 stack.push(path);
+            } else if !path.is_file() {
+                all.insert(name, b"<fifo>".to_vec());
             } else {
                 all.insert(name, std::fs::read(&path).unwrap());
             }
@@ -116,18 +124,40 @@ fn check(case: &Case) -> Option<String> {
     std::fs::write(d.join("afile"), "a file").unwrap();
     std::fs::create_dir(d.join("sub")).unwrap();
     std::fs::create_dir(d.join("adir.json")).unwrap();
-    if let Some((name, body)) = &case.file {
-        std::fs::write(d.join(name), body).unwrap();
+    for (name, body) in &case.files {
+        std::fs::create_dir_all(d.join(name).parent().unwrap()).unwrap();
+        if body == b"@fifo" {
+            let made = Command::new("mkfifo").arg(d.join(name)).status().unwrap();
+            assert!(made.success(), "mkfifo {name}");
+        } else {
+            std::fs::write(d.join(name), body).unwrap();
+        }
     }
     let before = snapshot(d);
-    let out = Command::new(env!("CARGO_BIN_EXE_opalray"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_opalray"))
         .args(&case.args)
         .current_dir(d)
         .env_remove("RAYON_NUM_THREADS")
         .env_remove("OPALRAY_SIMD")
         .envs(case.env.iter().map(|(k, v)| (k, v)))
-        .output()
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
         .unwrap();
+    // A bad input is refused at once: a run still going after this long is blocked.
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Some(format!(
+                "still running after 60 s: line {}: {:?}",
+                case.line, case.args
+            ));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     let what = format!("line {}: {:?} {:?}: {err}", case.line, case.env, case.args);
     if out.status.code() != Some(case.code) {

@@ -140,7 +140,14 @@ pub fn normalize<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
 /// `preset(name) -> dict`: a named preset scene (`paper`).
 #[pyfunction]
 pub fn preset<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
-    dict_of(py, &opalray::scene::preset(name).map_err(to_py_err)?)
+    let scene = opalray::scene::preset(name).map_err(|err| match err {
+        // The core names the command's flag; Python's caller passed an argument.
+        Error::InvalidArgument { message, .. } => {
+            PyValueError::new_err(format!("Scene.preset(name): {message}"))
+        }
+        other => to_py_err(other),
+    })?;
+    dict_of(py, &scene)
 }
 
 /// `parse_toml(text, origin) -> dict`: a scene file's text, parsed and validated by the core.

@@ -35,7 +35,14 @@ impl SceneArgs {
     pub fn load_or(&self, default: &str) -> Result<Scene> {
         let mut scene = match (&self.scene, &self.preset) {
             (Some(path), _) => {
-                let text = read_input("scene file", path, MAX_SCENE_BYTES)?;
+                let text = read_input("scene file", path, MAX_SCENE_BYTES).map_err(|err| {
+                    match first_problem(path, MAX_SCENE_BYTES) {
+                        Some(problem) if err.to_string().contains("larger than the limit") => {
+                            anyhow::anyhow!("{err}; its first problem: {problem}")
+                        }
+                        _ => err,
+                    }
+                })?;
                 let mut scene = Scene::from_toml_str(&text, &path.display().to_string())?;
                 // A map named in the file lies beside it.
                 scene.resolve_paths(path.parent().unwrap_or(Path::new("")));
@@ -49,6 +56,26 @@ impl SceneArgs {
         }
         Ok(scene)
     }
+}
+
+/// The first problem of the scene file `path` that is over `limit` bytes: the error of its
+/// first `limit` bytes up to the last whole line, if they do not parse (a mistyped key, a
+/// huge array), else `None`.
+fn first_problem(path: &Path, limit: u64) -> Option<String> {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .ok()?
+        .take(limit)
+        .read_to_end(&mut bytes)
+        .ok()?;
+    let end = bytes.iter().rposition(|&b| b == b'\n')?;
+    let text = match std::str::from_utf8(&bytes[..end]) {
+        Ok(text) => text,
+        Err(e) => std::str::from_utf8(&bytes[..e.valid_up_to()]).ok()?,
+    };
+    let err = Scene::from_toml_str(text, &path.display().to_string()).err()?;
+    Some(err.to_string().replace('\n', " "))
 }
 
 /// Largest scene file read, bytes (a complete scene is about 1.5 kB).

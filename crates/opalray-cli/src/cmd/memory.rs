@@ -35,6 +35,9 @@ pub struct Extra {
     /// An animation, written frame by frame: one frame's quantisation buffers (8 bytes a
     /// pixel).
     pub animation: bool,
+    /// The environment map (`environment.kind = "file"`), bytes: filled by [`check`] from
+    /// the map's header.
+    pub map_bytes: f64,
 }
 
 /// Estimated peak bytes of one render of `scene` plus `extra`.
@@ -62,7 +65,22 @@ pub fn peak_bytes(scene: &Scene, extra: Extra) -> f64 {
     if extra.animation {
         bytes += pixels * 8.0;
     }
-    bytes
+    bytes + extra.map_bytes
+}
+
+/// The bytes of `scene`'s environment map while it is read and sampled, from the size in
+/// its header (nothing of the picture read); 0 without a map. An unreadable header is an
+/// error naming `environment.path`.
+pub fn map_bytes(scene: &Scene) -> Result<f64> {
+    use opalray::path::env_map::{map_size, MAP_PIXEL_BYTES};
+    if scene.environment.kind != opalray::scene::EnvironmentKind::File {
+        return Ok(0.0);
+    }
+    let path = &scene.environment.path;
+    let (width, height) = map_size(std::path::Path::new(path)).map_err(|message| {
+        opalray::Error::field("environment.path", format!("{path}: {message}"))
+    })?;
+    Ok(width as f64 * height as f64 * MAP_PIXEL_BYTES as f64)
 }
 
 /// The most memory a command may plan for, bytes: `OPALRAY_MAX_MEMORY_MB` if set, else
@@ -133,6 +151,10 @@ const KNOBS: [Knob; 6] = [
 /// Refuse `scene` (with `extra`) if its estimated peak memory is over the limit, naming the
 /// value whose lowering helps most and the largest value of it that fits.
 pub fn check(scene: &Scene, extra: Extra) -> Result<()> {
+    let extra = Extra {
+        map_bytes: map_bytes(scene)?,
+        ..extra
+    };
     check_under(scene, extra, limit_bytes()?)
 }
 
@@ -172,6 +194,11 @@ fn check_under(scene: &Scene, extra: Extra, limit: f64) -> Result<()> {
     let gib = |b: f64| b / (1024.0 * MIB);
     let fix = match best {
         Some((knob, _, largest)) => format!("the largest {} that fits is {largest}", knob.name),
+        None if extra.map_bytes > 0.0 => format!(
+            "the environment map alone takes {:.1} GiB: give a smaller map \
+             (environment.path), or make the grid, the image and the bins smaller",
+            gib(extra.map_bytes)
+        ),
         None => "make the grid, the image and the bins smaller".to_string(),
     };
     bail!(

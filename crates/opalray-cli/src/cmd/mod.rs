@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod color;
 pub mod common;
+pub mod frames;
 pub mod memory;
 pub mod render;
 pub mod scene;

@@ -7,6 +7,7 @@ use anyhow::Result;
 use serde_json::json;
 
 use super::common::{peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
+use super::frames::{fnv, FramesDir};
 use crate::outputs::Outputs;
 
 /// Render the light sweep of the paper's fig. 11 as a contact sheet and an animation.
@@ -108,6 +109,7 @@ pub fn run(args: Args) -> Result<()> {
         super::memory::Extra {
             frames: args.frames as u64,
             animation: args.animation.is_some(),
+            ..Default::default()
         },
     )?;
     let angles: Vec<f64> = (0..args.frames)
@@ -118,8 +120,16 @@ pub fn run(args: Args) -> Result<()> {
         .collect();
     let (w, h) = (scene.render.width as usize, scene.render.height as usize);
     let columns = args.columns.unwrap_or(angles.len().min(9));
-    let frames_dir = match &args.frames_dir {
-        Some(dir) => Some(FramesDir::open(dir, &scene, &angles, args.resume)?),
+    let mut frames_dir = match &args.frames_dir {
+        Some(dir) => {
+            outputs.check_folder("--frames-dir", dir)?;
+            Some(FramesDir::open(
+                dir,
+                sweep_key(&scene, &angles),
+                &angles,
+                args.resume,
+            )?)
+        }
         None => None,
     };
 
@@ -163,7 +173,7 @@ pub fn run(args: Args) -> Result<()> {
                 let frame = prepared.render_in(&cells, angle);
                 per_frame.push(frame.times);
                 let rgb8 = opalray::color::to_display_rgb8(&frame.rgb, &scene.color);
-                if let Some(dir) = &frames_dir {
+                if let Some(dir) = &mut frames_dir {
                     dir.save(k, w, h, &rgb8)?;
                 }
                 rgb8
@@ -212,103 +222,14 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// A folder of finished frames, `frame-0000.png` …, with `sweep.json` naming the sweep they
-/// belong to (a hash of the scene, the angles and the frame size), so that a re-run reuses
-/// frames of the same sweep only.
-struct FramesDir {
-    dir: PathBuf,
-}
-
-/// The file naming the sweep whose frames a folder holds.
-const MANIFEST: &str = "sweep.json";
-
-impl FramesDir {
-    /// Open (creating) `dir` for the sweep of `scene` over `angles`.
-    fn open(
-        dir: &std::path::Path,
-        scene: &opalray::Scene,
-        angles: &[f64],
-        resume: bool,
-    ) -> Result<Self> {
-        use anyhow::Context as _;
-        if dir.exists() && !dir.is_dir() {
-            anyhow::bail!(
-                "--frames-dir {}: is a file, not a folder; choose another path",
-                dir.display()
-            );
-        }
-        let key = format!(
-            "{:016x}",
-            fnv(format!(
-                "{}\n{angles:?}\n{}x{}",
-                scene.to_toml(),
-                scene.render.width,
-                scene.render.height
-            )
-            .as_bytes())
-        );
-        let manifest = dir.join(MANIFEST);
-        let previous = super::common::read_input("--frames-dir", &manifest, 1 << 20).ok();
-        let previous_key = previous
-            .as_deref()
-            .and_then(|t| serde_json::from_str::<serde_json::Value>(t).ok())
-            .and_then(|v| v.get("sweep").and_then(|k| k.as_str()).map(str::to_string));
-        match (&previous_key, resume) {
-            (Some(k), _) if *k != key => anyhow::bail!(
-                "--frames-dir {}: holds the frames of another sweep (other scene, angles or size); \
-                 remove them or choose another folder",
-                dir.display()
-            ),
-            (None, true) => anyhow::bail!(
-                "--resume: {} holds no frames of this sweep; run without --resume to start it",
-                dir.display()
-            ),
-            _ => {}
-        }
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("--frames-dir {}: cannot create the folder", dir.display()))?;
-        if previous_key.is_none() {
-            let value = json!({"sweep": key, "frames": angles.len(), "angles_deg": angles});
-            write_json(&manifest, &value)
-                .map_err(|e| anyhow::anyhow!("--frames-dir {}: {e}", dir.display()))?;
-        }
-        Ok(FramesDir {
-            dir: dir.to_path_buf(),
-        })
-    }
-
-    fn frame_path(&self, k: usize) -> PathBuf {
-        self.dir.join(format!("frame-{k:04}.png"))
-    }
-
-    /// Frame `k`'s RGB8 pixels if it was finished (a whole PNG of the right size).
-    fn finished(&self, k: usize, w: usize, h: usize) -> Option<Vec<u8>> {
-        let file = std::fs::File::open(self.frame_path(k)).ok()?;
-        let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
-        decoder.set_transformations(png::Transformations::IDENTITY);
-        let mut reader = decoder.read_info().ok()?;
-        let info = reader.info();
-        if (info.width as usize, info.height as usize) != (w, h)
-            || info.color_type != png::ColorType::Rgb
-            || info.bit_depth != png::BitDepth::Eight
-        {
-            return None;
-        }
-        let mut rgb = vec![0; reader.output_buffer_size()?];
-        reader.next_frame(&mut rgb).ok()?;
-        (rgb.len() == w * h * 3).then_some(rgb)
-    }
-
-    /// Write frame `k`, atomically.
-    fn save(&self, k: usize, w: usize, h: usize, rgb8: &[u8]) -> Result<()> {
-        opalray::output::write_png_rgb8(&self.frame_path(k), w as u32, h as u32, rgb8)
-            .map_err(|e| anyhow::anyhow!("--frames-dir: {e}"))
-    }
-}
-
-/// FNV-1a, 64 bit: a stable hash of a sweep's description.
-fn fnv(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
-    })
+/// The key of the sweep of `scene` over `angles`: a hash of the scene, the angles and the
+/// frame size, naming the sweep a frames folder belongs to.
+fn sweep_key(scene: &opalray::Scene, angles: &[f64]) -> String {
+    let text = format!(
+        "{}\n{angles:?}\n{}x{}",
+        scene.to_toml(),
+        scene.render.width,
+        scene.render.height
+    );
+    format!("{:016x}", fnv(text.as_bytes()))
 }

@@ -24,11 +24,16 @@ use crate::error::{Error, Result};
 /// Write a file atomically: `write` fills a temporary file in the target's directory, which
 /// is renamed over `path` only if everything succeeded. On failure nothing is left behind;
 /// temporary files of earlier runs for the same target that were killed are removed first
-/// ([`remove_stale_temps`]).
+/// ([`remove_stale_temps`]). A path under `/proc/self/fd/` is a nameless file the caller
+/// staged (and links into place when complete): it has no name to clobber, and is written in
+/// place.
 pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<()> {
+    if path.starts_with("/proc/self/fd") {
+        return write_in_place(path, write);
+    }
     let dir = parent_dir(path);
     if !dir.is_dir() {
         return Err(Error::io(
@@ -62,6 +67,22 @@ pub fn write_atomic(
         let _ = std::fs::remove_file(&tmp);
         Error::io(path, e)
     })
+}
+
+/// Write `path` directly (truncating it), flushed to disk.
+fn write_in_place(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
+    let result = (|| {
+        let mut buffered = std::io::BufWriter::new(std::fs::File::create(path)?);
+        write(&mut buffered)?;
+        buffered
+            .into_inner()
+            .map_err(|e| e.into_error())?
+            .sync_all()
+    })();
+    result.map_err(|e| Error::io(path, e))
 }
 
 /// The directory a file `path` is written in (`.` for a bare name).

@@ -47,30 +47,84 @@ pub fn luminance(rgb: [f32; 3]) -> f32 {
     }
 }
 
+/// Most pixels along either side of an environment map.
+pub const MAX_MAP_SIDE: usize = 8192;
+
+/// Bytes a map's pixel holds while it is read and sampled: reading an OpenEXR map at the size
+/// limit peaked at 782 MB, 23 bytes a pixel (a 457-byte file the `maps` fuzz target grew,
+/// RELIABILITY.md); then the sampling weights and the distribution's function and cumulative
+/// sums, 4 bytes each; rounded up.
+pub const MAP_PIXEL_BYTES: u64 = 48;
+
 /// Read `path` as `.hdr` / `.pic` (Radiance) or `.exr` (OpenEXR) by its extension. The error
 /// is one line: what is wrong with the file and what to do.
 pub fn read_map(path: &Path) -> Result<LuminanceMap, String> {
-    if let Err(e) = std::fs::File::open(path) {
-        return Err(format!(
-            "cannot open ({e}); give an existing map (a relative path is taken from the scene \
-             file's folder)"
-        ));
-    }
-    match map_format(path) {
+    check_regular_file(path)?;
+    let map = match map_format(path) {
         Some(MapFormat::Radiance) => read_hdr(path),
         Some(MapFormat::OpenExr) => read_exr(path),
         None => Err("not a .hdr or .exr file; give a Radiance .hdr or an OpenEXR .exr map".into()),
+    }?;
+    if map.luminance.iter().all(|&y| y == 0.0) {
+        return Err(
+            "every pixel is black (or its EXPOSURE scales it to nothing); give a map with light"
+                .into(),
+        );
+    }
+    Ok(map)
+}
+
+/// The width and height of the map `path`, read from its header alone (nothing of the
+/// picture is allocated): what the memory estimate counts before the map is read.
+pub fn map_size(path: &Path) -> Result<(usize, usize), String> {
+    check_regular_file(path)?;
+    let (width, height) = match map_format(path) {
+        Some(MapFormat::Radiance) => {
+            let file = std::fs::File::open(path).map_err(|e| format!("cannot open: {e}"))?;
+            let header = read_header(&mut BufReader::new(file))?;
+            (header.width, header.height)
+        }
+        Some(MapFormat::OpenExr) => exr_size(path)?,
+        None => {
+            return Err(
+                "not a .hdr or .exr file; give a Radiance .hdr or an OpenEXR .exr map".into(),
+            )
+        }
+    };
+    check_size(width, height)?;
+    Ok((width, height))
+}
+
+/// Refuse what is not a regular file before opening it: a named pipe would block the open
+/// for ever, a device or a folder has no picture.
+fn check_regular_file(path: &Path) -> Result<(), String> {
+    match std::fs::metadata(path) {
+        Err(e) => Err(format!(
+            "cannot open ({e}); give an existing map (a relative path is taken from the scene \
+             file's folder)"
+        )),
+        Ok(meta) if meta.is_dir() => Err("is a folder; give a map file".into()),
+        Ok(meta) if !meta.is_file() => {
+            Err("is not a regular file (a pipe or a device); give a map file".into())
+        }
+        Ok(_) => Ok(()),
     }
 }
 
+/// Refuse an empty picture or one larger than [`MAX_MAP_SIDE`] on a side or
+/// [`MAX_MAP_PIXELS`] in all, each side checked on its own before they are multiplied.
 fn check_size(width: usize, height: usize) -> Result<(), String> {
     if width == 0 || height == 0 {
         return Err(format!("the picture is {width} × {height}: empty"));
     }
-    if (width as u64) * (height as u64) > MAX_MAP_PIXELS {
+    let pixels = (width <= MAX_MAP_SIDE && height <= MAX_MAP_SIDE)
+        .then(|| (width as u64).checked_mul(height as u64))
+        .flatten();
+    if !pixels.is_some_and(|p| p <= MAX_MAP_PIXELS) {
         return Err(format!(
-            "{width} × {height} pixels, more than the limit of {MAX_MAP_PIXELS}; give a map of \
-             at most 8192 × 4096"
+            "{width} × {height} pixels, more than the limit of {MAX_MAP_SIDE} × \
+             {}; give a smaller map",
+            MAX_MAP_PIXELS / MAX_MAP_SIDE as u64
         ));
     }
     Ok(())
@@ -92,6 +146,12 @@ pub fn read_hdr(path: &Path) -> Result<LuminanceMap, String> {
             let y = if header.xyz { c[1] } else { luminance(c) };
             y * scale
         }));
+    }
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(format!(
+            "pixels overflow once EXPOSURE={} is divided out; give a smaller EXPOSURE product",
+            header.exposure
+        ));
     }
     Ok(LuminanceMap {
         width: header.width,
@@ -162,6 +222,13 @@ fn read_header(r: &mut impl BufRead) -> Result<Header, String> {
                 return Err(format!("EXPOSURE={e} must be a positive number"));
             }
             exposure *= e;
+            // The product is divided out: it and its inverse must stay ordinary numbers.
+            if !(1e-30..=1e30).contains(&exposure) {
+                return Err(format!(
+                    "the EXPOSURE= lines multiply to {exposure:e}, beyond what a picture can \
+                     be scaled by; give factors whose product is between 1e-30 and 1e30"
+                ));
+            }
         }
     }
     let resolution = read_line(r)?;
@@ -300,14 +367,8 @@ pub fn rgbe_to_float(p: [u8; 4]) -> [f32; 3] {
 pub fn read_exr(path: &Path) -> Result<LuminanceMap, String> {
     use exr::prelude::{read, ReadChannels, ReadLayers};
     // The header first: the size is checked before the pixels are allocated.
-    let meta = exr::meta::MetaData::read_from_file(path, false)
-        .map_err(|e| format!("not a readable OpenEXR file: {}", one_line(&e.to_string())))?;
-    let header = meta
-        .headers
-        .first()
-        .ok_or_else(|| "an OpenEXR file without a layer".to_string())?;
-    let size = header.layer_size;
-    check_size(size.width(), size.height())?;
+    let (width, height) = exr_size(path)?;
+    check_size(width, height)?;
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
@@ -331,6 +392,24 @@ pub fn read_exr(path: &Path) -> Result<LuminanceMap, String> {
             )
         })?;
     Ok(image.layer_data.channel_data.pixels)
+}
+
+/// The size of a single-part OpenEXR file's layer, from its header. A multi-part file is
+/// refused: its parts may differ in size, and the one read must be the one checked.
+fn exr_size(path: &Path) -> Result<(usize, usize), String> {
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| format!("not a readable OpenEXR file: {}", one_line(&e.to_string())))?;
+    match meta.headers.as_slice() {
+        [] => Err("an OpenEXR file without a layer".into()),
+        [header] if header.deep => {
+            Err("a deep OpenEXR file; give a flat RGB or RGBA OpenEXR map".into())
+        }
+        [header] => Ok((header.layer_size.width(), header.layer_size.height())),
+        parts => Err(format!(
+            "a multi-part OpenEXR file ({} parts); save the map as a single-part RGB file",
+            parts.len()
+        )),
+    }
 }
 
 fn one_line(message: &str) -> String {
@@ -526,5 +605,116 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A picture of `header` (the lines after the signature) followed by `body`.
+    fn write_raw(path: &Path, header: &str, body: &[u8]) {
+        let mut out = format!("#?RADIANCE\n{header}").into_bytes();
+        out.extend_from_slice(body);
+        std::fs::write(path, out).unwrap();
+    }
+
+    #[test]
+    fn sizes_past_the_limit_are_refused_before_allocating() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("big.hdr");
+        // 2^32 × 2^32 wraps to 0 in 64 bits, 3 × 6148914691236517206 to 2; 16384 × 2 fits
+        // the pixel count but not a side.
+        for resolution in [
+            "-Y 4294967296 +X 4294967296",
+            "-Y 3 +X 6148914691236517206",
+            "-Y 18446744073709551615 +X 2",
+            "-Y 2 +X 16384",
+        ] {
+            write_raw(&path, &format!("\n{resolution}\n"), &[128, 128, 128, 129]);
+            let err = read_map(&path).unwrap_err();
+            assert!(err.contains("more than the limit"), "{resolution}: {err}");
+            let err = map_size(&path).unwrap_err();
+            assert!(err.contains("more than the limit"), "{resolution}: {err}");
+        }
+    }
+
+    #[test]
+    fn an_exposure_product_out_of_range_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("dim.hdr");
+        // Each factor is a positive number; their product underflows to 0 or overflows to
+        // infinity in 32 bits.
+        for factors in [
+            "EXPOSURE=1e-30\nEXPOSURE=1e-30\n",
+            "EXPOSURE=1e30\nEXPOSURE=1e30\n",
+        ] {
+            write_raw(&path, &format!("{factors}\n-Y 1 +X 2\n"), &[128; 8]);
+            let err = read_map(&path).unwrap_err();
+            assert!(err.contains("EXPOSURE"), "{factors}: {err}");
+        }
+        // A product within range is divided out.
+        write_raw(
+            &path,
+            "EXPOSURE=4\nEXPOSURE=0.5\n\n-Y 1 +X 2\n",
+            &[128, 128, 128, 129, 128, 128, 128, 129],
+        );
+        let map = read_map(&path).unwrap();
+        assert!(
+            (map.luminance[0] - 128.5 / 128.0 / 2.0).abs() < 1e-6,
+            "{:?}",
+            map.luminance
+        );
+    }
+
+    #[test]
+    fn a_named_pipe_is_refused_without_blocking() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("pipe.hdr");
+        let made = std::process::Command::new("mkfifo").arg(&path).status();
+        if !made.is_ok_and(|s| s.success()) {
+            return; // No mkfifo here: nothing to test.
+        }
+        let (send, receive) = std::sync::mpsc::channel();
+        let probe = path.clone();
+        std::thread::spawn(move || {
+            let _ = send.send((read_map(&probe), map_size(&probe)));
+        });
+        let (read, size) = receive
+            .recv_timeout(std::time::Duration::from_secs(20))
+            .expect("reading a named pipe blocked");
+        assert!(read.unwrap_err().contains("not a regular file"));
+        assert!(size.unwrap_err().contains("not a regular file"));
+    }
+
+    #[test]
+    fn a_multi_part_exr_is_refused() {
+        use exr::prelude::*;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("parts.exr");
+        // A small first part without colour, then a larger RGB part: the part read would not
+        // be the part checked.
+        let depth = AnyChannels::sort(SmallVec::from_vec(vec![AnyChannel::new(
+            "Z",
+            FlatSamples::F32(vec![0.0; 8]),
+        )]));
+        let small = Layer::new(
+            (4, 2),
+            LayerAttributes::named("depth"),
+            Encoding::UNCOMPRESSED,
+            depth,
+        );
+        let big = Layer::new(
+            (32, 16),
+            LayerAttributes::named("colour"),
+            Encoding::UNCOMPRESSED,
+            SpecificChannels::rgb(|_pos: Vec2<usize>| (1.0f32, 1.0f32, 1.0f32)),
+        );
+        Image::empty(ImageAttributes::new(IntegerBounds::from_dimensions((
+            32, 16,
+        ))))
+        .with_layer(small)
+        .with_layer(big)
+        .write()
+        .to_file(&path)
+        .unwrap();
+        let err = read_map(&path).unwrap_err();
+        assert!(err.contains("multi-part"), "{err}");
+        assert!(map_size(&path).unwrap_err().contains("multi-part"));
     }
 }

@@ -75,6 +75,7 @@ pub struct LightConfig {
     /// Radius of a sphere light, mm.
     pub radius_mm: f64,
     /// Width and height of a rect light, mm.
+    #[serde(deserialize_with = "super::shape::two")]
     pub size_mm: [f64; 2],
     /// Cells of the light pass's ray lattice: one ray each, 2 × 2 where the light is trapped.
     pub rays: u64,

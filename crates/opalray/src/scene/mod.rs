@@ -199,6 +199,9 @@ impl Scene {
                     ),
                 ));
             }
+            if self.domains.orientation == OrientationLaw::Correlated {
+                self.check_parent_grains()?;
+            }
         }
         self.validate_area_light()?;
         if self.integrator.method == Method::Stored {
@@ -364,6 +367,41 @@ impl Scene {
     }
 }
 
+impl Scene {
+    /// Correlated orientations draw from parent grains of `domains.correlation_mm`: refuse
+    /// more of them than [`MAX_GRAINS`] (they take as long to grow as grains do), naming the
+    /// smallest length that fits.
+    fn check_parent_grains(&self) -> Result<()> {
+        let axes = self.body.box_semi_axes(self.structure.semi_axes_mm);
+        let count_at = |length_mm: f64| {
+            let parents = DomainsConfig {
+                grain_size_mm: length_mm,
+                stretch: [1.0; 3],
+                boundary_roughness: 0.0,
+                ..self.domains.clone()
+            };
+            parents.grain_count(axes)
+        };
+        let length = self.domains.correlation_mm;
+        let count = count_at(length);
+        if count <= MAX_GRAINS as f64 {
+            return Ok(());
+        }
+        // The count falls about as the length cubed; step up to the first hundredth that fits.
+        let mut smallest = (length * (count / MAX_GRAINS as f64).cbrt() * 100.0).ceil() / 100.0;
+        while count_at(smallest) > MAX_GRAINS as f64 {
+            smallest += 0.01;
+        }
+        Err(Error::field(
+            "domains.correlation_mm",
+            format!(
+                "{length} mm parent grains would make about {count:.0} of them in this stone, \
+                 more than the limit of {MAX_GRAINS}; use at least {smallest:.2} mm"
+            ),
+        ))
+    }
+}
+
 /// Largest scene file [`Scene::load`] reads, bytes (a complete scene is about 1.5 kB).
 pub const MAX_SCENE_FILE_BYTES: u64 = 1 << 20;
 
@@ -497,6 +535,13 @@ mod tests {
                 "structure.semi_axes_mm",
             ),
             (
+                "[domains]\nstretch = [1.0, 2.0, 3.0, 4.0]",
+                "domains.stretch",
+            ),
+            ("[domains]\nstretch = [1.0, 2.0]", "domains.stretch"),
+            ("[light]\nsize_mm = [10.0, 20.0, 30.0]", "light.size_mm"),
+            ("[light]\nsize_mm = [10.0]", "light.size_mm"),
+            (
                 "structure = [[1, 2, 3]]",
                 "field `structure`: must be a table",
             ),
@@ -512,6 +557,25 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("length 4"), "{err}");
+    }
+
+    #[test]
+    fn correlated_grains_too_fine_to_grow_in_time_are_refused() {
+        let text = "[integrator]\nmethod = \"path\"\n[domains]\npattern = \"grains\"\n\
+                    orientation = \"correlated\"\ncorrelation_mm = 0.1";
+        let err = Scene::from_toml_str(text, "t").unwrap_err().to_string();
+        assert!(err.contains("domains.correlation_mm"), "{err}");
+        // The length it names fits, a hundredth less does not.
+        let fits: f64 = err
+            .rsplit("at least ")
+            .next()
+            .and_then(|t| t.strip_suffix(" mm"))
+            .and_then(|t| t.parse().ok())
+            .unwrap_or_else(|| panic!("no length in {err}"));
+        let with =
+            |length: f64| Scene::from_toml_str(&text.replace("0.1", &format!("{length}")), "t");
+        assert!(with(fits).is_ok(), "{fits}");
+        assert!(with(fits - 0.01).is_err(), "{fits}");
     }
 
     #[test]

@@ -1,5 +1,5 @@
 //! Shapes the typed parse alone would let through: a fixed array given too many values
-//! (serde reads the first three and drops the rest), a TOML array where a section (table)
+//! (serde reads the first two or three and drops the rest), a TOML array where a section (table)
 //! is expected (serde fills a struct by position), and errors without a field path (a
 //! number too large for TOML itself).
 
@@ -15,17 +15,40 @@ where
     D: Deserializer<'de>,
     T: Deserialize<'de>,
 {
-    struct Three<T>(PhantomData<T>);
-    impl<'de, T: Deserialize<'de>> Visitor<'de> for Three<T> {
-        type Value = [T; 3];
+    exactly(deserializer, "(x, y, z)")
+}
+
+/// Deserialize exactly two values (a width and a height); more or fewer is an error naming
+/// the count.
+pub(crate) fn two<'de, D, T>(deserializer: D) -> Result<[T; 2], D::Error>
+where
+    D: Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    exactly(deserializer, "(width, height)")
+}
+
+/// Deserialize exactly `N` values, described as `what` in errors; more or fewer is an error
+/// naming the count (serde's own arrays read the first `N` and drop the rest).
+fn exactly<'de, D, T, const N: usize>(
+    deserializer: D,
+    what: &'static str,
+) -> Result<[T; N], D::Error>
+where
+    D: Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    struct Exactly<T, const N: usize>(&'static str, PhantomData<T>);
+    impl<'de, T: Deserialize<'de>, const N: usize> Visitor<'de> for Exactly<T, N> {
+        type Value = [T; N];
         fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-            f.write_str("an array of exactly 3 values (x, y, z)")
+            write!(f, "an array of exactly {N} values {}", self.0)
         }
-        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<[T; 3], A::Error> {
-            let mut values = Vec::with_capacity(3);
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<[T; N], A::Error> {
+            let mut values = Vec::with_capacity(N);
             while let Some(v) = seq.next_element::<T>()? {
                 values.push(v);
-                if values.len() > 3 {
+                if values.len() > N {
                     // Count the rest without keeping them.
                     let mut n = values.len();
                     while seq.next_element::<de::IgnoredAny>()?.is_some() {
@@ -40,7 +63,7 @@ where
                 .map_err(|_| de::Error::invalid_length(n, &self))
         }
     }
-    deserializer.deserialize_seq(Three(PhantomData))
+    deserializer.deserialize_seq(Exactly::<T, N>(what, PhantomData))
 }
 
 /// The dotted path of the first value in `given` that is not a table where `template` (the

@@ -78,6 +78,7 @@ pub struct DomainsConfig {
     /// Grains: relative spread of the grain sizes (lognormal).
     pub grain_size_spread: f64,
     /// Grains: stretch factors along x, y, z (ribbon and straw patterns: one large).
+    #[serde(deserialize_with = "super::shape::three")]
     pub stretch: [f64; 3],
     /// Grains: independent or correlated orientations.
     pub orientation: OrientationLaw,
