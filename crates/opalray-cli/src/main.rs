@@ -34,7 +34,8 @@ enum Command {
     Color(cmd::color::Args),
     /// Render the opal to an image (paper figs. 10–11).
     Render(cmd::render::Args),
-    /// Render the light sweep −60°…60° as a contact sheet and animation (paper fig. 11).
+    /// Render the play of colour as frames: the light swept (paper fig. 11), the stone rocked
+    /// or turned, or the environment turned; a contact sheet and an animation.
     Sweep(cmd::sweep::Args),
     /// Time every stage of the default render and report the medians.
     Bench(cmd::bench::Args),

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod color;
 pub mod common;
 pub mod memory;
+pub mod motion;
 pub mod render;
 pub mod scene;
 pub mod spectrum;

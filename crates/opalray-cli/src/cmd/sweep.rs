@@ -1,4 +1,5 @@
-//! `opalray sweep`: the paper's fig. 11, the light swept from −60° to 60°.
+//! `opalray sweep`: the play of colour as a series of frames: the light swept about the stone
+//! (the paper's fig. 11), or the stone rocked or turned, or the environment turned.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -6,34 +7,31 @@ use std::time::Instant;
 use anyhow::Result;
 use serde_json::json;
 
-use super::common::{peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
+use super::common::{
+    duration_words, peak_memory_mb, progress, progress_line, write_json, LookArgs, SceneArgs,
+};
+use super::motion::{pose, MotionArgs, Moves};
 use crate::outputs::Outputs;
 
-/// Render the light sweep of the paper's fig. 11 as a contact sheet and an animation.
+/// Render a sweep as a contact sheet and an animation: the light's angle where the scene has
+/// a light (the paper's fig. 11), else the stone rocked from −30° to 30°; or what the
+/// --tilt-*, --turn-*, --env-* or --light-* flags move.
 ///
-/// The structure and optics are computed once; each frame redoes only the light pass, the
-/// view pass and the colour. Frames default to 320 × 240.
+/// The structure and optics are computed once; each frame redoes only the lights, the passes
+/// and the colour. Frames default to 320 × 240. A flag that moves nothing in the scene is
+/// refused, naming what would move.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_long_help = "Examples:\n  opalray sweep\n  opalray sweep --from -60 --to 60 --frames 25 --animation play.gif\n  opalray sweep --frames 7 --sheet fig11.png --width 480 --height 360\n  opalray sweep --animation play.png          (APNG: full colour)"
+    after_long_help = "Examples:\n  opalray sweep                                  (the black opal rocked, −30° to 30°)\n  opalray sweep --turn-from 0 --turn-to 80 --frames 9 --animation turn.png\n  opalray sweep --preset paper --light-from -60 --light-to 60 --frames 25 --animation play.gif\n  opalray sweep --preset paper --frames 7 --sheet fig11.png --width 480 --height 360\n  opalray sweep --animation play.png          (APNG: full colour)"
 )]
 pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,
     #[command(flatten)]
     pub look: LookArgs,
-    /// First light angle, degrees.
-    #[arg(long, value_name = "DEG", default_value_t = -60.0, allow_hyphen_values = true)]
-    pub from: f64,
-    /// Last light angle, degrees.
-    #[arg(
-        long,
-        value_name = "DEG",
-        default_value_t = 60.0,
-        allow_hyphen_values = true
-    )]
-    pub to: f64,
-    /// Number of frames (angles evenly spaced from --from to --to), 1 to 1000.
+    #[command(flatten)]
+    pub motion: MotionArgs,
+    /// Number of frames (evenly spaced from the first value to the last), 1 to 1000.
     #[arg(long, value_name = "N", default_value_t = 9)]
     pub frames: usize,
     /// Contact sheet of all frames with the angle under each (PNG).
@@ -67,11 +65,6 @@ pub fn run(args: Args) -> Result<()> {
     if !(1..=1000).contains(&args.frames) {
         anyhow::bail!("--frames {}: must be 1 to 1000; try 9", args.frames);
     }
-    for (flag, v) in [("--from", args.from), ("--to", args.to)] {
-        if !(v.is_finite() && (-89.0..=89.0).contains(&v)) {
-            anyhow::bail!("{flag} {v}: the light angle must be within −89° … 89°; try −60 and 60");
-        }
-    }
     if let Some(columns) = args.columns {
         if !(1..=args.frames).contains(&columns) {
             anyhow::bail!(
@@ -103,6 +96,10 @@ pub fn run(args: Args) -> Result<()> {
         scene.render.height = 240;
     }
     args.look.apply(&mut scene)?;
+    let (moves, [from, to]) = args.motion.choose(&scene)?;
+    if args.scene.shown(&scene)? {
+        return Ok(());
+    }
     super::memory::check(
         &scene,
         super::memory::Extra {
@@ -112,14 +109,14 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     let angles: Vec<f64> = (0..args.frames)
         .map(|k| match args.frames {
-            1 => args.from,
-            n => args.from + (args.to - args.from) * k as f64 / (n - 1) as f64,
+            1 => from,
+            n => from + (to - from) * k as f64 / (n - 1) as f64,
         })
         .collect();
     let (w, h) = (scene.render.width as usize, scene.render.height as usize);
     let columns = args.columns.unwrap_or(angles.len().min(9));
     let frames_dir = match &args.frames_dir {
-        Some(dir) => Some(FramesDir::open(dir, &scene, &angles, args.resume)?),
+        Some(dir) => Some(FramesDir::open(dir, &scene, moves, &angles, args.resume)?),
         None => None,
     };
 
@@ -160,7 +157,15 @@ pub fn run(args: Args) -> Result<()> {
         let rgb8 = match done {
             Some(rgb8) => rgb8,
             None => {
-                let frame = prepared.render_in(&cells, angle);
+                let frame = match moves {
+                    Moves::Light => prepared.render_in(&cells, angle),
+                    _ => {
+                        let posed = pose(&scene, moves, angle);
+                        prepared
+                            .posed(&posed.camera, posed.environment.rotation_deg)?
+                            .render_in(&cells, scene.light.angle_deg)
+                    }
+                };
                 per_frame.push(frame.times);
                 let rgb8 = opalray::color::to_display_rgb8(&frame.rgb, &scene.color);
                 if let Some(dir) = &frames_dir {
@@ -174,6 +179,16 @@ pub fn run(args: Args) -> Result<()> {
             outputs.write(out, |_| writer.push(&rgb8))?;
         }
         bar.inc(1);
+        let elapsed = start.elapsed().as_secs_f64();
+        let left = elapsed * (angles.len() - k - 1) as f64 / (k + 1) as f64;
+        progress_line(format_args!(
+            "frame {} of {}: {} {angle:.1}°, {} elapsed, about {} left",
+            k + 1,
+            angles.len(),
+            moves.name(),
+            duration_words(elapsed),
+            duration_words(left)
+        ));
     }
     bar.finish_and_clear();
     let elapsed = start.elapsed().as_secs_f64();
@@ -191,6 +206,7 @@ pub fn run(args: Args) -> Result<()> {
         let value = json!({
             "frames": angles.len(),
             "frames_rendered": per_frame.len(),
+            "moves": moves.name(),
             "angles_deg": angles,
             "time_s": {"structure": prepared.times.structure, "optics": prepared.times.optics,
                        "light_pass": light, "view_pass": view, "total": elapsed},
@@ -200,11 +216,12 @@ pub fn run(args: Args) -> Result<()> {
     }
     outputs.commit()?;
     crate::stdio::out(format_args!(
-        "wrote {} ({} frames, {} rendered, {:.2} s)",
+        "wrote {} ({} frames, {} rendered, {:.2} s; the {} from {from}° to {to}°)",
         args.sheet.display(),
         angles.len(),
         per_frame.len(),
-        elapsed
+        elapsed,
+        moves.name()
     ))?;
     for path in [&args.animation, &args.stats].into_iter().flatten() {
         crate::stdio::out(format_args!("wrote {}", path.display()))?;
@@ -227,6 +244,7 @@ impl FramesDir {
     fn open(
         dir: &std::path::Path,
         scene: &opalray::Scene,
+        moves: Moves,
         angles: &[f64],
         resume: bool,
     ) -> Result<Self> {
@@ -240,8 +258,9 @@ impl FramesDir {
         let key = format!(
             "{:016x}",
             fnv(format!(
-                "{}\n{angles:?}\n{}x{}",
+                "{}\n{}\n{angles:?}\n{}x{}",
                 scene.to_toml(),
+                moves.name(),
                 scene.render.width,
                 scene.render.height
             )
