@@ -328,7 +328,7 @@ fn bad_input_is_refused_in_one_line_with_no_file() {
             &[
                 "sweep", "--preset", "paper", "--from", "100", "--sheet", "x.png",
             ],
-            "--light-from 100",
+            "--from 100",
         ),
         (&["sweep", "--sheet", "x.jpg"], "--sheet"),
         (

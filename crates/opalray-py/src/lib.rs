@@ -27,6 +27,9 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _opalray(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("DEFAULT_PRESET", opalray::scene::DEFAULT_RENDER_PRESET)?;
+    m.add("PRESETS", opalray::scene::PRESET_NAMES.to_vec())?;
+    m.add("MAX_SPP", opalray::scene::MAX_SPP)?;
     m.add_class::<frame::Frame>()?;
     m.add_class::<stages::Stages>()?;
     m.add_class::<light::StoredLight>()?;

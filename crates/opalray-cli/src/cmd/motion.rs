@@ -11,21 +11,27 @@ use opalray::Scene;
 pub struct MotionArgs {
     /// Sweep the light's angle from this, degrees (light.angle_deg; a scene with a light):
     /// the paper's fig. 11 [default: −60 to 60].
-    #[arg(
-        long,
-        visible_alias = "from",
-        value_name = "DEG",
-        allow_hyphen_values = true
-    )]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub light_from: Option<f64>,
     /// Last light angle, degrees.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub light_to: Option<f64>,
+    /// The same as --light-from.
     #[arg(
         long,
-        visible_alias = "to",
         value_name = "DEG",
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        conflicts_with = "light_from"
     )]
-    pub light_to: Option<f64>,
+    pub from: Option<f64>,
+    /// The same as --light-to.
+    #[arg(
+        long,
+        value_name = "DEG",
+        allow_hyphen_values = true,
+        conflicts_with = "light_to"
+    )]
+    pub to: Option<f64>,
     /// Rock the stone under fixed lights: its tilt about the picture's horizontal axis from
     /// this, degrees (camera.tilt_deg) [default: −30 to 30; the sweep of a scene without a
     /// light].
@@ -159,7 +165,7 @@ impl MotionArgs {
     /// The ends given for `moves`.
     fn ends(&self, moves: Moves) -> [Option<f64>; 2] {
         match moves {
-            Moves::Light => [self.light_from, self.light_to],
+            Moves::Light => [self.light_from.or(self.from), self.light_to.or(self.to)],
             Moves::Tilt => [self.tilt_from, self.tilt_to],
             Moves::Turn => [self.turn_from, self.turn_to],
             Moves::Environment => [self.env_from, self.env_to],
@@ -197,10 +203,18 @@ impl MotionArgs {
         for k in 0..2 {
             let v = ends[k].unwrap_or(default[k]);
             if !(v.is_finite() && (lo..=hi).contains(&v)) {
-                let flag = moves.flags().split('/').nth(k).unwrap_or_default();
+                let flag = match (moves, k) {
+                    (Moves::Light, 0) if self.from.is_some() => "--from",
+                    (Moves::Light, 1) if self.to.is_some() => "--to",
+                    _ => moves.flags().split('/').nth(k).unwrap_or_default(),
+                };
+                let what = if moves == Moves::Light {
+                    "light angle"
+                } else {
+                    moves.name()
+                };
                 bail!(
-                    "{flag} {v}: the {} must be within {lo}° … {hi}°; try {} and {}",
-                    moves.name(),
+                    "{flag} {v}: the {what} must be within {lo}° … {hi}°; try {} and {}",
                     default[0],
                     default[1]
                 );
