@@ -134,10 +134,11 @@ class Scene:
 
 
 def as_scene(scene: Scene | Mapping | str | os.PathLike | None, **overrides: Any) -> Scene:
-    """A Scene from a Scene, a dict, a TOML file's path or None (the ``paper`` preset), with
-    ``overrides`` applied as by :meth:`Scene.replace`."""
+    """A Scene from a Scene, a dict, a TOML file's path or None (the default preset of
+    ``opalray render`` and every command, :data:`opalray.DEFAULT_PRESET`), with ``overrides``
+    applied as by :meth:`Scene.replace`."""
     if scene is None:
-        scene = Scene.preset("paper")
+        scene = Scene.preset(_opalray.DEFAULT_PRESET)
     elif isinstance(scene, (str, os.PathLike)):
         scene = Scene.from_toml(scene)
     elif not isinstance(scene, Scene):
