@@ -10,3 +10,4 @@ pub mod scene;
 pub mod spectrum;
 pub mod structure;
 pub mod sweep;
+pub mod video;

@@ -43,7 +43,11 @@ pub struct Args {
     /// Animation of the sweep: .gif, or .png for an APNG.
     #[arg(long, value_name = "FILE")]
     pub animation: Option<PathBuf>,
-    /// Time per animation frame, milliseconds.
+    /// Video of the sweep through ffmpeg (which must be installed): .mp4 (H.264) or .webm
+    /// (VP9), full colour, frames streamed to it as they complete.
+    #[arg(long, value_name = "FILE")]
+    pub video: Option<PathBuf>,
+    /// Time per animation or video frame, milliseconds.
     #[arg(long, value_name = "MS", default_value_t = 120)]
     pub delay_ms: u32,
     /// Write timings as JSON: the light and view passes summed over the frames, and peak
@@ -88,6 +92,14 @@ pub fn run(args: Args) -> Result<()> {
     };
     let stats_out = match &args.stats {
         Some(path) => Some(outputs.add("--stats", path, &["json"])?),
+        None => None,
+    };
+    let video_out = match &args.video {
+        Some(path) => {
+            let out = outputs.add("--video", path, &["mp4", "webm"])?;
+            super::video::check_ffmpeg()?;
+            Some(out)
+        }
         None => None,
     };
     let mut scene = args.scene.load()?;
@@ -146,6 +158,12 @@ pub fn run(args: Args) -> Result<()> {
         }
         _ => None,
     };
+    let mut video = match (video_out, &args.video) {
+        (Some(out), Some(path)) => Some(outputs.write(out, |temp| {
+            super::video::VideoWriter::create(temp, path, w, h, args.delay_ms)
+        })?),
+        _ => None,
+    };
     let mut per_frame = Vec::with_capacity(angles.len());
     // One frame at a time, each on all threads. (Two at once kept the cores a little busier,
     // 3.5 % off a 25-frame sweep on two cores, for a third more memory: `BENCHMARKS.md`.)
@@ -178,6 +196,9 @@ pub fn run(args: Args) -> Result<()> {
         if let (Some(writer), Some(out)) = (&mut animation, animation_out) {
             outputs.write(out, |_| writer.push(&rgb8))?;
         }
+        if let Some(writer) = &mut video {
+            writer.push(&rgb8)?;
+        }
         bar.inc(1);
         let elapsed = start.elapsed().as_secs_f64();
         let left = elapsed * (angles.len() - k - 1) as f64 / (k + 1) as f64;
@@ -199,6 +220,9 @@ pub fn run(args: Args) -> Result<()> {
     drop(sheet);
     if let (Some(writer), Some(out)) = (animation, animation_out) {
         outputs.write(out, |_| writer.finish())?;
+    }
+    if let Some(writer) = &mut video {
+        writer.finish()?;
     }
     if let Some(stats_out) = stats_out {
         let light: f64 = per_frame.iter().map(|t| t.light_pass).sum();
@@ -223,7 +247,10 @@ pub fn run(args: Args) -> Result<()> {
         elapsed,
         moves.name()
     ))?;
-    for path in [&args.animation, &args.stats].into_iter().flatten() {
+    for path in [&args.animation, &args.video, &args.stats]
+        .into_iter()
+        .flatten()
+    {
         crate::stdio::out(format_args!("wrote {}", path.display()))?;
     }
     Ok(())

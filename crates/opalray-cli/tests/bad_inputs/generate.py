@@ -59,6 +59,7 @@ case(f"scene --from keep.png", "not a readable PNG")
 for flag, v in [("--frames", "0"), ("--frames", "1001"), ("--frames", "-1"), ("--frames", "x"),
                 ("--columns", "0"), ("--columns", "100"), ("--delay-ms", "70000"),
                 ("--delay-ms", "-5"), ("--sheet", "x.jpg"), ("--animation", "x.mp4"),
+                ("--video", "x.avi"), ("--video", "x.gif"), ("--video", "nodir/v.mp4"),
                 ("--frames-dir", "afile"), ("--sheet", "keep.png/"), ("--sheet", "nodir/s.png"),
                 ("--animation", "adir.json"), ("--stats", "adir.json")]:
     case(f"sweep {flag} {v} {TINY}", flag)
