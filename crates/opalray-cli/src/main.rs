@@ -36,7 +36,7 @@ enum Command {
     Render(cmd::render::Args),
     /// Render the play of colour as frames: the light swept (paper fig. 11), the stone rocked
     /// or turned, or the environment turned; a contact sheet and an animation.
-    Sweep(cmd::sweep::Args),
+    Sweep(Box<cmd::sweep::Args>),
     /// Time every stage of the default render and report the medians.
     Bench(cmd::bench::Args),
 }
@@ -90,7 +90,7 @@ fn main() {
         Command::Spectrum(args) => cmd::spectrum::run(args),
         Command::Color(args) => cmd::color::run(args),
         Command::Render(args) => cmd::render::run(args),
-        Command::Sweep(args) => cmd::sweep::run(args),
+        Command::Sweep(args) => cmd::sweep::run(*args),
         Command::Bench(args) => cmd::bench::run(args),
     });
     if let Err(err) = result {
