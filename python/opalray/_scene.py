@@ -74,6 +74,12 @@ class Scene:
         return cls._of(complete)
 
     @classmethod
+    def from_image(cls, path: str | os.PathLike) -> Scene:
+        """The scene a PNG or EXR image written by opalray (``Image.save``, ``opalray
+        render``) records in its header: rendering it again gives the same image."""
+        return cls._of(_opalray.read_scene(os.fspath(path)))
+
+    @classmethod
     def from_toml_str(cls, text: str, origin: str = "scene text") -> Scene:
         """Parse TOML text; ``origin`` names it in errors."""
         return cls._of(_opalray.parse_toml(text, origin))
