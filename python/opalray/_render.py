@@ -20,6 +20,9 @@ __all__ = ["Image", "Stages", "Structure", "Optics", "light_pass", "prepare", "r
 
 Progress = Callable[[str, int, int], None]
 
+# The most samples per pixel (`integrator.spp`), which a time-limited render aims at.
+_MAX_SPP = _opalray.MAX_SPP
+
 
 def _progress_of(progress: Progress | bool | None, total: int, desc: str) -> tuple[Progress | None, Callable[[], None]]:
     """A callback ``(stage, done, total)`` for ``progress``: a callable is used as it is;
@@ -277,17 +280,46 @@ def render(
     scene: Scene | dict | str | os.PathLike | None = None,
     *,
     progress: Progress | bool | None = None,
+    time_limit: float | None = None,
     **overrides: Any,
 ) -> Image:
     """Render ``scene`` end to end, exactly as ``opalray render`` does.
 
-    ``scene``: a :class:`Scene`, a dict, a TOML file's path, or None for the ``paper``
-    preset. ``overrides`` change it first, as :meth:`Scene.replace`
-    (``render(scene, light={"angle_deg": -45})``). ``progress``: a callable
-    ``(stage, done, total)`` called as the stages finish, or ``True`` for a tqdm bar.
-    The GIL is released while the core works; Ctrl-C interrupts the wait.
+    ``scene``: a :class:`Scene`, a dict, a TOML file's path, or None for the default preset
+    (``black-opal``, as ``opalray render``; :data:`opalray.DEFAULT_PRESET`). ``overrides``
+    change it first, as :meth:`Scene.replace` (``render(scene, camera={"tilt_deg": -20})``).
+    ``progress``: a callable ``(stage, done, total)``, or ``True`` for a tqdm bar; the path
+    integrator calls it after every pass (``stage`` says the samples per pixel and the noise
+    so far, ``done``/``total`` count samples per pixel), the other methods as their stages
+    finish. ``time_limit``: seconds; the path integrator stops after the pass in which they
+    have passed, and renders up to 65536 samples per pixel unless ``overrides`` set
+    ``integrator={"spp": N}`` (as ``opalray render --time-limit``); ``image.stats["path"]``
+    says how many it reached. The GIL is released while the core works; Ctrl-C interrupts
+    the wait.
     """
     scene = as_scene(scene, **overrides)
+    path = scene["integrator"]["method"] == "path"
+    if time_limit is not None:
+        if not path:
+            raise ValueError(
+                'time_limit: only the path integrator renders in passes; set integrator.method = "path" '
+                '(e.g. the preset "harlequin") or drop it'
+            )
+        if "spp" not in overrides.get("integrator", {}):
+            scene = scene.replace(integrator={"spp": _MAX_SPP})
+    if path:
+        total = scene["integrator"]["spp"]
+        report, close = _progress_of(progress, total, "render")
+
+        def on_pass(passes: int, spp: int, target: int, elapsed: float, noise: float | None) -> None:
+            if report is not None:
+                told = "" if noise is None else f", noise {100 * noise:.1f} %"
+                report(f"{spp} spp{told}, {elapsed:.1f} s", min(spp, total), total)
+
+        try:
+            return Image(_opalray.render(scene.to_dict(), time_limit, on_pass), scene)
+        finally:
+            close()
     report, close = _progress_of(progress, 2, "render")
     try:
         if report is None:

@@ -74,6 +74,12 @@ class Scene:
         return cls._of(complete)
 
     @classmethod
+    def from_image(cls, path: str | os.PathLike) -> Scene:
+        """The scene a PNG or EXR image written by opalray (``Image.save``, ``opalray
+        render``) records in its header: rendering it again gives the same image."""
+        return cls._of(_opalray.read_scene(os.fspath(path)))
+
+    @classmethod
     def from_toml_str(cls, text: str, origin: str = "scene text") -> Scene:
         """Parse TOML text; ``origin`` names it in errors."""
         return cls._of(_opalray.parse_toml(text, origin))
@@ -134,10 +140,11 @@ class Scene:
 
 
 def as_scene(scene: Scene | Mapping | str | os.PathLike | None, **overrides: Any) -> Scene:
-    """A Scene from a Scene, a dict, a TOML file's path or None (the ``paper`` preset), with
-    ``overrides`` applied as by :meth:`Scene.replace`."""
+    """A Scene from a Scene, a dict, a TOML file's path or None (the default preset of
+    ``opalray render`` and every command, :data:`opalray.DEFAULT_PRESET`), with ``overrides``
+    applied as by :meth:`Scene.replace`."""
     if scene is None:
-        scene = Scene.preset("paper")
+        scene = Scene.preset(_opalray.DEFAULT_PRESET)
     elif isinstance(scene, (str, os.PathLike)):
         scene = Scene.from_toml(scene)
     elif not isinstance(scene, Scene):

@@ -1,5 +1,6 @@
-"""Sweeps of the light angle (the paper's fig. 11) and parameter studies, locally or on a Dask
-cluster, one task per frame or per scene."""
+"""Sweeps of the light angle (the paper's fig. 11), of the stone rocked (tilt) or turned, or of
+the environment turned, and parameter studies, locally or on a Dask cluster, one task per frame
+or per scene."""
 
 from __future__ import annotations
 
@@ -52,11 +53,72 @@ def _worker_threads() -> int | None:
         return None
 
 
-def _render_frame(scene: Scene, angle: float, threads: int | None = None) -> bytes:
+# What a sweep moves: its keyword of `sweep`, its default range and its valid range, degrees
+# (as `opalray sweep --light-from`, `--tilt-from`, `--turn-from`, `--env-from`).
+_MOVES = {
+    "light": ("light_angles", (-60.0, 60.0), (-89.0, 89.0)),
+    "tilt": ("tilt_deg", (-30.0, 30.0), (-89.0, 89.0)),
+    "turn": ("turn_deg", (-45.0, 45.0), (-360.0, 360.0)),
+    "environment": ("env_rotation_deg", (-90.0, 90.0), (-360.0, 360.0)),
+}
+
+
+def _why_still(scene: Scene, moves: str) -> str | None:
+    """Why moving ``moves`` changes nothing in ``scene`` (None where it moves something): the
+    rule of ``opalray sweep``."""
+    if moves == "light" and scene["light"]["kind"] == "none":
+        return 'the scene has no light (light.kind = "none")'
+    if moves == "environment":
+        if scene["integrator"]["method"] == "two-pass":
+            return 'the paper\'s two passes see no environment (integrator.method = "two-pass")'
+        if scene["environment"]["kind"] in ("none", "uniform"):
+            return (
+                "the scene's environment is the same in every direction about the stone's normal "
+                '(environment.kind = "none" or "uniform")'
+            )
+    return None
+
+
+def _choose_moves(scene: Scene, given: dict[str, Sequence[float] | None]) -> tuple[str, list[float]]:
+    """What moves and its values: the one keyword given, else the light where the scene has
+    one, else the tilt; a keyword that moves nothing in ``scene`` is refused."""
+    named = [m for m, (kw, _, _) in _MOVES.items() if given[kw] is not None]
+    if len(named) > 1:
+        raise ValueError(
+            f"{_MOVES[named[0]][0]} and {_MOVES[named[1]][0]}: a sweep moves one thing; give one of them"
+        )
+    moves = named[0] if named else ("light" if _why_still(scene, "light") is None else "tilt")
+    keyword, default, (lo, hi) = _MOVES[moves]
+    why = _why_still(scene, moves)
+    if why is not None:
+        movable = ", ".join(kw for m, (kw, _, _) in _MOVES.items() if _why_still(scene, m) is None)
+        raise ValueError(f"{keyword}: {why}, so it moves nothing; what moves in this scene: {movable}")
+    values = given[keyword]
+    values = [float(v) for v in (sweep_angles(9, *default) if values is None else values)]
+    if not 1 <= len(values) <= 1000:
+        raise ValueError(f"{keyword}: {len(values)} values, must be 1 to 1000; try 9")
+    for v in values:
+        if not (np.isfinite(v) and lo <= v <= hi):
+            what = "light angle" if moves == "light" else moves
+            raise ValueError(f"{keyword} {v}: the {what} must be within {lo}° … {hi}°; try {default[0]:g} and {default[1]:g}")
+    return moves, values
+
+
+def _render_posed(stages: Stages, moves: str, value: float, threads: int | None = None) -> bytes:
+    """One sweep frame's display codes: ``value`` degrees of what ``moves`` moves."""
+    if moves == "light":
+        return stages.render_rgb8(value, threads=threads)
+    scene = stages.scene
+    pose = [scene["camera"]["tilt_deg"], scene["camera"]["turn_deg"], scene["environment"]["rotation_deg"]]
+    pose[["tilt", "turn", "environment"].index(moves)] = value
+    return stages._stages.render_posed_rgb8(*pose, threads)
+
+
+def _render_frame(scene: Scene, moves: str, value: float, threads: int | None = None) -> bytes:
     """One sweep frame's display codes: a Dask task. It renders on ``threads`` threads, by
     default as many as its worker has, so that single-threaded workers run one frame per
     core instead of each spreading its frame over every core of the machine."""
-    return _stages_for(scene).render_rgb8(angle, threads=threads or _worker_threads())
+    return _render_posed(_stages_for(scene), moves, value, threads or _worker_threads())
 
 
 def _tail_split(client: Any, frames: int) -> tuple[int, int | None]:
@@ -97,27 +159,20 @@ def sweep_angles(frames: int = 9, start_deg: float = -60.0, stop_deg: float = 60
 
 @dataclass
 class Sweep:
-    """The result of :func:`sweep`: ``angles_deg``; ``frames``, one H × W × 3 uint8 array per
-    angle (display codes); ``rendered``, the indices rendered by this call (the others were
-    read back from ``out_dir``); the paths written; ``seconds``, the wall time."""
+    """The result of :func:`sweep`: ``moves`` (``"light"``, ``"tilt"``, ``"turn"`` or
+    ``"environment"``) and ``angles_deg``, its values, degrees; ``frames``, one H × W × 3
+    uint8 array per value (display codes); ``rendered``, the indices rendered by this call
+    (the others were read back from ``out_dir``); the paths written; ``seconds``, the wall
+    time."""
 
     angles_deg: list[float]
     frames: list[np.ndarray]
     rendered: list[int]
+    moves: str = "light"
     sheet: str | None = None
     animation: str | None = None
     frame_paths: list[str] = field(default_factory=list)
     seconds: float = 0.0
-
-
-def _check_angles(angles: Sequence[float]) -> list[float]:
-    angles = [float(a) for a in angles]
-    if not 1 <= len(angles) <= 1000:
-        raise ValueError(f"light_angles: {len(angles)} angles, must be 1 to 1000; try 9")
-    for a in angles:
-        if not (np.isfinite(a) and -89.0 <= a <= 89.0):
-            raise ValueError(f"light_angles {a}: the light angle must be within −89° … 89°; try −60 and 60")
-    return angles
 
 
 def _read_manifest(out_dir: str, manifest: dict, n: int) -> list[str | None]:
@@ -140,11 +195,11 @@ def _read_manifest(out_dir: str, manifest: dict, n: int) -> list[str | None]:
             found = json.load(f)
     except (OSError, ValueError):
         return [None] * n
-    if not (isinstance(found, dict) and "angles_deg" in found and "scene" in found):
+    if not (isinstance(found, dict) and all(k in found for k in manifest)):
         raise ValueError(
             f"out_dir {out_dir}: its {_MANIFEST} was not written by opalray; use a new or empty folder"
         )
-    if {k: found[k] for k in ("angles_deg", "scene")} != manifest:
+    if {k: found[k] for k in manifest} != manifest:
         raise ValueError(
             f"out_dir {out_dir}: holds a sweep of another scene or other angles; "
             "use a new folder or empty this one"
@@ -179,6 +234,9 @@ def sweep(
     scene: Scene | dict | str | os.PathLike | None = None,
     light_angles: Sequence[float] | None = None,
     *,
+    tilt_deg: Sequence[float] | None = None,
+    turn_deg: Sequence[float] | None = None,
+    env_rotation_deg: Sequence[float] | None = None,
     client: Any = None,
     out_dir: str | os.PathLike | None = None,
     sheet: str | os.PathLike | None = None,
@@ -188,12 +246,19 @@ def sweep(
     progress: Progress | bool | None = None,
     **overrides: Any,
 ) -> Sweep:
-    """Render ``scene`` at every light angle of ``light_angles`` (default: 9 from −60° to
-    60°, as ``opalray sweep``), at the scene's image size.
+    """Render ``scene`` (default: the preset of ``opalray render``) at every light angle of
+    ``light_angles``, or rocked to every tilt of ``tilt_deg`` (``camera.tilt_deg``), turned
+    to every ``turn_deg`` (``camera.turn_deg``), or with the environment at every rotation of
+    ``env_rotation_deg`` (``environment.rotation_deg``), degrees; one of them. Given none,
+    as ``opalray sweep``: 9 light angles from −60° to 60° where the scene has a light, else 9
+    tilts from −30° to 30°. One that moves nothing in the scene (the light of a scene without
+    one, the environment of the paper's two passes) is refused with a ``ValueError`` naming
+    what would move. Frames are at the scene's image size.
 
     ``client``: a ``dask.distributed.Client``: one task per frame on its cluster (each worker
     prepares the structure and optics once); None renders here, one frame at a time, each on
-    every core. ``out_dir``: write ``frame_NNNN.png`` per frame there (with ``scene.toml`` and
+    every core. ``out_dir``: write ``frame-NNNN.png`` per frame there (named as by ``opalray
+    sweep --frames-dir``) (with ``scene.toml`` and
     ``sweep.json``), and the sheet (default ``sweep.png``) and animation; a run into a folder
     that already holds some frames of the same scene and angles renders only the missing ones.
     ``sheet``/``animation`` (relative paths go under ``out_dir``): the contact sheet (PNG) and
@@ -202,7 +267,10 @@ def sweep(
     """
     start = time.perf_counter()
     scene = as_scene(scene, **overrides)
-    angles = _check_angles(sweep_angles() if light_angles is None else light_angles)
+    moves, angles = _choose_moves(
+        scene,
+        {"light_angles": light_angles, "tilt_deg": tilt_deg, "turn_deg": turn_deg, "env_rotation_deg": env_rotation_deg},
+    )
     width, height = scene["render"]["width"], scene["render"]["height"]
     n = len(angles)
 
@@ -214,12 +282,12 @@ def sweep(
         os.makedirs(out_dir, exist_ok=True)
         if sheet is None:
             sheet = "sweep.png"
-        manifest = {"angles_deg": angles, "scene": scene.to_toml()}
+        manifest = {"moves": moves, "angles_deg": angles, "scene": scene.to_toml()}
         checksums = _read_manifest(out_dir, manifest, n)
         manifest["checksums"] = checksums
         scene.save(os.path.join(out_dir, _SCENE_FILE))
         _write_manifest(out_dir, manifest)
-        frame_paths = [os.path.join(out_dir, f"frame_{k:04d}.png") for k in range(n)]
+        frame_paths = [os.path.join(out_dir, f"frame-{k:04d}.png") for k in range(n)]
         for k, path in enumerate(frame_paths):
             # Only a regular file whose bytes match the manifest's checksum is reused.
             if checksums[k] is not None and os.path.isfile(path) and _checksum(path) == checksums[k]:
@@ -256,7 +324,7 @@ def sweep(
             if missing:
                 stages = prepare(scene)
                 for k in missing:
-                    finish(k, stages.render_rgb8(angles[k]))
+                    finish(k, _render_posed(stages, moves, angles[k]))
         elif missing:
             from dask.distributed import as_completed
 
@@ -266,11 +334,11 @@ def sweep(
             tail, tail_threads = _tail_split(client, len(missing))
             body = missing[: len(missing) - tail]
             futures = {
-                client.submit(_render_frame, scene_future, angles[k], pure=False): k for k in body
+                client.submit(_render_frame, scene_future, moves, angles[k], pure=False): k for k in body
             }
             # The tail after the rest (a lower priority), each frame on more threads.
             futures.update({
-                client.submit(_render_frame, scene_future, angles[k], tail_threads, pure=False,
+                client.submit(_render_frame, scene_future, moves, angles[k], tail_threads, pure=False,
                               priority=-1): k
                 for k in missing[len(body):]
             })
@@ -284,6 +352,7 @@ def sweep(
     if animation_path is not None:
         _opalray.write_animation(animation_path, frames, width, height, delay_ms)
     return Sweep(
+        moves=moves,
         angles_deg=angles,
         frames=[np.frombuffer(f, np.uint8).reshape(height, width, 3) for f in frames],
         rendered=missing,

@@ -30,6 +30,6 @@ def test_distributed_sweep_runs_and_resumes(tmp_path, monkeypatch):
             "--rays", "2048", "--threads"]
     first = run_example("distributed_sweep.py", argv)
     assert first.rendered == [0, 1, 2]
-    (tmp_path / "out" / "frame_0002.png").unlink()
+    (tmp_path / "out" / "frame-0002.png").unlink()
     assert run_example("distributed_sweep.py", argv).rendered == [2]
     assert (tmp_path / "out" / "sweep.png").exists() and (tmp_path / "out" / "play.gif").exists()

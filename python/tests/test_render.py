@@ -215,3 +215,17 @@ def test_prepared_renders_are_the_same_on_one_thread_and_scenes_hash(small):
     assert stages.render(10.0, threads=1).srgb8.tobytes() == stages.render_rgb8(10.0)
     assert hash(small) == hash(opalray.Scene(small.to_dict()))
     assert len({small, opalray.Scene(small.to_dict()), small.replace(light={"rays": 8192})}) == 2
+
+
+def test_a_saved_image_gives_back_its_scene(tmp_path, small):
+    scene = small.replace(light={"angle_deg": -35.0}, structure={"seed": 9})
+    image = opalray.render(scene)
+    for name in ("a.png", "a.exr"):
+        image.save(tmp_path / name)
+        back = opalray.Scene.from_image(tmp_path / name)
+        assert back == scene, name
+        opalray.render(back).save(tmp_path / f"b-{name}")
+        assert (tmp_path / name).read_bytes() == (tmp_path / f"b-{name}").read_bytes(), name
+    (tmp_path / "plain.png").write_bytes((tmp_path / "a.png").read_bytes()[:8])
+    with pytest.raises(ValueError, match="plain.png"):
+        opalray.Scene.from_image(tmp_path / "plain.png")

@@ -46,7 +46,7 @@ def test_dask_sweep_equals_the_local_one(tmp_path, dask_client, small):
     assert remote.rendered == [0, 1, 2, 3]
     for a, b in zip(local.frames, remote.frames):
         np.testing.assert_array_equal(a, b)
-    for name in ["sweep.png", "play.png"] + [f"frame_{k:04d}.png" for k in range(4)]:
+    for name in ["sweep.png", "play.png"] + [f"frame-{k:04d}.png" for k in range(4)]:
         assert (tmp_path / "local" / name).read_bytes() == (tmp_path / "dask" / name).read_bytes(), name
 
 
@@ -57,8 +57,8 @@ def test_resumed_sweep_renders_only_the_missing_frames(tmp_path, request, small,
     first = opalray.sweep(small, ANGLES, client=client, out_dir=out, animation="play.gif")
     sheet = (out / "sweep.png").read_bytes()
     gif = (out / "play.gif").read_bytes()
-    (out / "frame_0001.png").unlink()
-    (out / "frame_0003.png").unlink()
+    (out / "frame-0001.png").unlink()
+    (out / "frame-0003.png").unlink()
     (out / "sweep.png").unlink()
     seen = []
     again = opalray.sweep(small, ANGLES, client=client, out_dir=out, animation="play.gif",
@@ -135,21 +135,61 @@ def test_out_dir_follows_the_frames_folder_rules(tmp_path, small):
     # A folder of the user's own files (no manifest of ours) is refused, untouched.
     mine = tmp_path / "mine"
     mine.mkdir()
-    (mine / "frame_0000.png").write_bytes(b"my picture")
+    (mine / "frame-0000.png").write_bytes(b"my picture")
     (mine / "sweep.json").write_text('{"mine": 1}')
     with pytest.raises(ValueError, match="not written by opalray"):
         opalray.sweep(small, ANGLES, out_dir=mine)
     (mine / "sweep.json").unlink()
     with pytest.raises(ValueError, match="no sweep.json"):
         opalray.sweep(small, ANGLES, out_dir=mine)
-    assert (mine / "frame_0000.png").read_bytes() == b"my picture"
+    assert (mine / "frame-0000.png").read_bytes() == b"my picture"
     # A frame swapped for another of the same size is rendered again, not mixed in.
     out = tmp_path / "out"
     whole = opalray.sweep(small, ANGLES, out_dir=out)
-    (out / "frame_0000.png").write_bytes((out / "frame_0001.png").read_bytes())
+    (out / "frame-0000.png").write_bytes((out / "frame-0001.png").read_bytes())
     again = opalray.sweep(small, ANGLES, out_dir=out)
     assert again.rendered == [0]
     assert all((a == b).all() for a, b in zip(whole.frames, again.frames))
     # Under a damaged manifest every frame is rendered again.
     (out / "sweep.json").write_text('{"angles_deg": [0.0')
     assert opalray.sweep(small, ANGLES, out_dir=out).rendered == list(range(len(ANGLES)))
+
+
+def _gem(**changes):
+    """The default gem at a size that renders in a moment."""
+    return opalray.Scene.preset("black-opal").replace(
+        render={"width": 24, "height": 18}, integrator={"spp": 2}, **changes
+    )
+
+
+def test_a_gem_swept_over_its_tilt_gives_the_clis_frames_that_differ(tmp_path, cli):
+    gem = _gem()
+    result = opalray.sweep(gem, tilt_deg=[-20.0, 0.0, 20.0], out_dir=tmp_path / "py")
+    assert result.moves == "tilt" and result.angles_deg == [-20.0, 0.0, 20.0]
+    a, b, c = result.frames
+    assert (a != b).any() and (b != c).any() and (a != c).any()
+    # The CLI's frames, named alike.
+    gem.save(tmp_path / "gem.toml")
+    subprocess.run(
+        [cli, "sweep", str(tmp_path / "gem.toml"), "--tilt-from", "-20", "--tilt-to", "20",
+         "--frames", "3", "--width", "24", "--height", "18", "--frames-dir", str(tmp_path / "cli"),
+         "--sheet", str(tmp_path / "cli.png")],
+        check=True, capture_output=True,
+    )
+    for k in range(3):
+        name = f"frame-{k:04d}.png"
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    # A turned frame is the render of the turned scene.
+    turned = opalray.sweep(gem, turn_deg=[30.0])
+    np.testing.assert_array_equal(turned.frames[0], opalray.render(gem, camera={"turn_deg": 30.0}).srgb8)
+
+
+def test_a_sweep_that_moves_nothing_is_refused_naming_what_would():
+    with pytest.raises(ValueError, match="no light.*tilt_deg"):
+        opalray.sweep(_gem(), [-45.0, 45.0])
+    with pytest.raises(ValueError, match="no environment.*light_angles"):
+        opalray.sweep(small_scene(), env_rotation_deg=[0.0, 90.0])
+    with pytest.raises(ValueError, match="one thing"):
+        opalray.sweep(_gem(), tilt_deg=[0.0], turn_deg=[0.0])
+    with pytest.raises(ValueError, match="tilt_deg 100.0"):
+        opalray.sweep(_gem(), tilt_deg=[100.0])

@@ -43,8 +43,9 @@ enum Command {
     Color(cmd::color::Args),
     /// Render the opal to an image (paper figs. 10–11).
     Render(cmd::render::Args),
-    /// Render the light sweep −60°…60° as a contact sheet and animation (paper fig. 11).
-    Sweep(cmd::sweep::Args),
+    /// Render the play of colour as frames: the light swept (paper fig. 11), the stone rocked
+    /// or turned, or the environment turned; a contact sheet and an animation.
+    Sweep(Box<cmd::sweep::Args>),
     /// Time every stage of the default render and report the medians.
     Bench(cmd::bench::Args),
 }
@@ -104,7 +105,7 @@ fn main() {
         Command::Spectrum(args) => cmd::spectrum::run(args),
         Command::Color(args) => cmd::color::run(args),
         Command::Render(args) => cmd::render::run(args),
-        Command::Sweep(args) => cmd::sweep::run(args),
+        Command::Sweep(args) => cmd::sweep::run(*args),
         Command::Bench(args) => cmd::bench::run(args),
     });
     if let Err(err) = result {

@@ -224,7 +224,8 @@ fn render_bytes_do_not_depend_on_the_vector_instructions() {
 fn sweep_writes_a_sheet_and_animations() {
     let dir = tempfile::tempdir().unwrap();
     let small = [
-        "--frames", "3", "--width", "48", "--height", "36", "--bins", "16", "--rays", "10000",
+        "--preset", "paper", "--frames", "3", "--width", "48", "--height", "36", "--bins", "16",
+        "--rays", "10000",
     ];
     let out = opalray(
         dir.path(),
@@ -267,7 +268,8 @@ fn bench_prints_json_medians() {
     let out = opalray(
         dir.path(),
         &[
-            "bench", "--runs", "1", "--json", "--width", "32", "--height", "24", "--rays", "5000",
+            "bench", "--preset", "paper", "--runs", "1", "--json", "--width", "32", "--height",
+            "24", "--rays", "5000",
         ],
         None,
     );
@@ -331,7 +333,12 @@ fn bad_input_is_refused_in_one_line_with_no_file() {
             "crystal.sphere_diameter_nm",
         ),
         (&["sweep", "--frames", "0", "--sheet", "x.png"], "--frames"),
-        (&["sweep", "--from", "100", "--sheet", "x.png"], "--from"),
+        (
+            &[
+                "sweep", "--preset", "paper", "--from", "100", "--sheet", "x.png",
+            ],
+            "--from 100",
+        ),
         (&["sweep", "--sheet", "x.jpg"], "--sheet"),
         (
             &["sweep", "--animation", "x.mp4", "--sheet", "x.png"],

@@ -13,9 +13,11 @@ fn commands(dir: &Path) -> Vec<Vec<String>> {
     let tiny = ["--width", "8", "--height", "6", "--rays", "64"];
     let mut render = vec!["render", "--output", "r.png"];
     render.extend(tiny);
-    let mut sweep = vec!["sweep", "--frames", "2", "--sheet", "s.png"];
+    let mut sweep = vec![
+        "sweep", "--preset", "paper", "--frames", "2", "--sheet", "s.png",
+    ];
     sweep.extend(tiny);
-    let mut bench = vec!["bench", "--runs", "1"];
+    let mut bench = vec!["bench", "--preset", "paper", "--runs", "1"];
     bench.extend(tiny);
     let lists: Vec<Vec<&str>> = vec![
         vec!["scene"],

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use numpy::ndarray::{Array1, Array3};
 use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray3, PyUntypedArrayMethods};
+use opalray::output::Provenance;
 use opalray::scene::ColorConfig;
 use opalray::{RgbImage, Scene, SpectralImage};
 use pyo3::exceptions::PyValueError;
@@ -19,6 +20,8 @@ pub struct Frame {
     pub(crate) rgb: RgbImage,
     pub(crate) color: ColorConfig,
     pub(crate) stats_json: String,
+    /// What made it, written into its files.
+    pub(crate) provenance: Provenance,
 }
 
 /// Peak resident memory of this process so far, MiB, where the system reports it (as the
@@ -48,6 +51,7 @@ impl Frame {
             "peak_memory_mb": peak_memory_mb(),
         });
         Frame {
+            provenance: Provenance::of(scene, &frame),
             spectral: frame.spectral,
             rgb: frame.rgb,
             color: scene.color.clone(),
@@ -87,7 +91,15 @@ impl Frame {
             height: h,
             data: flat.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect(),
         };
+        // The samples rendered, from the statistics, as the frame's files record them.
+        let stats: serde_json::Value = serde_json::from_str(&stats_json).unwrap_or_default();
+        let spp = |method: &str| {
+            stats[method]["spp"]
+                .as_u64()
+                .and_then(|n| u32::try_from(n).ok())
+        };
         Ok(Frame {
+            provenance: Provenance::of_samples(&scene, spp("path"), spp("stored")),
             spectral,
             rgb,
             color: scene.color,
@@ -131,19 +143,19 @@ impl Frame {
 
     /// Write the frame as PNG (sRGB, `color.bit_depth` bits), exactly as `opalray render`.
     fn write_png(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        py.detach(|| opalray::output::write_png(&path, &self.rgb, &self.color))
+        py.detach(|| opalray::output::write_png(&path, &self.rgb, &self.color, &self.provenance))
             .map_err(to_py_err)
     }
 
     /// Write the frame as OpenEXR, linear RGB.
     fn write_exr(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        py.detach(|| opalray::output::write_exr(&path, &self.rgb))
+        py.detach(|| opalray::output::write_exr(&path, &self.rgb, &self.provenance))
             .map_err(to_py_err)
     }
 
     /// Write the spectral image as OpenEXR, one channel per bin (`S0.<λ>nm`).
     fn write_spectral_exr(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        py.detach(|| opalray::output::write_spectral_exr(&path, &self.spectral))
+        py.detach(|| opalray::output::write_spectral_exr(&path, &self.spectral, &self.provenance))
             .map_err(to_py_err)
     }
 }

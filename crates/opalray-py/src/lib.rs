@@ -27,6 +27,9 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _opalray(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("DEFAULT_PRESET", opalray::scene::DEFAULT_RENDER_PRESET)?;
+    m.add("PRESETS", opalray::scene::PRESET_NAMES.to_vec())?;
+    m.add("MAX_SPP", opalray::scene::MAX_SPP)?;
     m.add_class::<frame::Frame>()?;
     m.add_class::<stages::Stages>()?;
     m.add_class::<light::StoredLight>()?;
@@ -35,6 +38,7 @@ fn _opalray(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::preset, m)?)?;
     m.add_function(wrap_pyfunction!(scene::parse_toml, m)?)?;
     m.add_function(wrap_pyfunction!(scene::to_toml_text, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::read_scene, m)?)?;
     m.add_function(wrap_pyfunction!(stages::prepare, m)?)?;
     m.add_function(wrap_pyfunction!(stages::render, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::write_sheet, m)?)?;

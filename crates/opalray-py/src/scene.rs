@@ -161,3 +161,13 @@ pub fn parse_toml<'py>(py: Python<'py>, text: &str, origin: &str) -> PyResult<Bo
 pub fn to_toml_text(obj: &Bound<'_, PyAny>) -> PyResult<String> {
     Ok(scene_of(obj)?.to_toml())
 }
+
+/// `read_scene(path) -> dict`: the scene a PNG or EXR image written by opalray records in its
+/// header (`opalray scene --from IMAGE`).
+#[pyfunction]
+pub fn read_scene<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyAny>> {
+    let scene = opalray::output::read_provenance(&path)
+        .and_then(|p| p.scene(&path))
+        .map_err(to_py_err)?;
+    dict_of(py, &scene)
+}

@@ -131,13 +131,46 @@ pub fn prepare(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Stages> {
     })
 }
 
-/// `render(scene) -> Frame`: the whole chain for a scene dict, as `opalray render` runs it.
+/// `render(scene, time_limit_s=None, on_pass=None) -> Frame`: the whole chain for a scene
+/// dict, as `opalray render` runs it. The path integrator stops after the pass in which
+/// `time_limit_s` seconds have passed, and calls `on_pass(passes, spp, target_spp,
+/// elapsed_s, noise)` after every pass (noise `None` before two samples per pixel); the
+/// other methods ignore both.
 #[pyfunction]
-pub fn render(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Frame> {
+#[pyo3(signature = (scene, time_limit_s=None, on_pass=None))]
+pub fn render(
+    py: Python<'_>,
+    scene: &Bound<'_, PyAny>,
+    time_limit_s: Option<f64>,
+    on_pass: Option<Py<PyAny>>,
+) -> PyResult<Frame> {
     let scene = scene_of(scene)?;
+    let time_limit = match time_limit_s {
+        Some(t) if !(t.is_finite() && t > 0.0) => {
+            return Err(PyValueError::new_err(format!(
+                "time_limit {t}: must be a number of seconds above 0; try 60"
+            )))
+        }
+        t => t.map(Duration::from_secs_f64),
+    };
     let result = run_detached(py, move || {
         let prepared = opalray::prepare(&scene)?;
-        let frame = prepared.render(scene.light.angle_deg);
+        let report = |r: &opalray::path::PassReport| {
+            if let Some(callback) = &on_pass {
+                Python::attach(|py| {
+                    let args = (r.passes, r.spp, r.target_spp, r.elapsed_s, r.noise);
+                    if let Err(err) = callback.call1(py, args) {
+                        err.print(py);
+                    }
+                });
+            }
+        };
+        let passes = opalray::path::Passes {
+            time_limit,
+            on_pass: Some(&report),
+            ..Default::default()
+        };
+        let frame = prepared.render_progressive(scene.light.angle_deg, &passes);
         Ok(Frame::new(&scene, frame, scene.light.angle_deg))
     })?;
     result.map_err(to_py_err)
@@ -173,6 +206,36 @@ impl Stages {
     ) -> PyResult<Bound<'py, PyBytes>> {
         let frame = self.frame(py, Some(light_angle_deg), threads)?;
         let codes = opalray::to_display_rgb8(&frame.rgb, &frame.color);
+        Ok(PyBytes::new(py, &codes))
+    }
+
+    /// One sweep frame of the stone in another pose: tilted by `tilt_deg`, turned by
+    /// `turn_deg` and the environment rotated by `rotation_deg` (`camera.tilt_deg`,
+    /// `camera.turn_deg`, `environment.rotation_deg`), at the scene's light angle; its
+    /// display codes, the bytes `opalray sweep --tilt-from …` gives.
+    #[pyo3(signature = (tilt_deg, turn_deg, rotation_deg, threads=None))]
+    fn render_posed_rgb8<'py>(
+        &self,
+        py: Python<'py>,
+        tilt_deg: f64,
+        turn_deg: f64,
+        rotation_deg: f64,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyBytes>> {
+        let mut camera = self.prepared.scene.camera.clone();
+        camera.tilt_deg = tilt_deg;
+        camera.turn_deg = turn_deg;
+        let posed = self
+            .prepared
+            .posed(&camera, rotation_deg)
+            .map_err(to_py_err)?;
+        let cells = self.cells.clone();
+        let job = move || {
+            let cells = cells.get_or_init(|| StoneCells::new(&posed.structure));
+            let frame = posed.render_in(cells, posed.scene.light.angle_deg);
+            opalray::to_display_rgb8(&frame.rgb, &posed.scene.color)
+        };
+        let codes = run_on(py, threads, job)?;
         Ok(PyBytes::new(py, &codes))
     }
 

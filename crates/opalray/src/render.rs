@@ -169,7 +169,7 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
             // The lights are built once, for every frame: timed as the light pass.
             let start = Instant::now();
             let environment = Environment::new(&scene.environment, scene.render.background as f32)?
-                .tilted(scene.camera.tilt_deg);
+                .posed(&scene.environment, &scene.camera);
             times.light_pass = seconds(start);
             (Some(std::sync::Arc::new(stone)), Some(environment))
         }
@@ -184,6 +184,26 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
     })
 }
 
+impl Prepared {
+    /// The same stone and optics seen in another pose: `scene`'s tilt, turn and environment
+    /// rotation (`camera.tilt_deg`, `camera.turn_deg`, `environment.rotation_deg`) replace
+    /// this one's. A sweep of the stone rocked and turned prepares it once.
+    pub fn posed(
+        &self,
+        camera: &crate::scene::CameraConfig,
+        rotation_deg: f64,
+    ) -> Result<Prepared> {
+        let mut posed = self.clone();
+        posed.scene.camera = camera.clone();
+        posed.scene.environment.rotation_deg = rotation_deg;
+        posed.scene.validate()?;
+        posed.environment = posed
+            .environment
+            .map(|e| e.posed(&posed.scene.environment, &posed.scene.camera));
+        Ok(posed)
+    }
+}
+
 /// Render `scene` end to end.
 pub fn render(scene: &Scene) -> Result<Frame> {
     let prepared = prepare(scene)?;
@@ -196,7 +216,7 @@ impl Prepared {
     /// camera's up axis; positive puts the light on the camera's right).
     pub fn placement(&self, light_angle_deg: f64) -> (Camera, LightSource) {
         let s = &self.scene;
-        let to_opal = Quat::from_rotation_x(-(s.camera.tilt_deg as f32).to_radians());
+        let to_opal = lab_to_stone(s);
         let eye = to_opal * Vec3::new(0.0, 0.0, s.camera.distance_mm as f32);
         let up = to_opal * Vec3::Y;
         let camera = Camera::look_at(
@@ -623,7 +643,15 @@ impl Prepared {
 
 /// The camera's up axis in the opal's frame (the picture's up).
 fn camera_up(s: &Scene) -> Vec3 {
-    Quat::from_rotation_x(-(s.camera.tilt_deg as f32).to_radians()) * Vec3::Y
+    lab_to_stone(s) * Vec3::Y
+}
+
+/// The rotation from the room (camera and lights fixed, the camera on +z) into the opal's
+/// frame: the opal is turned by `camera.turn_deg` about its face's normal, then tilted by
+/// `camera.tilt_deg` about the picture's horizontal axis.
+fn lab_to_stone(s: &Scene) -> Quat {
+    Quat::from_rotation_z(-(s.camera.turn_deg as f32).to_radians())
+        * Quat::from_rotation_x(-(s.camera.tilt_deg as f32).to_radians())
 }
 
 /// Angular radius of the scene light's disc as the path integrator's gloss shows it, degrees

@@ -5,7 +5,7 @@ use serde_json::json;
 
 use super::common::{cpu_ticks, peak_memory_mb, stolen_share, LookArgs, SceneArgs};
 
-/// Render the scene several times and print the median and the fastest time of each stage,
+/// Render the scene (default: the same as `opalray render`'s) several times and print the median and the fastest time of each stage,
 /// and the peak memory. The first run warms caches and is not counted. On a shared or
 /// virtual machine the fastest run is the steadier figure: other work only ever slows a run.
 /// Where the system reports it (Linux), the share of processor time the hypervisor took for
@@ -46,6 +46,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     let mut scene = args.scene.load()?;
     args.look.apply(&mut scene)?;
+    if args.scene.shown(&scene)? {
+        return Ok(());
+    }
     super::memory::check(&scene, super::memory::Extra::default())?;
     opalray::render::render(&scene)?;
     let mut times = Vec::with_capacity(args.runs);

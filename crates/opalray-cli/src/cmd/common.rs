@@ -23,16 +23,17 @@ pub struct SceneArgs {
     #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u64).range(..=i64::MAX as u64))]
     pub seed: Option<u64>,
+    /// Print the scene this command would run (the file or preset with every flag applied)
+    /// as TOML, and stop there: nothing is rendered or written.
+    #[arg(long)]
+    pub show_scene: bool,
 }
 
 impl SceneArgs {
-    /// Load the scene: the file if given, else the preset (default `paper`), then the seed.
+    /// Load the scene: the file if given, else the preset (default
+    /// [`opalray::scene::DEFAULT_RENDER_PRESET`], the same for every command), then the seed.
     pub fn load(&self) -> Result<Scene> {
-        self.load_or("paper")
-    }
-
-    /// [`SceneArgs::load`] with preset `default` when neither a file nor a preset is given.
-    pub fn load_or(&self, default: &str) -> Result<Scene> {
+        let default = opalray::scene::DEFAULT_RENDER_PRESET;
         let mut scene = match (&self.scene, &self.preset) {
             (Some(path), _) => {
                 let text = read_input("scene file", path, MAX_SCENE_BYTES).map_err(|err| {
@@ -76,6 +77,16 @@ fn first_problem(path: &Path, limit: u64) -> Option<String> {
     };
     let err = Scene::from_toml_str(text, &path.display().to_string()).err()?;
     Some(err.to_string().replace('\n', " "))
+}
+
+impl SceneArgs {
+    /// With --show-scene, print `scene` as TOML and say so (the command then stops).
+    pub fn shown(&self, scene: &Scene) -> Result<bool> {
+        if self.show_scene {
+            crate::stdio::out_raw(&scene.to_toml())?;
+        }
+        Ok(self.show_scene)
+    }
 }
 
 /// Largest scene file read, bytes (a complete scene is about 1.5 kB).
@@ -321,10 +332,36 @@ pub fn stolen_share(before: Option<(u64, u64)>, after: Option<(u64, u64)>) -> Op
     (t1 > t0).then(|| s1.saturating_sub(s0) as f64 / (t1 - t0) as f64)
 }
 
-/// A progress bar drawn on stderr only when it is a terminal.
+/// Whether stderr is a terminal: progress is a bar there, else lines (a log, CI, an IDE).
+pub fn stderr_is_terminal() -> bool {
+    std::io::IsTerminal::is_terminal(&std::io::stderr())
+}
+
+/// One line of progress on stderr where no bar is drawn (stderr not a terminal), so that a
+/// long render is never silent.
+pub fn progress_line(text: std::fmt::Arguments<'_>) {
+    if !stderr_is_terminal() {
+        crate::stdio::note(text);
+    }
+}
+
+/// `seconds` as a person reads a duration: "2.5 s", "42 s", "3.5 min", "1.2 h".
+pub fn duration_words(seconds: f64) -> String {
+    if seconds < 10.0 {
+        format!("{seconds:.1} s")
+    } else if seconds < 90.0 {
+        format!("{seconds:.0} s")
+    } else if seconds < 5400.0 {
+        format!("{:.1} min", seconds / 60.0)
+    } else {
+        format!("{:.1} h", seconds / 3600.0)
+    }
+}
+
+/// A progress bar drawn on stderr only when it is a terminal (else see [`progress_line`]).
 pub fn progress(len: u64, what: &str) -> ProgressBar {
     let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+    if !stderr_is_terminal() {
         bar.set_draw_target(ProgressDrawTarget::hidden());
     }
     bar.set_style(

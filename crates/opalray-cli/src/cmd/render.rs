@@ -11,7 +11,9 @@ use opalray::path::{PassReport, Passes};
 use opalray::scene::{Method, MAX_SPP};
 use opalray::Scene;
 
-use super::common::{peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
+use super::common::{
+    duration_words, peak_memory_mb, progress, progress_line, write_json, LookArgs, SceneArgs,
+};
 use crate::outputs::Outputs;
 
 /// Render the opal (paper figs. 10–11) to a PNG or EXR, and optionally its spectral image.
@@ -67,13 +69,14 @@ pub fn run(args: Args) -> Result<()> {
         Some(path) => Some(outputs.add("--stats", path, &["json"])?),
         None => None,
     };
-    let mut scene = args.scene.load_or(opalray::scene::DEFAULT_RENDER_PRESET)?;
+    let mut scene = args.scene.load()?;
     if let Some(angle) = args.light_angle {
         if !(angle.is_finite() && (-89.0..=89.0).contains(&angle)) {
             anyhow::bail!(
                 "--light-angle {angle} (light.angle_deg): must be within −89° … 89°; try 30"
             );
         }
+        super::motion::check_light_angle(&scene)?;
         scene.light.angle_deg = angle;
     }
     let time_limit = match args.time_limit {
@@ -98,12 +101,19 @@ pub fn run(args: Args) -> Result<()> {
         None => None,
     };
     args.look.apply(&mut scene)?;
+    if args.scene.shown(&scene)? {
+        return Ok(());
+    }
     super::memory::check(&scene, super::memory::Extra::default())?;
     let frame = if scene.integrator.method == Method::Path {
         render_in_passes(&scene, time_limit)?
     } else {
         let bar = progress(2, "structure");
         let prepared = opalray::render::prepare(&scene)?;
+        progress_line(format_args!(
+            "structure and optics ready ({}); light and view passes",
+            duration_words(prepared.times.total())
+        ));
         bar.set_message("light, view");
         bar.inc(1);
         let frame = prepared.render(scene.light.angle_deg);
@@ -114,16 +124,18 @@ pub fn run(args: Args) -> Result<()> {
         .output
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    // Each file carries its scene, so that it can be rendered again from itself.
+    let provenance = opalray::output::Provenance::of(&scene, &frame);
     outputs.write(image, |path| {
         if is_exr {
-            opalray::output::write_exr(path, &frame.rgb)
+            opalray::output::write_exr(path, &frame.rgb, &provenance)
         } else {
-            opalray::output::write_png(path, &frame.rgb, &scene.color)
+            opalray::output::write_png(path, &frame.rgb, &scene.color, &provenance)
         }
     })?;
     if let Some(spectral) = spectral {
         outputs.write(spectral, |path| {
-            opalray::output::write_spectral_exr(path, &frame.spectral)
+            opalray::output::write_spectral_exr(path, &frame.spectral, &provenance)
         })?;
     }
     let t = frame.times;
@@ -208,6 +220,10 @@ pub fn run(args: Args) -> Result<()> {
 fn render_in_passes(scene: &Scene, time_limit: Option<Duration>) -> Result<opalray::Frame> {
     let bar = progress(1, "structure");
     let prepared = opalray::render::prepare(scene)?;
+    progress_line(format_args!(
+        "stone ready ({}); tracing paths",
+        duration_words(prepared.times.total())
+    ));
     let (len, unit) = match time_limit {
         Some(limit) => (limit.as_secs_f64().ceil() as u64, "s"),
         None => (u64::from(scene.integrator.spp), "spp"),
@@ -220,6 +236,14 @@ fn render_in_passes(scene: &Scene, time_limit: Option<Duration>) -> Result<opalr
             .noise
             .map_or(String::new(), |n| format!(", noise {:.1} %", 100.0 * n));
         bar.set_message(format!("{} spp{noise}", r.spp));
+        progress_line(format_args!(
+            "pass {}: {} of {} spp{noise}, {} elapsed, {}",
+            r.passes,
+            r.spp,
+            r.target_spp,
+            duration_words(r.elapsed_s),
+            time_left(r, time_limit)
+        ));
         bar.set_position(match time_limit {
             Some(_) => (r.elapsed_s as u64).min(len),
             None => u64::from(r.spp),
@@ -235,4 +259,19 @@ fn render_in_passes(scene: &Scene, time_limit: Option<Duration>) -> Result<opalr
     );
     bar.finish_and_clear();
     Ok(frame)
+}
+
+/// The time left after pass report `r`, in words: the passes double the samples, so the rest
+/// costs about the time so far times the samples left over the samples done (and no more
+/// than a time limit leaves).
+fn time_left(r: &PassReport, time_limit: Option<Duration>) -> String {
+    if r.spp >= r.target_spp {
+        return "done".into();
+    }
+    let by_samples = r.elapsed_s * f64::from(r.target_spp - r.spp) / f64::from(r.spp.max(1));
+    let left = match time_limit {
+        Some(limit) => by_samples.min((limit.as_secs_f64() - r.elapsed_s).max(0.0)),
+        None => by_samples,
+    };
+    format!("about {} left", duration_words(left))
 }

@@ -13,8 +13,10 @@ use crate::outputs::Outputs;
 const EXAMPLES: &str = "\
 Examples:
   opalray structure
-      the paper's opal (100 × 75 × 25 cells, R = 6, void ratio 0.2), slice z = 0,
-      written to structure.png
+      the default scene's grid (black-opal, as `opalray render`: 100 × 75 × 25 cells,
+      R = 6, void ratio 0.2), slice z = 0, written to structure.png
+  opalray structure --preset paper
+      the paper's opal
   opalray structure --seed 7 --slice-z 3 --output slice3.png --stats stats.json
   opalray structure my-opal.toml --scale 2
       a scene file (start one with `opalray scene > my-opal.toml`)";
@@ -50,6 +52,9 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     // Check every input and output before growing.
     let scene = args.scene.load()?;
+    if args.scene.shown(&scene)? {
+        return Ok(());
+    }
     let config = &scene.structure;
     let [nx, ny, nz] = config.grid;
     let slice_z = args.slice_z.unwrap_or(nz / 2);

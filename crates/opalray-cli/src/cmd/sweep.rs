@@ -1,4 +1,5 @@
-//! `opalray sweep`: the paper's fig. 11, the light swept from −60° to 60°.
+//! `opalray sweep`: the play of colour as a series of frames: the light swept about the stone
+//! (the paper's fig. 11), or the stone rocked or turned, or the environment turned.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -6,35 +7,32 @@ use std::time::Instant;
 use anyhow::Result;
 use serde_json::json;
 
-use super::common::{peak_memory_mb, progress, write_json, LookArgs, SceneArgs};
+use super::common::{
+    duration_words, peak_memory_mb, progress, progress_line, write_json, LookArgs, SceneArgs,
+};
 use super::frames::{fnv, FramesDir};
+use super::motion::{pose, MotionArgs, Moves};
 use crate::outputs::Outputs;
 
-/// Render the light sweep of the paper's fig. 11 as a contact sheet and an animation.
+/// Render a sweep as a contact sheet and an animation: the light's angle where the scene has
+/// a light (the paper's fig. 11), else the stone rocked from −30° to 30°; or what the
+/// --tilt-*, --turn-*, --env-* or --light-* flags move.
 ///
-/// The structure and optics are computed once; each frame redoes only the light pass, the
-/// view pass and the colour. Frames default to 320 × 240.
+/// The structure and optics are computed once; each frame redoes only the lights, the passes
+/// and the colour. Frames default to 320 × 240. A flag that moves nothing in the scene is
+/// refused, naming what would move.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_long_help = "Examples:\n  opalray sweep\n  opalray sweep --from -60 --to 60 --frames 25 --animation play.gif\n  opalray sweep --frames 7 --sheet fig11.png --width 480 --height 360\n  opalray sweep --animation play.png          (APNG: full colour)"
+    after_long_help = "Examples:\n  opalray sweep                                  (the black opal rocked, −30° to 30°)\n  opalray sweep --turn-from 0 --turn-to 80 --frames 9 --animation turn.png\n  opalray sweep --preset paper --light-from -60 --light-to 60 --frames 25 --animation play.gif\n  opalray sweep --preset paper --frames 7 --sheet fig11.png --width 480 --height 360\n  opalray sweep --animation play.png          (APNG: full colour)"
 )]
 pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,
     #[command(flatten)]
     pub look: LookArgs,
-    /// First light angle, degrees.
-    #[arg(long, value_name = "DEG", default_value_t = -60.0, allow_hyphen_values = true)]
-    pub from: f64,
-    /// Last light angle, degrees.
-    #[arg(
-        long,
-        value_name = "DEG",
-        default_value_t = 60.0,
-        allow_hyphen_values = true
-    )]
-    pub to: f64,
-    /// Number of frames (angles evenly spaced from --from to --to), 1 to 1000.
+    #[command(flatten)]
+    pub motion: MotionArgs,
+    /// Number of frames (evenly spaced from the first value to the last), 1 to 1000.
     #[arg(long, value_name = "N", default_value_t = 9)]
     pub frames: usize,
     /// Contact sheet of all frames with the angle under each (PNG).
@@ -46,7 +44,11 @@ pub struct Args {
     /// Animation of the sweep: .gif, or .png for an APNG.
     #[arg(long, value_name = "FILE")]
     pub animation: Option<PathBuf>,
-    /// Time per animation frame, milliseconds.
+    /// Video of the sweep through ffmpeg (which must be installed): .mp4 (H.264) or .webm
+    /// (VP9), full colour, frames streamed to it as they complete.
+    #[arg(long, value_name = "FILE")]
+    pub video: Option<PathBuf>,
+    /// Time per animation or video frame, milliseconds.
     #[arg(long, value_name = "MS", default_value_t = 120)]
     pub delay_ms: u32,
     /// Write timings as JSON: the light and view passes summed over the frames, and peak
@@ -67,11 +69,6 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     if !(1..=1000).contains(&args.frames) {
         anyhow::bail!("--frames {}: must be 1 to 1000; try 9", args.frames);
-    }
-    for (flag, v) in [("--from", args.from), ("--to", args.to)] {
-        if !(v.is_finite() && (-89.0..=89.0).contains(&v)) {
-            anyhow::bail!("{flag} {v}: the light angle must be within −89° … 89°; try −60 and 60");
-        }
     }
     if let Some(columns) = args.columns {
         if !(1..=args.frames).contains(&columns) {
@@ -98,12 +95,24 @@ pub fn run(args: Args) -> Result<()> {
         Some(path) => Some(outputs.add("--stats", path, &["json"])?),
         None => None,
     };
+    let video_out = match &args.video {
+        Some(path) => {
+            let out = outputs.add("--video", path, &["mp4", "webm"])?;
+            super::video::check_ffmpeg()?;
+            Some(out)
+        }
+        None => None,
+    };
     let mut scene = args.scene.load()?;
     if args.look.width.is_none() && args.look.height.is_none() {
         scene.render.width = 320;
         scene.render.height = 240;
     }
     args.look.apply(&mut scene)?;
+    let (moves, [from, to]) = args.motion.choose(&scene)?;
+    if args.scene.shown(&scene)? {
+        return Ok(());
+    }
     super::memory::check(
         &scene,
         super::memory::Extra {
@@ -114,8 +123,8 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     let angles: Vec<f64> = (0..args.frames)
         .map(|k| match args.frames {
-            1 => args.from,
-            n => args.from + (args.to - args.from) * k as f64 / (n - 1) as f64,
+            1 => from,
+            n => from + (to - from) * k as f64 / (n - 1) as f64,
         })
         .collect();
     let (w, h) = (scene.render.width as usize, scene.render.height as usize);
@@ -125,7 +134,7 @@ pub fn run(args: Args) -> Result<()> {
             outputs.check_folder("--frames-dir", dir)?;
             Some(FramesDir::open(
                 dir,
-                sweep_key(&scene, &angles),
+                sweep_key(&scene, moves, &angles),
                 &angles,
                 args.resume,
             )?)
@@ -159,6 +168,12 @@ pub fn run(args: Args) -> Result<()> {
         }
         _ => None,
     };
+    let mut video = match (video_out, &args.video) {
+        (Some(out), Some(path)) => Some(outputs.write(out, |temp| {
+            super::video::VideoWriter::create(temp, path, w, h, args.delay_ms)
+        })?),
+        _ => None,
+    };
     let mut per_frame = Vec::with_capacity(angles.len());
     // One frame at a time, each on all threads. (Two at once kept the cores a little busier,
     // 3.5 % off a 25-frame sweep on two cores, for a third more memory: `BENCHMARKS.md`.)
@@ -170,7 +185,15 @@ pub fn run(args: Args) -> Result<()> {
         let rgb8 = match done {
             Some(rgb8) => rgb8,
             None => {
-                let frame = prepared.render_in(&cells, angle);
+                let frame = match moves {
+                    Moves::Light => prepared.render_in(&cells, angle),
+                    _ => {
+                        let posed = pose(&scene, moves, angle);
+                        prepared
+                            .posed(&posed.camera, posed.environment.rotation_deg)?
+                            .render_in(&cells, scene.light.angle_deg)
+                    }
+                };
                 per_frame.push(frame.times);
                 let rgb8 = opalray::color::to_display_rgb8(&frame.rgb, &scene.color);
                 if let Some(dir) = &mut frames_dir {
@@ -183,7 +206,20 @@ pub fn run(args: Args) -> Result<()> {
         if let (Some(writer), Some(out)) = (&mut animation, animation_out) {
             outputs.write(out, |_| writer.push(&rgb8))?;
         }
+        if let Some(writer) = &mut video {
+            writer.push(&rgb8)?;
+        }
         bar.inc(1);
+        let elapsed = start.elapsed().as_secs_f64();
+        let left = elapsed * (angles.len() - k - 1) as f64 / (k + 1) as f64;
+        progress_line(format_args!(
+            "frame {} of {}: {} {angle:.1}°, {} elapsed, about {} left",
+            k + 1,
+            angles.len(),
+            moves.name(),
+            duration_words(elapsed),
+            duration_words(left)
+        ));
     }
     bar.finish_and_clear();
     let elapsed = start.elapsed().as_secs_f64();
@@ -195,12 +231,16 @@ pub fn run(args: Args) -> Result<()> {
     if let (Some(writer), Some(out)) = (animation, animation_out) {
         outputs.write(out, |_| writer.finish())?;
     }
+    if let Some(writer) = &mut video {
+        writer.finish()?;
+    }
     if let Some(stats_out) = stats_out {
         let light: f64 = per_frame.iter().map(|t| t.light_pass).sum();
         let view: f64 = per_frame.iter().map(|t| t.view_pass).sum();
         let value = json!({
             "frames": angles.len(),
             "frames_rendered": per_frame.len(),
+            "moves": moves.name(),
             "angles_deg": angles,
             "time_s": {"structure": prepared.times.structure, "optics": prepared.times.optics,
                        "light_pass": light, "view_pass": view, "total": elapsed},
@@ -210,24 +250,29 @@ pub fn run(args: Args) -> Result<()> {
     }
     outputs.commit()?;
     crate::stdio::out(format_args!(
-        "wrote {} ({} frames, {} rendered, {:.2} s)",
+        "wrote {} ({} frames, {} rendered, {:.2} s; the {} from {from}° to {to}°)",
         args.sheet.display(),
         angles.len(),
         per_frame.len(),
-        elapsed
+        elapsed,
+        moves.name()
     ))?;
-    for path in [&args.animation, &args.stats].into_iter().flatten() {
+    for path in [&args.animation, &args.video, &args.stats]
+        .into_iter()
+        .flatten()
+    {
         crate::stdio::out(format_args!("wrote {}", path.display()))?;
     }
     Ok(())
 }
 
-/// The key of the sweep of `scene` over `angles`: a hash of the scene, the angles and the
+/// The key of the sweep of `scene` moving `moves` over `angles`: a hash of the scene, the angles and the
 /// frame size, naming the sweep a frames folder belongs to.
-fn sweep_key(scene: &opalray::Scene, angles: &[f64]) -> String {
+fn sweep_key(scene: &opalray::Scene, moves: Moves, angles: &[f64]) -> String {
     let text = format!(
-        "{}\n{angles:?}\n{}x{}",
+        "{}\n{}\n{angles:?}\n{}x{}",
         scene.to_toml(),
+        moves.name(),
         scene.render.width,
         scene.render.height
     );

@@ -41,10 +41,25 @@ for v in ["0", "-1", "nan", "inf", "1e9", "abc"]:
     case(f"render --preset harlequin --time-limit {v} {TINY}", "--time-limit")
 case(f"render --preset paper --time-limit 5 {TINY}", "only the path integrator")
 
+for flag, v in [("--from", "90"), ("--from", "nan"), ("--to", "-90"), ("--to", "inf"),
+                ("--light-from", "90"), ("--light-to", "x")]:
+    case(f"sweep --preset paper {flag} {v} {TINY}", flag)
+for flag, v in [("--tilt-from", "90"), ("--tilt-to", "nan"), ("--turn-from", "361"),
+                ("--turn-to", "-inf"), ("--env-from", "400"), ("--env-to", "abc")]:
+    case(f"sweep {flag} {v} {TINY}", flag)
+# What moves nothing in the scene is refused, naming what would.
+case(f"sweep --light-from -45 {TINY}", "no light")
+case(f"sweep --from -45 --to 45 {TINY}", "no light")
+case(f"render --light-angle 20 {TINY}", "no light")
+case(f"sweep --preset paper --env-from 0 {TINY}", "no environment")
+case(f"sweep --tilt-from -10 --turn-to 10 {TINY}", "moves one thing")
+case(f"sweep --tilt 5 --tilt-from -10 {TINY}", "--tilt")
+case(f"scene --from nosuch.png", "--from nosuch.png")
+case(f"scene --from keep.png", "not a readable PNG")
 for flag, v in [("--frames", "0"), ("--frames", "1001"), ("--frames", "-1"), ("--frames", "x"),
-                ("--from", "90"), ("--from", "nan"), ("--to", "-90"), ("--to", "inf"),
                 ("--columns", "0"), ("--columns", "100"), ("--delay-ms", "70000"),
                 ("--delay-ms", "-5"), ("--sheet", "x.jpg"), ("--animation", "x.mp4"),
+                ("--video", "x.avi"), ("--video", "x.gif"), ("--video", "nodir/v.mp4"),
                 ("--frames-dir", "afile"), ("--sheet", "keep.png/"), ("--sheet", "nodir/s.png"),
                 ("--animation", "adir.json"), ("--stats", "adir.json")]:
     case(f"sweep {flag} {v} {TINY}", flag)

@@ -7,15 +7,29 @@ use crate::error::{Error, Result};
 use crate::scene::ColorConfig;
 
 use super::encode_png;
+use super::provenance::Provenance;
 
 /// Write a linear RGB image as an sRGB-encoded PNG (with an `sRGB` chunk), atomically:
 /// gamut mapping per `color.gamut`, then the sRGB transfer curve, at `color.bit_depth`
 /// (8 or 16) bits per channel. Exposure is not applied here (it is part of
 /// [`to_rgb`](crate::color::to_rgb)).
-pub fn write_png(path: &Path, rgb: &RgbImage, color: &ColorConfig) -> Result<()> {
+pub fn write_png(
+    path: &Path,
+    rgb: &RgbImage,
+    color: &ColorConfig,
+    provenance: &Provenance,
+) -> Result<()> {
     let (width, height) = dimensions(path, rgb)?;
     match color.bit_depth {
-        8 => super::write_png_rgb8(path, width, height, &to_display_rgb8(rgb, color)),
+        8 => encode_png(
+            path,
+            width,
+            height,
+            png::ColorType::Rgb,
+            png::BitDepth::Eight,
+            &to_display_rgb8(rgb, color),
+            provenance,
+        ),
         16 => {
             let codes = to_display_rgb16(rgb, color);
             let bytes: Vec<u8> = codes.iter().flat_map(|c| c.to_be_bytes()).collect();
@@ -26,6 +40,7 @@ pub fn write_png(path: &Path, rgb: &RgbImage, color: &ColorConfig) -> Result<()>
                 png::ColorType::Rgb,
                 png::BitDepth::Sixteen,
                 &bytes,
+                provenance,
             )
         }
         other => Err(Error::field(
@@ -72,7 +87,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("a.png");
         let rgb = ramp();
-        write_png(&path, &rgb, &ColorConfig::default()).unwrap();
+        write_png(&path, &rgb, &ColorConfig::default(), &Provenance::default()).unwrap();
         let read = image::open(&path).unwrap();
         assert_eq!(read.color(), image::ColorType::Rgb8);
         let expected = to_display_rgb8(&rgb, &ColorConfig::default());
@@ -88,7 +103,7 @@ mod tests {
             ..ColorConfig::default()
         };
         let rgb = ramp();
-        write_png(&path, &rgb, &color).unwrap();
+        write_png(&path, &rgb, &color, &Provenance::default()).unwrap();
         let read = image::open(&path).unwrap();
         assert_eq!(read.color(), image::ColorType::Rgb16);
         let codes = read.to_rgb16().into_raw();
@@ -111,13 +126,19 @@ mod tests {
             height: 1,
             data: vec![[0.0; 3]; 2],
         };
-        assert!(write_png(&path, &bad, &ColorConfig::default()).is_err());
+        assert!(write_png(&path, &bad, &ColorConfig::default(), &Provenance::default()).is_err());
         let empty = RgbImage {
             width: 0,
             height: 0,
             data: vec![],
         };
-        assert!(write_png(&path, &empty, &ColorConfig::default()).is_err());
+        assert!(write_png(
+            &path,
+            &empty,
+            &ColorConfig::default(),
+            &Provenance::default()
+        )
+        .is_err());
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     }
 }

@@ -5,11 +5,12 @@ use std::io::Cursor;
 use std::path::Path;
 
 use exr::prelude::{
-    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, Layer, LayerAttributes,
-    SpecificChannels, Text, Vec2, WritableImage,
+    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, ImageAttributes, Layer,
+    LayerAttributes, SpecificChannels, Text, Vec2, WritableImage,
 };
 
 use super::display::dimensions;
+use super::provenance::{Provenance, SCENE_KEY};
 use super::write_atomic;
 use crate::color::RgbImage;
 use crate::error::{Error, Result};
@@ -24,17 +25,23 @@ const SPECTRAL_LAYOUT_VERSION: &str = "1.0";
 /// curve. They are in the space chosen at [`to_rgb`](crate::color::to_rgb); OpenEXR readers
 /// take a file without a `chromaticities` attribute as BT.709/sRGB primaries with a D65 white,
 /// which is right for the default space.
-pub fn write_exr(path: &Path, rgb: &RgbImage) -> Result<()> {
+///
+/// `provenance`'s entries become text attributes of the header (UTF-8 bytes).
+pub fn write_exr(path: &Path, rgb: &RgbImage, provenance: &Provenance) -> Result<()> {
     let (width, _) = dimensions(path, rgb)?;
     let width = width as usize;
     let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
         let [r, g, b] = rgb.data[y * width + x];
         (r, g, b)
     });
+    let mut image = Image::from_channels((rgb.width, rgb.height), channels);
+    tag(
+        &mut image.attributes,
+        &mut image.layer_data.attributes,
+        provenance,
+    );
     let mut bytes = Cursor::new(Vec::new());
-    let written = Image::from_channels((rgb.width, rgb.height), channels)
-        .write()
-        .to_buffered(&mut bytes);
+    let written = image.write().to_buffered(&mut bytes);
     store(path, written, bytes)
 }
 
@@ -51,8 +58,13 @@ pub fn spectral_channel_name(wavelength_nm: f64) -> String {
 /// [`spectral_channel_name`]), e.g. `S0.385,000000nm` … `S0.775,000000nm` for the default
 /// grid, and the header attribute `spectralLayoutVersion = "1.0"`. Values are the image's
 /// bin-averaged radiance in opalray's relative units (1 = a white diffuser under the light),
-/// so no `emissiveUnits` attribute is written. Written atomically.
-pub fn write_spectral_exr(path: &Path, image: &SpectralImage) -> Result<()> {
+/// so no `emissiveUnits` attribute is written. `provenance`'s entries become text
+/// attributes. Written atomically.
+pub fn write_spectral_exr(
+    path: &Path,
+    image: &SpectralImage,
+    provenance: &Provenance,
+) -> Result<()> {
     let (width, height, bins) = (image.width, image.height, image.grid.bins);
     if width == 0 || height == 0 || bins == 0 || image.data.len() != width * height * bins {
         return Err(Error::Encode {
@@ -85,9 +97,32 @@ pub fn write_spectral_exr(path: &Path, image: &SpectralImage) -> Result<()> {
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(channels),
     );
+    let mut image = Image::from_layer(layer);
+    tag(
+        &mut image.attributes,
+        &mut image.layer_data.attributes,
+        provenance,
+    );
     let mut bytes = Cursor::new(Vec::new());
-    let written = Image::from_layer(layer).write().to_buffered(&mut bytes);
+    let written = image.write().to_buffered(&mut bytes);
     store(path, written, bytes)
+}
+
+/// Record `provenance` in a header: its `Software` entry as the standard `software`
+/// attribute, the rest as the one text attribute `opalray.scene` (UTF-8 bytes: OpenEXR text
+/// attributes are byte strings), the scene's TOML after a comment line holding the other
+/// entries. One attribute, because the `exr` crate writes a header's other attributes in
+/// its hash map's order, which differs from run to run: one per map keeps the bytes alike.
+fn tag(image: &mut ImageAttributes, layer: &mut LayerAttributes, provenance: &Provenance) {
+    if let Some(software) = provenance.get("Software") {
+        layer.software_name = Some(Text::from_slice_unchecked(software.as_bytes()));
+    }
+    if let Some(text) = provenance.scene_with_summary() {
+        image.other.insert(
+            Text::from(SCENE_KEY),
+            AttributeValue::Text(Text::from_slice_unchecked(text.as_bytes())),
+        );
+    }
 }
 
 /// Write the bytes the encoder produced in memory (it needs to seek) to `path`, atomically.
@@ -151,7 +186,7 @@ mod tests {
                 [7.0, 8.0, 9.0],
             ],
         };
-        write_exr(&path, &rgb).unwrap();
+        write_exr(&path, &rgb, &Provenance::default()).unwrap();
         let (channels, _) = read_back(&path);
         let names: Vec<&str> = channels.iter().map(|(n, _)| n.as_str()).collect();
         assert_eq!(names, ["B", "G", "R"]);
@@ -177,7 +212,7 @@ mod tests {
         for (i, v) in image.data.iter_mut().enumerate() {
             *v = i as f32 * 0.5;
         }
-        write_spectral_exr(&path, &image).unwrap();
+        write_spectral_exr(&path, &image, &Provenance::default()).unwrap();
         let (channels, attributes) = read_back(&path);
         let names: Vec<&str> = channels.iter().map(|(n, _)| n.as_str()).collect();
         assert_eq!(
@@ -199,7 +234,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("s.exr");
         let image = SpectralImage::new(0, 4, WavelengthGrid::default());
-        assert!(write_spectral_exr(&path, &image).is_err());
+        assert!(write_spectral_exr(&path, &image, &Provenance::default()).is_err());
         assert!(!path.exists());
     }
 }

@@ -44,7 +44,7 @@ use rayon::prelude::*;
 use super::env_map::{read_map, LuminanceMap};
 use crate::error::{Error, Result};
 use crate::sampling::distribution::Distribution2D;
-use crate::scene::{EnvironmentConfig, EnvironmentKind};
+use crate::scene::{CameraConfig, EnvironmentConfig, EnvironmentKind};
 
 mod filter;
 
@@ -132,11 +132,15 @@ impl Environment {
         Ok(env)
     }
 
-    /// The environment seen from a stone tilted by `tilt_deg` about the picture's horizontal
-    /// axis (x) together with the camera (`camera.tilt_deg`): the room turns with the camera,
-    /// as the point light does, so tilting the camera is tilting the stone under fixed lights.
-    pub fn tilted(mut self, tilt_deg: f64) -> Self {
-        self.to_env *= DQuat::from_rotation_x(tilt_deg.to_radians());
+    /// The environment turned by `config.rotation_deg` and seen from a stone turned by
+    /// `camera.turn_deg` about its face's normal (z), then tilted by `camera.tilt_deg` about
+    /// the picture's horizontal axis (x): the room turns with the camera, as the point light
+    /// does, so moving the camera is moving the stone under fixed lights. Replaces any
+    /// earlier pose.
+    pub fn posed(mut self, config: &EnvironmentConfig, camera: &CameraConfig) -> Self {
+        self.to_env = DQuat::from_rotation_z(-config.rotation_deg.to_radians())
+            * DQuat::from_rotation_x(camera.tilt_deg.to_radians())
+            * DQuat::from_rotation_z(camera.turn_deg.to_radians());
         self
     }
 
@@ -383,16 +387,25 @@ mod tests {
     }
 
     #[test]
-    fn a_tilted_environment_turns_about_the_picture_horizontal() {
+    fn a_posed_environment_turns_with_the_camera() {
         let config = EnvironmentConfig {
             kind: EnvironmentKind::Studio,
             rotation_deg: 20.0,
             ..Default::default()
         };
         let plain = Environment::new(&config, 0.0).unwrap();
-        let tilted = Environment::new(&config, 0.0).unwrap().tilted(30.0);
-        // The camera tilted by 30° sits at rot_x(−30°)·z: the room turns with it.
-        let turn = glam::Quat::from_rotation_x(-30f32.to_radians());
+        let camera = CameraConfig {
+            tilt_deg: 30.0,
+            turn_deg: 25.0,
+            ..Default::default()
+        };
+        let tilted = Environment::new(&config, 0.0)
+            .unwrap()
+            .posed(&config, &camera);
+        // The stone turned by 25° and tilted by 30° sees the camera at
+        // rot_z(−25°)·rot_x(−30°)·z: the room turns with it.
+        let turn = glam::Quat::from_rotation_z(-25f32.to_radians())
+            * glam::Quat::from_rotation_x(-30f32.to_radians());
         for k in 0..200 {
             let u = [(k as f32 + 0.5) / 200.0, ((k * 37) % 200) as f32 / 200.0];
             let s = plain.sample(u);

@@ -141,6 +141,7 @@ impl LightConfig {
 /// | `distance_mm`  | mm   | 100     | (0, 1e6]    |
 /// | `fov_deg`      | deg  | 13.5    | (0, 170]    |
 /// | `tilt_deg`     | deg  | 0       | [−89, 89]   |
+/// | `turn_deg`     | deg  | 0       | [−360, 360] |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct CameraConfig {
@@ -150,6 +151,9 @@ pub struct CameraConfig {
     pub fov_deg: f64,
     /// Tilt of the opal towards the camera about the x axis, degrees (0: face on).
     pub tilt_deg: f64,
+    /// Turn of the opal about its face's normal (z), counter-clockwise seen from the camera,
+    /// degrees, before the tilt; the camera and the lights stay where they are.
+    pub turn_deg: f64,
 }
 
 impl Default for CameraConfig {
@@ -158,6 +162,7 @@ impl Default for CameraConfig {
             distance_mm: 100.0,
             fov_deg: 13.5,
             tilt_deg: 0.0,
+            turn_deg: 0.0,
         }
     }
 }
@@ -167,7 +172,8 @@ impl CameraConfig {
     pub fn validate(&self) -> Result<()> {
         check_positive("camera.distance_mm", self.distance_mm, 1e6, 100.0)?;
         check_positive("camera.fov_deg", self.fov_deg, 170.0, 13.5)?;
-        check_range("camera.tilt_deg", self.tilt_deg, -89.0, 89.0, 0.0)
+        check_range("camera.tilt_deg", self.tilt_deg, -89.0, 89.0, 0.0)?;
+        check_range("camera.turn_deg", self.turn_deg, -360.0, 360.0, 0.0)
     }
 }
 

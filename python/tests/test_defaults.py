@@ -1,0 +1,56 @@
+"""What a new user meets first: one default scene in Python and in every command, the list of
+presets, progress per pass and a time limit."""
+
+import subprocess
+
+import numpy as np
+import pytest
+
+import opalray
+
+
+def test_python_and_every_command_default_to_the_same_scene(cli):
+    assert opalray.DEFAULT_PRESET == "black-opal"
+    assert opalray.DEFAULT_PRESET in opalray.presets() and "paper" in opalray.presets()
+    default = opalray.Scene.preset(opalray.DEFAULT_PRESET)
+
+    def shown(*args):
+        out = subprocess.run([cli, *args], check=True, capture_output=True, text=True)
+        return opalray.Scene(__import__("tomllib").loads(out.stdout))
+
+    assert shown("scene") == default
+    for command in ("render", "bench", "structure"):
+        assert shown(command, "--show-scene") == default, command
+    assert shown("sweep", "--show-scene", "--width", "640", "--height", "480") == default
+    # Python's render and sweep start from it too (small sizes given, as overrides).
+    small = {"render": {"width": 16, "height": 12}, "integrator": {"spp": 1}}
+    image = opalray.render(**small)
+    assert image.scene == default.replace(**small)
+    # The preset is tilted by -10 degrees: its own tilt is the default render.
+    swept = opalray.sweep(tilt_deg=[default["camera"]["tilt_deg"]], **small)
+    np.testing.assert_array_equal(swept.frames[0], image.srgb8)
+
+
+def test_a_path_traced_render_reports_every_pass():
+    gem = opalray.Scene.preset("black-opal").replace(render={"width": 16, "height": 12}, integrator={"spp": 4})
+    seen = []
+    image = opalray.render(gem, progress=lambda stage, done, total: seen.append((stage, done, total)))
+    # Passes of doubling samples: 2, then 4 samples per pixel, each with its noise.
+    assert [(d, t) for _, d, t in seen] == [(2, 4), (4, 4)]
+    assert all("spp, noise" in stage for stage, _, _ in seen), seen
+    np.testing.assert_array_equal(image.srgb8, opalray.render(gem).srgb8)
+
+
+def test_a_time_limit_stops_after_the_pass_it_falls_in():
+    gem = opalray.Scene.preset("black-opal").replace(render={"width": 16, "height": 12})
+    image = opalray.render(gem, time_limit=1e-3)
+    path = image.stats["path"]
+    assert path["stopped_by_time_limit"] and path["passes"] == 1
+    assert path["spp"] < path["target_spp"] == 65536
+    # The image is the one of the samples reached.
+    again = opalray.render(gem, integrator={"spp": path["spp"]})
+    np.testing.assert_array_equal(image.srgb8, again.srgb8)
+    with pytest.raises(ValueError, match="time_limit"):
+        opalray.render(opalray.Scene.preset("paper"), time_limit=10)
+    with pytest.raises(ValueError, match="time_limit"):
+        opalray.render(gem, time_limit=-1)
