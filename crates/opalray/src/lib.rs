@@ -22,6 +22,7 @@ pub mod denoise;
 pub mod error;
 pub mod geometry;
 pub mod light_pass;
+pub mod lights;
 pub mod optics;
 pub mod output;
 pub mod path;
