@@ -7,7 +7,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use opalray::path::env_map::{map_size, read_map, MAX_MAP_PIXELS, MAX_MAP_SIDE};
+use opalray::lights::env_map::{map_size, read_map, MAX_MAP_PIXELS, MAX_MAP_SIDE};
 
 fuzz_target!(|data: &[u8]| {
     let Some((&pick, file)) = data.split_first() else {

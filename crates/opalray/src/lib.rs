@@ -1,19 +1,15 @@
 //! opalray: a spectral renderer for structural colour, starting with the play of colour of
 //! precious opal (Imura et al., "Rendering of 'Play of Color' using Stratified Model based on
-//! Amorphous Structure of Opal").
-//!
-//! The pipeline, one module per stage, each a function of its inputs and the seed:
+//! Amorphous Structure of Opal"). Layers, each importing only from those above it
+//! (`docs/architecture.md`; the physics as built: `docs/model.md`):
 //!
 //! ```text
-//! Scene (TOML | preset)                      scene::Scene
-//!   -> grow_structure   cells: outside | void | cluster(orientation)     structure
-//!   -> build_optics     R, T, D tables over wavelength × angle           optics
-//!   -> trace_light      light stored per cluster                          light_pass
-//!   -> trace_view       spectral image H × W × bins                       view_pass
-//!      (or the path tracer on the stone model, path, then denoise; or the two passes on
-//!      it, stored)
-//!   -> to_rgb           CIE 1931 → XYZ → RGB, gamut-mapped               color
-//!   -> write_*          PNG | EXR | spectral EXR                          output
+//! spectrum geometry sampling error   foundations, no scene
+//! scene (TOML | preset = scenes/*.toml)  ->  color, optics (R, T, Bragg lines), structure (growth)
+//!   -> stone (the stone model)  +  lights (environment, its file reader, area lights)
+//!   -> an integrator: light_pass + view_pass (paper, on cells) | path (+ denoise) | stored
+//!   -> render.rs: prepare(scene), then the match on integrator.method -> Frame
+//!   -> to_rgb (CIE 1931 -> XYZ -> RGB, gamut-mapped) -> output (PNG | EXR | spectral EXR)
 //! ```
 #![warn(missing_docs)]
 
@@ -22,6 +18,7 @@ pub mod denoise;
 pub mod error;
 pub mod geometry;
 pub mod light_pass;
+pub mod lights;
 pub mod lobe;
 pub mod optics;
 pub mod output;

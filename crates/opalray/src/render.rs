@@ -15,12 +15,10 @@ use crate::light_pass::{
     trace_light, ClusterOptics, EnergyLedger, LightField, LightSetup, LightSource, StoneCells,
     Termination,
 };
+use crate::lights::{AreaLight, Environment};
 use crate::lobe::{render_lobes, LobeSetup};
 use crate::optics::{build_optics, OpticsTables};
-use crate::path::{
-    trace_passes, AreaLight, Environment, Noise, Passes, PathImage, PathLight, PathSetup,
-    SpectralSampler,
-};
+use crate::path::{trace_passes, Noise, Passes, PathImage, PathLight, PathSetup, SpectralSampler};
 use crate::sampling::mix64;
 use crate::scene::{LightKind, Method, Scene, BODY_EXTINCTION_PER_MM};
 use crate::spectrum::SpectralImage;

@@ -4,8 +4,9 @@
 
 use glam::Vec3;
 use opalray::geometry::Camera;
+use opalray::lights::Environment;
 use opalray::lobe::{render_lobes, LobeImage, LobeSetup};
-use opalray::path::{Environment, SpectralSampler};
+use opalray::path::SpectralSampler;
 use opalray::scene::{preset, EnvironmentConfig, EnvironmentKind, Method, Scene};
 use opalray::stone::Stone;
 

@@ -4,7 +4,8 @@
 
 use glam::Vec3;
 use opalray::geometry::Camera;
-use opalray::path::{trace_paths, Environment, PathSetup, SpectralSampler};
+use opalray::lights::Environment;
+use opalray::path::{trace_paths, PathSetup, SpectralSampler};
 use opalray::scene::{Cut, EnvironmentConfig, EnvironmentKind, Pattern, Scene};
 use opalray::stone::body::munsell_y;
 use opalray::stone::Stone;

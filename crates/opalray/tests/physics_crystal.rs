@@ -242,7 +242,8 @@ fn flashing_colour_follows_the_half_vector_law() {
     // the light's spectrum flat (E), 1 nm bins; the spectrum's centroid over the line.
     use opalray::geometry::Camera;
     use opalray::light_pass::LightSource;
-    use opalray::path::{trace_paths, Environment, PathLight, PathSetup};
+    use opalray::lights::Environment;
+    use opalray::path::{trace_paths, PathLight, PathSetup};
     let mut scene = Scene::default();
     scene.domains.sphere_diameter_spread = 0.0;
     scene.domains.mosaic_spread_deg = 0.0;

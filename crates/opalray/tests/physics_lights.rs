@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 
 use glam::Vec3;
 use opalray::light_pass::LightSource;
-use opalray::path::{AreaLight, Environment};
+use opalray::lights::{AreaLight, Environment};
 use opalray::sampling::Rng;
 use opalray::scene::{EnvironmentConfig, EnvironmentKind, LightKind, Method};
 use opalray::Scene;

@@ -72,7 +72,7 @@ pub fn peak_bytes(scene: &Scene, extra: Extra) -> f64 {
 /// its header (nothing of the picture read); 0 without a map. An unreadable header is an
 /// error naming `environment.path`.
 pub fn map_bytes(scene: &Scene) -> Result<f64> {
-    use opalray::path::env_map::{map_size, MAP_PIXEL_BYTES};
+    use opalray::lights::env_map::{map_size, MAP_PIXEL_BYTES};
     if scene.environment.kind != opalray::scene::EnvironmentKind::File {
         return Ok(0.0);
     }

@@ -12,7 +12,7 @@
 //!   potch and haze dim it; at the surface `(1 − F) n²` escapes, the rest is reflected
 //!   inside and followed again, up to [`trace::MAX_SEGMENTS`] segments), and the
 //!   environment is read there through the lobe, its width the mosaic spread carried
-//!   through the refraction ([`crate::path::Environment::filtered`]). The line's colour is
+//!   through the refraction ([`crate::lights::Environment::filtered`]). The line's colour is
 //!   its equivalent width times the light × colour-matching functions over its profile
 //!   ([`colour`]), times the notches of the lines crossed before, each at the line's centre.
 //!   A point or directional light adds `π E R D(h)/(4 cos θ_h)`, the lobe's density at the
@@ -39,7 +39,8 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::geometry::Camera;
-use crate::path::{Environment, PathLight, SpectralSampler};
+use crate::lights::Environment;
+use crate::path::{PathLight, SpectralSampler};
 use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;

@@ -48,9 +48,6 @@
 //! rendered in parallel into pre-sized buffers, so the image does not depend on the number of
 //! threads nor on how the passes fall ([`passes`]). Its noise: [`noise`].
 
-pub mod emitters;
-pub mod env;
-pub mod env_map;
 mod nee;
 pub mod noise;
 pub mod passes;
@@ -61,6 +58,8 @@ use std::f32::consts::PI;
 use crate::geometry::refracted_entry;
 use crate::geometry::LightSource;
 use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, Ray};
+use crate::lights::emitters;
+use crate::lights::{AreaLight, Environment};
 use crate::optics::BraggLine;
 use crate::sampling::Rng;
 use crate::scene::Backing;
@@ -69,8 +68,6 @@ use crate::stone::body::{hg_cos, hg_phase};
 use crate::stone::{ActiveLine, Boundary, Hint, Region, Span, Stone};
 use glam::Vec3;
 
-pub use emitters::{AreaLight, LightSample};
-pub use env::{EnvSample, Environment};
 pub use noise::Noise;
 pub use passes::{trace_passes, PassReport, Passes};
 pub use spectral::{Lines, PathSpectrum, SpectralSampler, MAX_DRAWS};

@@ -31,7 +31,7 @@ use crate::sampling::Rng;
 use crate::stone::ActiveLine;
 
 use super::spectral::PathSpectrum;
-use super::AreaLight;
+use crate::lights::AreaLight;
 
 /// The one refracted path from a direction outside to a point inside.
 #[derive(Clone, Copy, Debug)]
@@ -333,7 +333,8 @@ impl Tracer<'_> {
 pub(super) mod tests {
     use super::*;
     use crate::geometry::Camera;
-    use crate::path::{Environment, PathSetup, SpectralSampler};
+    use crate::lights::Environment;
+    use crate::path::{PathSetup, SpectralSampler};
     use crate::scene::{EnvironmentConfig, EnvironmentKind};
     use crate::stone::Stone;
 

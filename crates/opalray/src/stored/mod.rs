@@ -27,7 +27,8 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::geometry::Camera;
-use crate::path::{Environment, PathLight, SpectralSampler};
+use crate::lights::Environment;
+use crate::path::{PathLight, SpectralSampler};
 use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
