@@ -7,19 +7,28 @@
 //!   finite crystal in the Bragg case; Zachariasen 1945, §3.7: `π ν²` for a thin stack, the
 //!   Darwin plateau's `π ν` for a thick one). With `dλ = λ_B dσ/(πN)` near the line, its
 //!   unpolarised width is `W = (λ_B/N) (ν_s tanh ν_s + ν_p tanh ν_p)/2` nm.
-//! - **Profile.** The light × colour-matching functions (`S x̄, S ȳ, S z̄, S`) are smoothed by
-//!   Gaussians of [`WIDTHS`] standard deviations and read at the line's centre, interpolated
-//!   in the line's width: a line's profile enters only through its second moment, which a
-//!   flat top of half-width w (a thick stack: `w²/3`) and a thin stack's sinc² core
-//!   (FWHM `0.885 λ_B/N`) set.
+//! - **Profile.** Each polarisation's line is taken as a Lorentzian of that width whose tails
+//!   are the grating's own, `ν²/(2σ²)` beyond the stop band: half-width `γ = ν/(2 tanh ν)` in
+//!   σ (`λ_B γ/(πN)` nm), height `2 tanh² ν`. Its core is narrower than the stop band's flat
+//!   top, but a colour-matching function does not resolve a few nm; its tails, a third of a
+//!   thick line's light, reach tens of nm, where `S c̄` changes (in the blue, ȳ triples over
+//!   20 nm), and are kept. The light × colour-matching functions (`S x̄, S ȳ, S z̄, S`) are
+//!   convolved with Lorentzians of [`WIDTHS`] half-widths, cut at [`REACH`] half-widths (the
+//!   lines' own window, `optics::line`), every 0.25 nm, and read at the line's centre,
+//!   interpolated in the width's logarithm.
 
 use crate::optics::BraggLine;
 use crate::path::SpectralSampler;
 
 /// Step of the table in wavelength, nm.
 const STEP_NM: f64 = 0.25;
-/// Standard deviations (nm) of the Gaussians the table is smoothed with, row by row.
-const WIDTHS: [f64; 8] = [0.0, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0];
+/// Half-widths (nm) of the Lorentzians the table is convolved with, row by row: none, then
+/// doubling from 1/32 nm.
+const WIDTHS: [f64; 13] = [
+    0.0, 0.03125, 0.0625, 0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0,
+];
+/// Half-widths a kernel reaches on either side (a thick line's window is 80 of its γ).
+const REACH: f64 = 80.0;
 
 /// Light × colour-matching functions smoothed over line widths: the colour of any line.
 #[derive(Clone, Debug)]
@@ -43,15 +52,21 @@ impl LineColours {
             sampler.at(lo + i as f64 * STEP_NM).map(f64::from)
         };
         let mut table = Vec::with_capacity(WIDTHS.len() * columns);
-        for &sigma in &WIDTHS {
-            let reach = (4.0 * sigma / STEP_NM).ceil() as i64;
+        for &gamma in &WIDTHS {
+            let reach = if gamma == 0.0 {
+                0
+            } else {
+                ((REACH * gamma / STEP_NM).ceil() as i64).min(columns as i64)
+            };
             let kernel: Vec<f64> = (-reach..=reach)
                 .map(|k| {
-                    if sigma == 0.0 {
-                        1.0
-                    } else {
-                        (-0.5 * (k as f64 * STEP_NM / sigma).powi(2)).exp()
+                    if gamma == 0.0 {
+                        return 1.0;
                     }
+                    // The Lorentzian's mass over the step about k (exact for steps finer
+                    // than its core).
+                    let x = k as f64 * STEP_NM;
+                    ((x + 0.5 * STEP_NM) / gamma).atan() - ((x - 0.5 * STEP_NM) / gamma).atan()
                 })
                 .collect();
             let norm: f64 = kernel.iter().sum();
@@ -76,9 +91,22 @@ impl LineColours {
 
     /// `(XYZ, S)` of `line`: `∫ R S c̄ dλ` and `∫ R S dλ` (relative to the light's luminance).
     pub fn of(&self, line: &BraggLine) -> ([f64; 3], f64) {
-        let w = equivalent_width_nm(line);
-        let v = self.at(line.center_nm, profile_sigma_nm(line));
-        ([w * v[0], w * v[1], w * v[2]], w * v[3])
+        let scale = line.center_nm / line.layers.max(1.0);
+        let mut out = ([0.0f64; 3], 0.0f64);
+        for nu in [line.nu_s, line.nu_p] {
+            // Half the light is each polarisation's.
+            let width = 0.5 * scale * nu * nu.tanh();
+            if width <= 0.0 {
+                continue;
+            }
+            let gamma = lorentz_half_width(nu) * scale / std::f64::consts::PI;
+            let v = self.at(line.center_nm, gamma);
+            for c in 0..3 {
+                out.0[c] += width * v[c];
+            }
+            out.1 += width * v[3];
+        }
+        out
     }
 
     /// The smoothed table at `center_nm` for a profile of standard deviation `sigma_nm`.
@@ -106,13 +134,23 @@ impl LineColours {
     }
 }
 
-/// The fractional row of [`WIDTHS`] of a profile of standard deviation `sigma_nm`.
-fn row_of(sigma_nm: f64) -> f64 {
-    if sigma_nm <= WIDTHS[1] {
-        return (sigma_nm / WIDTHS[1]).max(0.0);
+/// The fractional row of [`WIDTHS`] of a Lorentzian of half-width `gamma_nm`.
+fn row_of(gamma_nm: f64) -> f64 {
+    if gamma_nm <= WIDTHS[1] {
+        return (gamma_nm / WIDTHS[1]).max(0.0);
     }
-    // Rows 1.. double: row k holds 0.5 · 2^(k−1).
-    (1.0 + (sigma_nm / WIDTHS[1]).log2()).min((WIDTHS.len() - 1) as f64)
+    // Rows 1.. double from WIDTHS[1].
+    (1.0 + (gamma_nm / WIDTHS[1]).log2()).min((WIDTHS.len() - 1) as f64)
+}
+
+/// The half-width in detuning σ of the Lorentzian with a grating's tails `ν²/(2σ²)` and its
+/// area `π ν tanh ν`: `ν / (2 tanh ν)` (½ for a thin stack).
+fn lorentz_half_width(nu: f64) -> f64 {
+    if nu < 1e-6 {
+        0.5
+    } else {
+        nu / (2.0 * nu.tanh())
+    }
 }
 
 /// `∫ R dλ` of `line`, nm (module notes).
@@ -120,13 +158,6 @@ pub fn equivalent_width_nm(line: &BraggLine) -> f64 {
     let n = line.layers.max(1.0);
     let part = |nu: f64| nu * nu.tanh();
     line.center_nm / n * 0.5 * (part(line.nu_s) + part(line.nu_p))
-}
-
-/// The standard deviation of `line`'s profile over wavelength, nm (module notes).
-pub fn profile_sigma_nm(line: &BraggLine) -> f64 {
-    let plateau = line.half_width_nm() / 3f64.sqrt();
-    let core = 0.376 * line.center_nm / line.layers.max(1.0);
-    (plateau * plateau + core * core).sqrt()
 }
 
 #[cfg(test)]
@@ -279,7 +310,10 @@ mod tests {
             let (xyz, _) = colours.of(&line);
             let exact = direct(&line, &s);
             let de = delta_e_2000(lab(exact, white), lab(xyz, white));
-            assert!(de < 0.5, "{center} nm, {layers} layers: ΔE {de}");
+            assert!(
+                de < 0.5,
+                "{center} nm, {layers} layers: ΔE {de}: {xyz:?} vs {exact:?}"
+            );
         }
     }
 }

@@ -223,7 +223,7 @@ mod tests {
             }
             assert_eq!(back.get("opalray.seed"), Some("11"));
             assert_eq!(back.get("opalray.spp"), Some("3"));
-            assert_eq!(back.get("opalray.method"), Some("path"));
+            assert_eq!(back.get("opalray.method"), Some("lobe"));
         }
     }
 
