@@ -43,7 +43,8 @@
 //!   at a crossing, only on a path not yet reflected), balanced against the escaping paths
 //!   that meet it. A domain adds
 //!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals.
-//! - Russian roulette below a weight of 0.02; at most `max_depth` events.
+//! - Russian roulette below a weight of 0.02, and on depth past `max_depth` events
+//!   (`Tracer::goes_deeper`).
 //!
 //! Spectra: see [`spectral`]. Every sample of every pixel draws from its own stream; rows are
 //! rendered in parallel into pre-sized buffers, so the image does not depend on the number of
@@ -108,7 +109,7 @@ enum Crossing {
     Ended,
     /// It was reflected (a path already reflected reflects instead of going on): it goes on
     /// as this path.
-    Reflected(PathState),
+    Reflected(Box<PathState>),
 }
 /// Offset of a new ray's origin along its direction, mm (0.1 µm).
 const EPSILON_MM: f32 = 1e-4;
@@ -467,7 +468,7 @@ impl<'a> Tracer<'a> {
                         drawn: drawn_with,
                         hint,
                         ..
-                    } = next;
+                    } = *next;
                     split = false;
                     first_in_cap = false;
                     first_scattering = false;
@@ -880,7 +881,7 @@ impl<'a> Tracer<'a> {
         self.lines = here;
         match (goes_on, reflected_to) {
             (Some(scale), _) => Crossing::On(scale),
-            (None, Some(next)) => Crossing::Reflected(next),
+            (None, Some(next)) => Crossing::Reflected(Box::new(next)),
             (None, None) => Crossing::Ended,
         }
     }
