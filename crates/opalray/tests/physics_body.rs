@@ -77,9 +77,9 @@ fn a_lossless_potch_stone_in_a_furnace_shows_the_furnace() {
 #[test]
 fn a_thick_slab_of_potch_shows_its_tones_munsell_value() {
     // Viewed face-on under diffuse white light: the gloss F₀ plus the body's Y(tone) (ASTM
-    // D1535: N9 0.767, N5 0.193, N1 0.0118), at the white preset's depth of 128 events: the
-    // deep paths of a white body play roulette rather than end there. Within 0.005, N9
-    // within 0.01 (its calibration's own 40 000 walks have a standard error of 0.0025).
+    // D1535: N9 0.767, N5 0.193, N1 0.0118), paths followed to 4096 events (a white body's
+    // walks are long). Within 0.005, N9 within 0.01 (its calibration's own 40 000 walks have
+    // a standard error of 0.0025).
     let mut failures = Vec::new();
     for (tone, spp, tolerance) in [(9u8, 256, 0.01), (5, 64, 0.005), (1, 16, 0.005)] {
         let mut scene = potch_scene(tone);
@@ -100,7 +100,7 @@ fn a_thick_slab_of_potch_shows_its_tones_munsell_value() {
         let n = stone.n_eff;
         let f0 = f64::from(((n - 1.0) / (n + 1.0)).powi(2));
         let start = std::time::Instant::now();
-        let (y, se) = face_y(&stone, &scene, 8, spp, 128, 1.0);
+        let (y, se) = face_y(&stone, &scene, 8, spp, 4096, 1.0);
         let expected = f0 + munsell_y(f64::from(tone));
         eprintln!(
             "N{tone}: {y:.4} ± {se:.4} vs {expected:.4} ({:.1} s)",

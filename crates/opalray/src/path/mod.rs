@@ -43,8 +43,7 @@
 //!   at a crossing, only on a path not yet reflected), balanced against the escaping paths
 //!   that meet it. A domain adds
 //!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals.
-//! - Russian roulette below a weight of 0.02, and on depth past `max_depth` events
-//!   (`Tracer::goes_deeper`).
+//! - Russian roulette below a weight of 0.02; at most `max_depth` events.
 //!
 //! Spectra: see [`spectral`]. Every sample of every pixel draws from its own stream; rows are
 //! rendered in parallel into pre-sized buffers, so the image does not depend on the number of
@@ -82,10 +81,6 @@ use nee::Drawn;
 
 /// Paths whose weight falls below this play Russian roulette.
 const ROULETTE_BELOW: f32 = 0.02;
-/// Past `max_depth` events a path plays roulette ([`Tracer::goes_deeper`]); it ends at this
-/// many times `max_depth` (reached with probability 1/64: what lies beyond, in a white body
-/// of albedo 0.999, is under e⁻⁸ of its light).
-const DEEP_LIMIT: u32 = 64;
 
 /// A reflection at a domain crossing: the ray along `dir` meets `domain`'s face at `face`
 /// (light was estimated at `x`, just inside), in the cells `cells`; the branch's weight, and
@@ -383,7 +378,7 @@ impl<'a> Tracer<'a> {
         let sample_env = stone.cap.is_none();
         let mut level = depth;
         loop {
-            if !self.goes_deeper(level, &mut weight, rng) {
+            if !self.goes_deeper(level) {
                 return;
             }
             let ray = Ray {
@@ -625,26 +620,10 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// Whether a path goes on to its event `level` (counted from 0), its weight over the
-    /// probability: always within `max_depth` events; past them, on to `level` with
-    /// probability `level / (level + 1)`, so that it reaches `level` with probability
-    /// `max_depth / (level + 1)` (a roulette, unbiased: the light of deep paths, the tail of a
-    /// milky body's walks, is kept at a cost that grows as the logarithm of the depth); never
-    /// past [`DEEP_LIMIT`] × `max_depth` events.
-    fn goes_deeper(&self, level: u32, weight: &mut f32, rng: &mut Rng) -> bool {
-        let max = self.setup.max_depth.max(1);
-        if level < max {
-            return true;
-        }
-        if level >= max.saturating_mul(DEEP_LIMIT) {
-            return false;
-        }
-        let q = level as f32 / (level + 1) as f32;
-        if rng.uniform_f32() >= q {
-            return false;
-        }
-        *weight /= q;
-        true
+    /// Whether a path goes on to its event `level` (counted from 0): within `max_depth`
+    /// events.
+    fn goes_deeper(&self, level: u32) -> bool {
+        level < self.setup.max_depth
     }
 
     /// Whether the environment's draw of `out` at `from` finds the refracted path that leaves
