@@ -21,8 +21,16 @@ fn potch_scene(tone: u8) -> Scene {
     scene
 }
 
-/// Mean Y over the central `frac` of an `n × n` face-on image of `stone`.
-fn face_y(stone: &Stone, scene: &Scene, n: usize, spp: u32, max_depth: u32, frac: f32) -> f64 {
+/// Mean Y over the central `frac` of an `n × n` face-on image of `stone`, and its standard
+/// error.
+fn face_y(
+    stone: &Stone,
+    scene: &Scene,
+    n: usize,
+    spp: u32,
+    max_depth: u32,
+    frac: f32,
+) -> (f64, f64) {
     let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
     // A 2 × frac mm square at the face's centre.
     let fov = 2.0 * (frac / 100.0).atan().to_degrees();
@@ -49,7 +57,10 @@ fn face_y(stone: &Stone, scene: &Scene, n: usize, spp: u32, max_depth: u32, frac
             spectral: &sampler,
         },
     );
-    image.xyz.iter().map(|v| f64::from(v[1])).sum::<f64>() / (n * n) as f64
+    let pixels = (n * n) as f64;
+    let mean = image.xyz.iter().map(|v| f64::from(v[1])).sum::<f64>() / pixels;
+    let variance = image.variance.iter().map(|v| f64::from(v[1])).sum::<f64>() / pixels;
+    (mean, (variance / pixels).sqrt())
 }
 
 #[test]
@@ -60,14 +71,18 @@ fn a_lossless_potch_stone_in_a_furnace_shows_the_furnace() {
     let mut stone = Stone::new(&scene).unwrap();
     stone.potch.albedo = 1.0;
     stone.potch.extinction_per_mm = 0.5;
-    let y = face_y(&stone, &scene, 12, 16, 256, 6.0);
+    let (y, _) = face_y(&stone, &scene, 12, 16, 256, 6.0);
     assert!((y - 1.0).abs() < 0.01, "{y}");
 }
 
 #[test]
 fn a_thick_slab_of_potch_shows_its_tones_munsell_value() {
-    // Viewed face-on under diffuse white light: the gloss F₀ plus the body's Y(tone).
-    for (tone, tolerance) in [(9u8, 0.04), (5, 0.03), (2, 0.01)] {
+    // Viewed face-on under diffuse white light: the gloss F₀ plus the body's Y(tone) (ASTM
+    // D1535: N9 0.767, N5 0.193, N1 0.0118), paths followed to 4096 events (a white body's
+    // walks are long). Within 0.005, N9 within 0.01 (its calibration's own 40 000 walks have
+    // a standard error of 0.0025).
+    let mut failures = Vec::new();
+    for (tone, spp, tolerance) in [(9u8, 256, 0.01), (5, 64, 0.005), (1, 16, 0.005)] {
         let mut scene = potch_scene(tone);
         scene.body.cut = Cut::Cabochon;
         scene.body.dome_height_mm = 8.0;
@@ -86,15 +101,16 @@ fn a_thick_slab_of_potch_shows_its_tones_munsell_value() {
         let n = stone.n_eff;
         let f0 = f64::from(((n - 1.0) / (n + 1.0)).powi(2));
         let start = std::time::Instant::now();
-        let y = face_y(&stone, &scene, 8, 128, 4096, 1.0);
+        let (y, se) = face_y(&stone, &scene, 8, spp, 4096, 1.0);
         let expected = f0 + munsell_y(f64::from(tone));
         eprintln!(
-            "N{tone}: {y:.4} vs {expected:.4} ({:.1} s)",
+            "N{tone}: {y:.4} ± {se:.4} vs {expected:.4} ({:.1} s)",
             start.elapsed().as_secs_f64()
         );
-        assert!(
-            (y - expected).abs() < tolerance,
-            "N{tone}: {y} vs {expected}"
-        );
+        assert!(se < 0.0015, "N{tone}: noise {se} too high for the test");
+        if (y - expected).abs() >= tolerance {
+            failures.push(format!("N{tone}: {y} vs {expected}"));
+        }
     }
+    assert!(failures.is_empty(), "{failures:?}");
 }

@@ -22,7 +22,8 @@
 //!   plane reflects with probability F, else refracts.
 //! - **Domain crossing**: the families whose line can fall in the range at the ray's angle
 //!   ([`Stone::lines`], the layers set by the chord) reflect or pass it. The ray always goes
-//!   on through, carrying `1 − R` of each line; the reflections are branches: at every
+//!   on through, carrying `1 − R` of each line (a path not yet reflected too: its notches,
+//!   `notches`, so that a crossing creates no light); the reflections are branches: at every
 //!   crossing of the camera ray's first segment every one (each followed with a probability
 //!   set by what its first escape sees, `Tracer::follow_probability`: most look into the
 //!   dark room), later one drawn with twice the lines' share of white light (at most ¼),
@@ -50,6 +51,7 @@
 
 mod nee;
 pub mod noise;
+mod notches;
 pub mod passes;
 pub mod spectral;
 
@@ -76,6 +78,31 @@ use nee::Drawn;
 
 /// Paths whose weight falls below this play Russian roulette.
 const ROULETTE_BELOW: f32 = 0.02;
+
+/// A reflection at a domain crossing: the ray along `dir` meets `domain`'s face at `face`
+/// (light was estimated at `x`, just inside), in the cells `cells`; the branch's weight, and
+/// its probability where the area light was also estimated there (`None`: the branch's escape
+/// is the only way there).
+struct Reflection {
+    face: Vec3,
+    x: Vec3,
+    dir: Vec3,
+    domain: u32,
+    cells: Hint,
+    p_pick: Option<f64>,
+    weight: f32,
+}
+
+/// What a domain crossing leaves of the path that met it.
+enum Crossing {
+    /// It goes on through, its weight times this.
+    On(f32),
+    /// It ends.
+    Ended,
+    /// It was reflected (a path already reflected reflects instead of going on): it goes on
+    /// as this path.
+    Reflected(Box<PathState>),
+}
 /// Offset of a new ray's origin along its direction, mm (0.1 µm).
 const EPSILON_MM: f32 = 1e-4;
 /// Most lines one domain crossing can have (one per family normal: 4 + 6 + 3).
@@ -184,7 +211,7 @@ enum Event {
 }
 
 /// Where a path inside the stone is.
-#[derive(Clone, Copy)]
+#[derive(Clone)]
 struct PathState {
     pos: Vec3,
     dir: Vec3,
@@ -346,7 +373,11 @@ impl<'a> Tracer<'a> {
         // sampled there: the MIS weight of its escape.
         let mut drawn_with = drawn;
         let sample_env = stone.cap.is_none();
-        for level in depth..self.setup.max_depth {
+        let mut level = depth;
+        loop {
+            if !self.goes_deeper(level) {
+                return;
+            }
             let ray = Ray {
                 origin: pos,
                 direction: dir,
@@ -359,6 +390,8 @@ impl<'a> Tracer<'a> {
             let mut end_hint = Hint::default();
             // The cells of a scattering in the potch.
             let mut scattered_in = Hint::default();
+            // Where a path already reflected reflects again, it goes on as that reflection.
+            let mut reflected_to = None;
             if region == Region::Opal {
                 // The domains are crossed as the walk finds them; an event ends the walk.
                 let mut first = true;
@@ -395,8 +428,13 @@ impl<'a> Tracer<'a> {
                             &ray, span.t0, chord, domain, span.hint, weight, &mut lines, split,
                             level, rng, acc, bins,
                         ) {
-                            Some(scale) => weight *= scale,
-                            None => {
+                            Crossing::On(scale) => weight *= scale,
+                            Crossing::Ended => {
+                                ended = true;
+                                return false;
+                            }
+                            Crossing::Reflected(next) => {
+                                reflected_to = Some(next);
                                 ended = true;
                                 return false;
                             }
@@ -409,7 +447,25 @@ impl<'a> Tracer<'a> {
                     true
                 });
                 if ended {
-                    return;
+                    let Some(next) = reflected_to else {
+                        return;
+                    };
+                    PathState {
+                        pos,
+                        dir,
+                        weight,
+                        lines,
+                        skip,
+                        region,
+                        drawn: drawn_with,
+                        hint,
+                        ..
+                    } = *next;
+                    split = false;
+                    first_in_cap = false;
+                    first_scattering = false;
+                    level += 1;
+                    continue;
                 }
             }
             hint = end_hint;
@@ -452,7 +508,7 @@ impl<'a> Tracer<'a> {
                             pos,
                             dir: d,
                             weight,
-                            lines,
+                            lines: lines.clone(),
                             skip: None,
                             region,
                             drawn: phase_drawn(d),
@@ -557,7 +613,14 @@ impl<'a> Tracer<'a> {
             if !self.roulette(&mut weight, rng) {
                 return;
             }
+            level += 1;
         }
+    }
+
+    /// Whether a path goes on to its event `level` (counted from 0): within `max_depth`
+    /// events.
+    fn goes_deeper(&self, level: u32) -> bool {
+        level < self.setup.max_depth
     }
 
     /// Whether the environment's draw of `out` at `from` finds the refracted path that leaves
@@ -639,8 +702,9 @@ impl<'a> Tracer<'a> {
 
     /// A domain crossing of `ray` at `t0` over `chord`: light estimation, the reflection
     /// branches (every one if `split`), and the lines the ray carries on through (added to
-    /// `lines`). Returns the factor on the weight of the ray going on through, or `None` where
-    /// it ends: a path already reflected either reflects or goes on (see the comment below).
+    /// `lines`). Returns what goes on: the ray through, its weight scaled; or, for a path
+    /// already reflected, which either reflects or goes on (see the comment below), its
+    /// reflection; or nothing.
     #[allow(clippy::too_many_arguments)]
     fn cross_domain(
         &mut self,
@@ -656,14 +720,14 @@ impl<'a> Tracer<'a> {
         rng: &mut Rng,
         acc: &mut [f64; 3],
         bins: &mut [f32],
-    ) -> Option<f32> {
+    ) -> Crossing {
         let stone = self.stone;
         self.nee_hint = cells;
         let dir = ray.direction;
         self.lines.clear();
         stone.lines(domain, dir, chord, &mut self.lines);
         if self.lines.is_empty() {
-            return Some(1.0);
+            return Crossing::On(1.0);
         }
         let x = ray.at(t0 + EPSILON_MM);
         self.light_at_domain(x, dir, domain, lines, weight, rng, acc, bins);
@@ -733,25 +797,20 @@ impl<'a> Tracer<'a> {
         // many plates and events grows without bound. One path on, its cost grows with depth
         // only linearly.
         let mut goes_on = Some(1.0);
+        let mut reflected_to = None;
         if split {
             // Every reflection as a branch of its own.
+            let path = Reflection {
+                face,
+                x,
+                dir,
+                domain,
+                cells,
+                p_pick: Some(1.0),
+                weight,
+            };
             for line in &here {
-                self.branch(
-                    face,
-                    x,
-                    dir,
-                    domain,
-                    cells,
-                    line,
-                    Some(1.0),
-                    true,
-                    weight,
-                    *lines,
-                    level,
-                    rng,
-                    acc,
-                    bins,
-                );
+                self.branch(&path, line, true, lines, level, rng, acc, bins);
             }
         } else {
             let reflects = rng.uniform() < p_branch;
@@ -770,22 +829,20 @@ impl<'a> Tracer<'a> {
                 }
                 let p_pick = p_branch * energy[pick] / total;
                 let w = weight / p_pick as f32;
-                self.branch(
+                let path = Reflection {
                     face,
                     x,
                     dir,
                     domain,
                     cells,
-                    &here[pick],
-                    (!chooses).then_some(p_pick),
-                    false,
-                    w,
-                    *lines,
-                    level,
-                    rng,
-                    acc,
-                    bins,
-                );
+                    p_pick: (!chooses).then_some(p_pick),
+                    weight: w,
+                };
+                if chooses {
+                    reflected_to = self.reflected_path(&path, &here[pick], lines, rng);
+                } else {
+                    self.branch(&path, &here[pick], false, lines, level, rng, acc, bins);
+                }
             }
         }
         // The ray goes on through the planes, carrying 1 − R of each line.
@@ -793,66 +850,76 @@ impl<'a> Tracer<'a> {
             for (i, l) in here.iter().enumerate() {
                 match at_path.as_ref().and_then(|r| r.get(i)) {
                     Some(r) => lines.pass(r),
-                    None => lines.transmit(l.line),
+                    None => lines.transmit(l.line, self.setup.spectral),
                 }
             }
         }
         self.lines = here;
-        goes_on
+        match (goes_on, reflected_to) {
+            (Some(scale), _) => Crossing::On(scale),
+            (None, Some(next)) => Crossing::Reflected(Box::new(next)),
+            (None, None) => Crossing::Ended,
+        }
     }
 
-    /// Follow the reflection of the ray along `dir` by `line` of `domain` at its face `face`
-    /// as a path of its own, with weight `weight`; the branch was taken with probability
-    /// `p_pick` where the area light was estimated at `x` (`None` where it was not: the
-    /// branch's escape is then the only way there).
+    /// Follow the reflection `path` by `line` as a path of its own; if `cull`, followed with
+    /// the probability [`Tracer::follow_probability`] gives it (its weight over that).
     #[allow(clippy::too_many_arguments)]
     fn branch(
         &mut self,
-        face: Vec3,
-        x: Vec3,
-        dir: Vec3,
-        domain: u32,
-        cells: Hint,
+        path: &Reflection,
         line: &ActiveLine,
-        p_pick: Option<f64>,
         cull: bool,
-        weight: f32,
-        lines: PathSpectrum,
+        lines: &PathSpectrum,
         level: u32,
         rng: &mut Rng,
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
-        if let Some((d, l)) = self.reflection(domain, line, dir, rng) {
-            let mut weight = weight;
-            if cull {
-                // Russian roulette on what the branch's first escape will see.
-                let p = self.follow_probability(face, d);
-                if p < 1.0 {
-                    if rng.uniform_f32() >= p {
-                        return;
-                    }
-                    weight /= p;
+        let Some(mut state) = self.reflected_path(path, line, lines, rng) else {
+            return;
+        };
+        if cull {
+            // Russian roulette on what the branch's first escape will see.
+            let p = self.follow_probability(path.face, state.dir);
+            if p < 1.0 {
+                if rng.uniform_f32() >= p {
+                    return;
                 }
+                state.weight /= p;
             }
-            let mut branch = lines;
-            branch.reflect(l, self.setup.spectral, rng.uniform());
-            if branch.is_dark() {
-                return;
-            }
-            let state = PathState {
-                pos: face,
-                dir: d,
-                weight,
-                lines: branch,
-                skip: Some(domain),
-                region: Region::Opal,
-                drawn: p_pick.and_then(|p| self.drawn_branch(x, dir, d, line, p)),
-                splits_scattering: false,
-                hint: cells,
-            };
-            self.inside(state, false, level + 1, rng, acc, bins);
         }
+        self.inside(state, false, level + 1, rng, acc, bins);
+    }
+
+    /// The path that the reflection `path` by `line` of a path of spectrum `lines` starts: the
+    /// lobe's normal drawn ([`Tracer::reflection`]); `None` where it faces away or the path's
+    /// light is all gone.
+    fn reflected_path(
+        &mut self,
+        path: &Reflection,
+        line: &ActiveLine,
+        lines: &PathSpectrum,
+        rng: &mut Rng,
+    ) -> Option<PathState> {
+        let (d, l) = self.reflection(path.domain, line, path.dir, rng)?;
+        let branch = lines.reflected(l, self.setup.spectral, rng.uniform());
+        if branch.is_dark() {
+            return None;
+        }
+        Some(PathState {
+            pos: path.face,
+            dir: d,
+            weight: path.weight,
+            lines: branch,
+            skip: Some(path.domain),
+            region: Region::Opal,
+            drawn: path
+                .p_pick
+                .and_then(|p| self.drawn_branch(path.x, path.dir, d, line, p)),
+            splits_scattering: false,
+            hint: path.cells,
+        })
     }
 
     /// The probability with which a reflection of the camera ray's first segment, leaving
@@ -953,14 +1020,13 @@ impl<'a> Tracer<'a> {
             return;
         };
         for &(line, density) in &hits[..count] {
-            let mut lines = *path;
-            lines.reflect(
+            let mut lines = path.reflected(
                 self.line_at(domain, &line, cos_h),
                 self.setup.spectral,
                 rng.uniform(),
             );
             for n in &notches {
-                lines.transmit(*n);
+                lines.transmit(*n, self.setup.spectral);
             }
             let value = weight * PI * irradiance * transmitted * density / (4.0 * cos_h);
             self.add(&lines, value, acc, bins);

@@ -5,8 +5,10 @@
 //! wavelength-independent probabilities), so its contribution is
 //! `w · ∫ Π_k f_k(λ) S(λ) c̄(λ) dλ`, `f_k` = R or 1 − R of line k, S the light's spectrum
 //! (luminance 1), c̄ the CIE 1931 colour-matching functions. Without a reflection the product
-//! is 1 but for the lines' notches, each under 2.2 nm of the 400 nm range (neglected: at most
-//! 0.6 % of white light a line); the integral is then the light's white point. With one, the
+//! is 1 but for the lines' notches, each under 2.2 nm of the 400 nm range (at most 0.6 % of
+//! white light a line, but a path passes hundreds): the path tracer carries them exactly
+//! ([`super::notches`]), so that the light going on through a domain loses what its lines
+//! reflect; the stored method's view ([`Lines`]) still neglects them. With one, the
 //! integrand lives within the line (~2 nm): λ is drawn from a truncated Cauchy law over the
 //! first reflection line (90 %) mixed with a uniform law over the range (10 %, so that every
 //! wavelength can be drawn and the estimate is unbiased), the draws stratified over the
@@ -14,7 +16,8 @@
 //! never binned before colour.
 //!
 //! Two carriers of the product:
-//! - [`PathSpectrum`] (the path tracer): the wavelengths are drawn once, at the path's first
+//! - [`PathSpectrum`] (the path tracer): until its first reflection, the light's white and
+//!   the notches passed on a fine table; the wavelengths are drawn once, at the path's first
 //!   reflection, and each carries the product of the path's factors at it from there (hero
 //!   wavelengths). Every later line multiplies them at once, so a path can pass any number
 //!   of lines, and the share of its light a line reflects is known exactly where the path
@@ -28,12 +31,14 @@ use crate::scene::Illuminant;
 use crate::spectrum::WavelengthGrid;
 use crate::stone::ironstone_reflectance;
 
+use super::notches::Notches;
+
 /// Most lines one contribution carries.
 pub const MAX_LINES: usize = 24;
 /// Room kept for reflections: transmission notches past `MAX_LINES − RESERVED` are dropped.
 const RESERVED: usize = 8;
 /// Step of the light × colour-matching table, nm.
-const TABLE_STEP_NM: f64 = 0.25;
+pub(super) const TABLE_STEP_NM: f64 = 0.25;
 /// Largest step of [`SpectralSampler::integrate`]'s quadrature, nm.
 pub const QUADRATURE_STEP_NM: f64 = 0.25;
 /// Share of wavelength draws from the line's law (the rest uniform over the range).
@@ -126,14 +131,15 @@ impl Lines {
 
 /// Most wavelengths a path carries (`integrator.wavelengths` is at most this).
 pub const MAX_DRAWS: usize = 64;
-/// Lines passed before a path's first reflection that are kept for it (further notches are
-/// neglected, as a path without reflection neglects them all).
-const MAX_PENDING: usize = 24;
 
 /// `line`'s reflectance at `wavelength_nm` within `window` (its [`BraggLine::window_nm`]), 0
 /// outside.
 #[inline]
-fn reflectance_within(line: &BraggLine, (lo, hi): (f64, f64), wavelength_nm: f64) -> f64 {
+pub(super) fn reflectance_within(
+    line: &BraggLine,
+    (lo, hi): (f64, f64),
+    wavelength_nm: f64,
+) -> f64 {
     if (lo..=hi).contains(&wavelength_nm) {
         line.reflectance(wavelength_nm)
     } else {
@@ -141,15 +147,17 @@ fn reflectance_within(line: &BraggLine, (lo, hi): (f64, f64), wavelength_nm: f64
     }
 }
 
-/// A path's spectrum in the path tracer: white (with its ironstone tints) until its first
-/// reflection; from there the wavelengths drawn from that line's law
-/// ([`SpectralSampler::draw`]), each carrying `Π f_k(λ) / (draws · p(λ))` of the path's lines so
-/// far. The lines passed before the first reflection are kept (up to [`MAX_PENDING`]) and
-/// applied there.
-#[derive(Clone, Copy, Debug)]
+/// A path's spectrum in the path tracer: the light's white (with its ironstone tints) times
+/// the notches of the lines passed ([`Notches`]) until its first reflection; from there the
+/// wavelengths drawn from that line's law ([`SpectralSampler::draw`]), each carrying
+/// `Π f_k(λ) / (draws · p(λ))` of the path's lines so far, the notches passed before the
+/// reflection among them. Every line is zero outside its window
+/// ([`BraggLine::window_nm`]), where it reflects and where it notches alike, so that what a
+/// line reflects is exactly what the light going on through it loses.
+#[derive(Clone, Debug)]
 pub struct PathSpectrum {
-    pending: [BraggLine; MAX_PENDING],
-    pending_len: u8,
+    /// The notches passed before the first reflection (`None`: none yet).
+    notches: Option<Box<Notches>>,
     /// Diffuse reflections by ironstone before the first reflection.
     tints: u8,
     /// Wavelengths carried (0 before the first reflection).
@@ -164,8 +172,7 @@ pub struct PathSpectrum {
 impl Default for PathSpectrum {
     fn default() -> Self {
         PathSpectrum {
-            pending: [BraggLine::new(0.0, 1.0, 1.0, 1.0); MAX_PENDING],
-            pending_len: 0,
+            notches: None,
             tints: 0,
             draws: 0,
             dark: false,
@@ -179,20 +186,44 @@ impl PathSpectrum {
     /// A reflection by `line` (factor R). The first draws the path's wavelengths from the
     /// line's law with `sampler`, stratified with offset `u` in [0, 1).
     pub fn reflect(&mut self, line: BraggLine, sampler: &SpectralSampler, u: f64) {
+        let notches = self.notches.take();
+        self.reflect_through(line, sampler, u, notches.as_deref());
+    }
+
+    /// This path reflected by `line` ([`PathSpectrum::reflect`]), without copying its notches.
+    pub fn reflected(&self, line: BraggLine, sampler: &SpectralSampler, u: f64) -> Self {
+        let mut out = PathSpectrum {
+            notches: None,
+            tints: self.tints,
+            draws: self.draws,
+            dark: self.dark,
+            waves: self.waves,
+            weights: self.weights,
+        };
+        out.reflect_through(line, sampler, u, self.notches.as_deref());
+        out
+    }
+
+    /// [`PathSpectrum::reflect`] of a path whose notches so far are `notches`.
+    fn reflect_through(
+        &mut self,
+        line: BraggLine,
+        sampler: &SpectralSampler,
+        u: f64,
+        notches: Option<&Notches>,
+    ) {
         if self.dark {
             return;
         }
-        // The reflection's own factor is not cut to its window (its far wings hold ~2 % of
-        // its light, and the path's light where notches take its core).
+        let window = line.window_nm();
         if self.draws == 0 {
             let n = sampler.draws.clamp(1, MAX_DRAWS);
-            let pending = &self.pending[..usize::from(self.pending_len)];
             for j in 0..n {
                 let (w, pdf) = sampler.draw(&line, j, u);
-                let mut f = line.reflectance(w) / (n as f64 * pdf);
+                let mut f = reflectance_within(&line, window, w) / (n as f64 * pdf);
                 if f > 0.0 {
-                    for p in pending {
-                        f *= 1.0 - reflectance_within(p, p.window_nm(), w);
+                    if let Some(notches) = notches {
+                        f *= notches.at(sampler, w);
                     }
                     if self.tints > 0 {
                         f *= ironstone_reflectance(w).powi(i32::from(self.tints));
@@ -202,12 +233,11 @@ impl PathSpectrum {
                 self.weights[j] = f as f32;
             }
             self.draws = n as u8;
-            self.pending_len = 0;
             self.tints = 0;
         } else {
             for (f, w) in self.carried_mut() {
                 if *f != 0.0 {
-                    *f *= line.reflectance(w) as f32;
+                    *f *= reflectance_within(&line, window, w) as f32;
                 }
             }
         }
@@ -215,17 +245,16 @@ impl PathSpectrum {
         self.dark = dark;
     }
 
-    /// A pass through `line`'s planes (factor 1 − R).
-    pub fn transmit(&mut self, line: BraggLine) {
+    /// A pass through `line`'s planes (factor 1 − R); `sampler` holds the table a path not
+    /// yet reflected carries its notches on.
+    pub fn transmit(&mut self, line: BraggLine, sampler: &SpectralSampler) {
         if self.dark {
             return;
         }
         if self.draws == 0 {
-            let n = usize::from(self.pending_len);
-            if n < MAX_PENDING {
-                self.pending[n] = line;
-                self.pending_len += 1;
-            }
+            self.notches
+                .get_or_insert_with(|| Box::new(Notches::new(sampler)))
+                .pass(&line, sampler);
             return;
         }
         let window = line.window_nm();
@@ -235,7 +264,6 @@ impl PathSpectrum {
             }
         }
     }
-
     /// A diffuse reflection by ironstone.
     pub fn tint(&mut self) {
         if self.draws == 0 {
@@ -316,10 +344,10 @@ impl PathSpectrum {
 /// spectral image.
 #[derive(Clone, Debug)]
 pub struct SpectralSampler {
-    lo_nm: f64,
+    pub(super) lo_nm: f64,
     hi_nm: f64,
     /// `(S x̄, S ȳ, S z̄, S)` every [`TABLE_STEP_NM`], S scaled to luminance 1 over the range.
-    table: Vec<[f32; 4]>,
+    pub(super) table: Vec<[f32; 4]>,
     /// XYZ of the light itself (Y = 1).
     pub white_xyz: [f64; 3],
     /// The light's spectrum averaged over each bin of the image grid (luminance 1).
@@ -470,6 +498,22 @@ impl SpectralSampler {
         }
     }
 
+    /// Add `weight` × the light's white after `tints` ironstone reflections, less what
+    /// `notches` took from it.
+    fn add_notched(
+        &self,
+        tints: u8,
+        notches: Option<&Notches>,
+        weight: f64,
+        xyz: &mut [f64; 3],
+        bins: &mut [f32],
+    ) {
+        self.add_white(tints, weight, xyz, bins);
+        if let Some(notches) = notches {
+            notches.take_from(self, tints, weight, xyz, bins);
+        }
+    }
+
     /// Add `f · S(λ) c̄(λ)` to `xyz` and `f · S(λ)` to λ's bin.
     #[inline]
     fn add_at(&self, w: f64, f: f64, xyz: &mut [f64; 3], bins: &mut [f32]) {
@@ -490,7 +534,7 @@ impl SpectralSampler {
             return;
         }
         if !path.reflects() {
-            self.add_white(path.tints, weight, xyz, bins);
+            self.add_notched(path.tints, path.notches.as_deref(), weight, xyz, bins);
             return;
         }
         for (f, w) in path.carried() {
@@ -575,12 +619,22 @@ mod tests {
         let (mut xyz, mut bins) = ([0.0; 3], vec![0.0; 40]);
         s.add_path(&PathSpectrum::default(), 2.0, &mut xyz, &mut bins);
         assert!((xyz[1] - 2.0).abs() < 1e-9);
-        // So do the lines it passed: a path not reflected neglects its notches.
+    }
+
+    #[test]
+    fn a_white_path_loses_the_notches_it_passed() {
+        // Independent: 1 − ∫ R S ȳ by brute force, for a path that passed a line and has not
+        // been reflected: the light its line reflects is not in the light going on.
+        let s = SpectralSampler::new(Illuminant::D65, &WavelengthGrid::default(), 4);
+        let line = BraggLine::new(0.0037, 589.0, 1.0, 400.0);
         let mut passed = PathSpectrum::default();
-        passed.transmit(BraggLine::new(0.0037, 589.0, 1.0, 400.0));
-        let (mut again, mut bins) = ([0.0; 3], vec![0.0; 40]);
-        s.add_path(&passed, 2.0, &mut again, &mut bins);
-        assert_eq!(xyz, again);
+        passed.transmit(line, &s);
+        let (mut xyz, mut bins) = ([0.0; 3], vec![0.0; 40]);
+        s.add_path(&passed, 2.0, &mut xyz, &mut bins);
+        let expected =
+            2.0 * (1.0 - brute_y(&s, |w| reflectance_within(&line, line.window_nm(), w)));
+        assert!(xyz[1] < 1.999, "the notch takes light: {}", xyz[1]);
+        assert!((xyz[1] - expected).abs() < 1e-4, "{} vs {expected}", xyz[1]);
     }
 
     #[test]
@@ -651,7 +705,7 @@ mod tests {
         // Independent: brute-force quadrature of R(λ)·S·ȳ.
         let s = SpectralSampler::new(Illuminant::E, &WavelengthGrid::default(), 8);
         let line = BraggLine::new(0.0037, 589.0, 1.0, 400.0);
-        let brute = brute_y(&s, |w| line.reflectance(w));
+        let brute = brute_y(&s, |w| reflectance_within(&line, line.window_nm(), w));
         let mean = mean_y(&s, 4000, |u| {
             let mut path = PathSpectrum::default();
             path.reflect(line, &s, u);
@@ -673,14 +727,17 @@ mod tests {
         // A notch is 1 − R within its window, 1 outside ([`BraggLine::window_nm`]).
         let pass = |l: &BraggLine, w: f64| 1.0 - reflectance_within(l, l.window_nm(), w);
         let brute = brute_y(&s, |w| {
-            line.reflectance(w) * pass(&before, w) * pass(&broad, w) * pass(&notch, w)
+            reflectance_within(&line, line.window_nm(), w)
+                * pass(&before, w)
+                * pass(&broad, w)
+                * pass(&notch, w)
         });
         let mean = mean_y(&s, 4000, |u| {
             let mut path = PathSpectrum::default();
-            path.transmit(before);
-            path.transmit(broad);
+            path.transmit(before, &s);
+            path.transmit(broad, &s);
             path.reflect(line, &s, u);
-            path.transmit(notch);
+            path.transmit(notch, &s);
             path
         });
         assert!((mean / brute - 1.0).abs() < 0.01, "{mean} vs {brute}");
@@ -696,16 +753,17 @@ mod tests {
         let plate = BraggLine::new(0.0037, 589.3, 1.0, 200.0);
         let plates = 60;
         let window = plate.window_nm();
+        let within = |w: f64| reflectance_within(&line, line.window_nm(), w);
         let brute = brute_y(&s, |w| {
-            line.reflectance(w) * (1.0 - reflectance_within(&plate, window, w)).powi(plates)
+            within(w) * (1.0 - reflectance_within(&plate, window, w)).powi(plates)
         });
-        let alone = brute_y(&s, |w| line.reflectance(w));
+        let alone = brute_y(&s, within);
         assert!(brute < 0.5 * alone, "the plates matter: {brute} vs {alone}");
         let mean = mean_y(&s, 4000, |u| {
             let mut path = PathSpectrum::default();
             path.reflect(line, &s, u);
             for _ in 0..plates {
-                path.transmit(plate);
+                path.transmit(plate, &s);
             }
             path
         });

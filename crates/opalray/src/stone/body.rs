@@ -9,7 +9,9 @@
 //!
 //! `R(ω) = (1 − F₀) · P(escape; ω)`, where a walk enters face-on, flies `Exp(σ)`, scatters
 //! (weight ω each time) by HG, and at the surface escapes with probability `1 − F(θ)` or is
-//! reflected back. The walk's geometry does not depend on ω, so one set of walks gives the
+//! reflected back, its flight going on to its end (the mirror image of where it would have
+//! ended) and scattering there. (Until December 2026 a reflected walk drew a second flight
+//! before scattering: the albedos were too high and a body rendered 2–4 % too light.) The walk's geometry does not depend on ω, so one set of walks gives the
 //! escape count `H[k]` after k scatterings and `R(ω) = (1 − F₀)/N · Σ H[k] ω^k` for every ω
 //! at once: the tone's albedo is found by bisection on that polynomial. R does not depend on
 //! σ (a semi-infinite slab has no length scale). Walks are deterministic (a fixed stream) and
@@ -38,7 +40,7 @@ pub const STORED_N: f64 = 1.442_260;
 /// Albedo per body tone N1…N9 for [`STORED_G`] and [`STORED_N`], from [`SlabWalks`] with
 /// [`WALKS`] walks (the test `the_stored_calibration_is_the_walks_own` recomputes it).
 const STORED_ALBEDO: [f32; 9] = [
-    0.34334, 0.56660, 0.73885, 0.85357, 0.92267, 0.96201, 0.98340, 0.99427, 0.99897,
+    0.35021, 0.56739, 0.73469, 0.84808, 0.91801, 0.95877, 0.98156, 0.99350, 0.99879,
 ];
 
 /// Luminous reflectance of Munsell value `v` (0–10), ASTM D1535, as a fraction.
@@ -73,9 +75,10 @@ impl SlabWalks {
                         escapes[k] += 1.0;
                         break;
                     }
+                    // Reflected: the flight goes on to its end, the mirror image of where it
+                    // would have been, and scatters there.
                     depth = -depth;
                     mu = -mu;
-                    continue;
                 }
                 k += 1;
                 if k > MAX_SCATTERINGS {
