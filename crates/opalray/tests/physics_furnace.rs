@@ -6,7 +6,8 @@
 
 use glam::Vec3;
 use opalray::geometry::Camera;
-use opalray::path::{trace_paths, Environment, PathSetup, SpectralSampler};
+use opalray::lights::Environment;
+use opalray::path::{trace_paths, PathSetup, SpectralSampler};
 use opalray::scene::{
     preset, EnvironmentConfig, EnvironmentKind, FamilyChoice, OrientationLaw, Pattern, Scene,
 };
