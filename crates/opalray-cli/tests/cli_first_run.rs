@@ -39,7 +39,8 @@ fn progress_goes_to_a_log_one_line_per_pass() {
     let log = std::fs::File::create(dir.path().join("log.txt")).unwrap();
     let status = std::process::Command::new(env!("CARGO_BIN_EXE_opalray"))
         .args([
-            "render", "--width", "16", "--height", "12", "--spp", "4", "-o", "a.png",
+            "render", "--method", "path", "--width", "16", "--height", "12", "--spp", "4", "-o",
+            "a.png",
         ])
         .current_dir(dir.path())
         .stderr(log)

@@ -214,6 +214,15 @@ pub struct LookArgs {
 }
 
 impl LookArgs {
+    /// Set `integrator.method` from `--method`, if given.
+    pub fn apply_method(&self, scene: &mut Scene) -> Result<()> {
+        if let Some(name) = &self.method {
+            scene.integrator.method = serde_json::from_value(serde_json::json!(name))
+                .map_err(|e| anyhow::anyhow!("--method {name}: {e}"))?;
+        }
+        Ok(())
+    }
+
     /// Apply the flags to `scene` and validate the result.
     pub fn apply(&self, scene: &mut Scene) -> Result<()> {
         if let Some(v) = self.width {
@@ -246,10 +255,7 @@ impl LookArgs {
         if let Some(v) = self.spp {
             scene.integrator.spp = v;
         }
-        if let Some(name) = &self.method {
-            scene.integrator.method = serde_json::from_value(serde_json::json!(name))
-                .map_err(|e| anyhow::anyhow!("--method {name}: {e}"))?;
-        }
+        self.apply_method(scene)?;
         if let Some(v) = self.tilt {
             scene.camera.tilt_deg = v;
         }

@@ -79,6 +79,8 @@ pub fn run(args: Args) -> Result<()> {
         super::motion::check_light_angle(&scene)?;
         scene.light.angle_deg = angle;
     }
+    // The renderer first: what --time-limit may do depends on it.
+    args.look.apply_method(&mut scene)?;
     let time_limit = match args.time_limit {
         Some(limit) => {
             if !(limit.is_finite() && limit > 0.0 && limit <= MAX_TIME_LIMIT_S) {

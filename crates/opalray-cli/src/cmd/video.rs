@@ -33,6 +33,17 @@ pub struct VideoWriter {
     stdin: Option<ChildStdin>,
 }
 
+/// `path` as another process opens it: a nameless staged file's `/proc/self/fd/N` is this
+/// process's descriptor, `/proc/PID/fd/N` to ffmpeg.
+fn for_child(path: &Path) -> std::path::PathBuf {
+    match path.strip_prefix("/proc/self") {
+        Ok(rest) => Path::new("/proc")
+            .join(std::process::id().to_string())
+            .join(rest),
+        Err(_) => path.to_path_buf(),
+    }
+}
+
 impl VideoWriter {
     /// Start ffmpeg writing `width` × `height` RGB frames, `delay_ms` each, to `temp` (the
     /// staged file of `target`, whose extension, .mp4 or .webm, chooses the format). An odd
@@ -68,7 +79,7 @@ impl VideoWriter {
             ])
             .args(codec)
             .args(["-f", format])
-            .arg(temp)
+            .arg(for_child(temp))
             .stdin(Stdio::piped())
             .stdout(Stdio::null())
             .stderr(Stdio::piped())

@@ -26,7 +26,8 @@ impl Provenance {
     /// scene as TOML; a path-traced render's `integrator.spp` is the samples it reached, so
     /// that a time-limited render is rendered again exactly), `opalray.seed`
     /// (`structure.seed`), `opalray.spp` (samples per pixel rendered, the path and stored
-    /// methods), `opalray.method` and `opalray.version`.
+    /// methods; the lobe integrator's rays per edge pixel), `opalray.method` and
+    /// `opalray.version`.
     pub fn of(scene: &Scene, frame: &Frame) -> Self {
         Provenance::of_samples(
             scene,
@@ -42,7 +43,10 @@ impl Provenance {
         if let Some(spp) = path_spp {
             scene.integrator.spp = spp;
         }
-        let spp = path_spp.or(stored_spp);
+        // The lobe integrator's rays per edge pixel are the scene's.
+        let lobe_spp =
+            (scene.integrator.method == crate::scene::Method::Lobe).then_some(scene.integrator.spp);
+        let spp = path_spp.or(stored_spp).or(lobe_spp);
         let version = env!("CARGO_PKG_VERSION");
         let method = serde_json::to_value(scene.integrator.method)
             .ok()
