@@ -32,7 +32,9 @@ def test_python_and_every_command_default_to_the_same_scene(cli):
 
 
 def test_a_path_traced_render_reports_every_pass():
-    gem = opalray.Scene.preset("black-opal").replace(render={"width": 16, "height": 12}, integrator={"spp": 4})
+    gem = opalray.Scene.preset("black-opal").replace(
+        render={"width": 16, "height": 12}, integrator={"method": "path", "spp": 4}
+    )
     seen = []
     image = opalray.render(gem, progress=lambda stage, done, total: seen.append((stage, done, total)))
     # Passes of doubling samples: 2, then 4 samples per pixel, each with its noise.
@@ -42,7 +44,9 @@ def test_a_path_traced_render_reports_every_pass():
 
 
 def test_a_time_limit_stops_after_the_pass_it_falls_in():
-    gem = opalray.Scene.preset("black-opal").replace(render={"width": 16, "height": 12})
+    gem = opalray.Scene.preset("black-opal").replace(
+        render={"width": 16, "height": 12}, integrator={"method": "path"}
+    )
     image = opalray.render(gem, time_limit=1e-3)
     path = image.stats["path"]
     assert path["stopped_by_time_limit"] and path["passes"] == 1
