@@ -101,8 +101,8 @@ impl LineColours {
             }
             let gamma = lorentz_half_width(nu) * scale / std::f64::consts::PI;
             let v = self.at(line.center_nm, gamma);
-            for c in 0..3 {
-                out.0[c] += width * v[c];
+            for (o, x) in out.0.iter_mut().zip(v) {
+                *o += width * x;
             }
             out.1 += width * v[3];
         }
