@@ -141,8 +141,17 @@ impl<'a> Tracer<'a> {
                     spans.push(s);
                     true
                 });
+                // The body's scattering thickness from each span to the segment's end, and
+                // what lies beyond it: the body there is a layer of that thickness.
+                let ground = match (boundary, stone.back) {
+                    (Boundary::Back, Some(back)) => back.reflectance(550.0) as f32,
+                    _ => 0.0,
+                };
+                let mut beyond: f32 = self.spans.iter().map(|s| self.km_scattering(s)).sum();
                 for k in 0..self.spans.len() {
                     let span = self.spans[k];
+                    let layer = beyond;
+                    beyond -= self.km_scattering(&span);
                     let sigma = match span.domain {
                         None => potch.extinction_per_mm,
                         Some(domain) => {
@@ -153,7 +162,8 @@ impl<'a> Tracer<'a> {
                     if sigma > 0.0 {
                         let tau = sigma * (span.t1 - span.t0);
                         let kept = (-tau).exp();
-                        self.body(w * (1.0 - kept), &entry, sums);
+                        let r = layer_reflectance(self.setup.body_reflectance, layer, ground);
+                        self.body(w * (1.0 - kept), r, &entry, sums);
                         w *= kept;
                         optical_depth += tau;
                     }
@@ -486,14 +496,15 @@ impl<'a> Tracer<'a> {
         self.add_line(f64::from(value), xyz, s, wavelength, sums);
     }
 
-    /// The body seen by the share `w` of the eye ray scattered in it: its Munsell reflectance
-    /// under the environment's irradiance at the surface the eye ray entered (the chip's
-    /// reflectance includes the surface's `1 − F₀` on the way in, which the eye ray's weight
-    /// holds already).
-    fn body(&mut self, w: f32, entry: &Entry, sums: &mut Sums) {
+    /// The body seen by the share `w` of the eye ray scattered in it: `reflectance` (its
+    /// Munsell value, or less for a thin layer, [`layer_reflectance`]) under the
+    /// environment's irradiance at the surface the eye ray entered (the chip's reflectance
+    /// includes the surface's `1 − F₀` on the way in, which the eye ray's weight holds
+    /// already).
+    fn body(&mut self, w: f32, reflectance: f32, entry: &Entry, sums: &mut Sums) {
         let n = self.stone.n_eff;
         let e = self.irradiance.at(entry.normal);
-        let v = w * n * n * self.setup.body_reflectance * e / (1.0 - entry.fresnel_normal);
+        let v = w * n * n * reflectance * e / (1.0 - entry.fresnel_normal);
         self.add_notched_white(f64::from(v), sums);
     }
 
@@ -566,6 +577,37 @@ impl<'a> Tracer<'a> {
     }
 }
 
+impl Tracer<'_> {
+    /// Kubelka–Munk scattering thickness `S X` of `span`: `S = ¾ σ_s (1 − g)` of the potch
+    /// (σ_s its extinction times its albedo) or of a milky domain's haze.
+    fn km_scattering(&self, span: &Span) -> f32 {
+        let potch = &self.stone.potch;
+        let sigma_s = match span.domain {
+            None => potch.extinction_per_mm * potch.albedo,
+            Some(_) => potch.domain_scattering_per_mm,
+        };
+        0.75 * sigma_s * (1.0 - potch.anisotropy) * (span.t1 - span.t0)
+    }
+}
+
+/// The reflectance of a layer of body of scattering thickness `sx` (Kubelka–Munk `S X`)
+/// over a ground of reflectance `ground`, the body's own reflectance when thick being
+/// `thick` (Kubelka & Munk 1931; Judd & Wyszecki, *Color in Business, Science and
+/// Industry*, §3.8): `R = (1 − R_g (a − b coth bSX)) / (a − R_g + b coth bSX)`,
+/// `a = (1 + R∞²)/(2 R∞)`, `b = √(a² − 1)`. A thick layer shows `R∞`, a thin one its ground.
+fn layer_reflectance(thick: f32, sx: f32, ground: f32) -> f32 {
+    let r_inf = f64::from(thick).clamp(1e-4, 0.9999);
+    let a = (1.0 + r_inf * r_inf) / (2.0 * r_inf);
+    let b = (a * a - 1.0).sqrt();
+    let x = (b * f64::from(sx.max(0.0))).max(1e-9);
+    if x > 20.0 {
+        return thick;
+    }
+    let coth = 1.0 / x.tanh();
+    let g = f64::from(ground);
+    ((1.0 - g * (a - b * coth)) / (a - g + b * coth)) as f32
+}
+
 /// A reflection leaving a domain: its face, its direction, the domain (the reflected ray
 /// leaves it through that face) and the cells likely to hold the face.
 struct Out {
@@ -581,4 +623,22 @@ struct Entry {
     normal: Vec3,
     /// The surface's Fresnel reflectance at normal incidence.
     fresnel_normal: f32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::layer_reflectance;
+
+    #[test]
+    fn a_layer_shows_its_ground_when_thin_and_its_own_reflectance_when_thick() {
+        assert!((layer_reflectance(0.3, 1e-6, 0.03) - 0.03).abs() < 1e-4);
+        assert!((layer_reflectance(0.3, 50.0, 0.03) - 0.3).abs() < 1e-6);
+        // Over a ground of its own reflectance a layer of any thickness shows that.
+        for sx in [0.1, 1.0, 3.0] {
+            assert!((layer_reflectance(0.3, sx, 0.3) - 0.3).abs() < 1e-5, "{sx}");
+        }
+        // Kubelka–Munk over black: R = 1 / (a + b coth bSX); R∞ = 0.5, SX = 1 gives
+        // a = 1.25, b = 0.75, R = 1 / (1.25 + 0.75 coth 0.75) = 0.4114 (hand computed).
+        assert!((layer_reflectance(0.5, 1.0, 0.0) - 0.4114).abs() < 1e-3);
+    }
 }
