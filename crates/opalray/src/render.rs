@@ -433,11 +433,7 @@ impl Prepared {
         let s = &self.scene;
         let mut times = self.times;
         let (camera, source) = self.placement(light_angle_deg);
-        let sampler = SpectralSampler::new(
-            s.light.illuminant,
-            &s.spectrum,
-            s.integrator.wavelengths as usize,
-        );
+        let sampler = self.spectral_sampler();
         let setup = StoredSetup {
             camera,
             width: s.render.width as usize,
@@ -460,23 +456,59 @@ impl Prepared {
         let start = Instant::now();
         let image = gather_view(stone, &light, &setup);
         times.view_pass = seconds(start);
+        let stats = StoredStats {
+            spp: setup.spp,
+            light: light.stats(),
+        };
+        self.deterministic_frame(times, image.spectral, &image.xyz, &sampler, Some(stats))
+    }
+
+    /// The frame of a method without passes (stored, lobe): its XYZ image `xyz` to the
+    /// scene's RGB (timed as colour), and its `spectral` image.
+    fn deterministic_frame(
+        &self,
+        mut times: StageTimes,
+        spectral: SpectralImage,
+        xyz: &[[f32; 3]],
+        sampler: &SpectralSampler,
+        stored: Option<StoredStats>,
+    ) -> Frame {
         let start = Instant::now();
         let m = self.display_matrix(sampler.white_xyz);
-        let rgb = rgb_of_xyz(&image.xyz, m, setup.width, setup.height);
+        let (width, height) = (spectral.width, spectral.height);
+        let rgb = rgb_of_xyz(xyz, m, width, height);
         times.color = seconds(start);
         Frame {
-            spectral: image.spectral,
+            spectral,
             rgb,
             light_rays: 0,
             ledger: EnergyLedger::default(),
             times,
             void_ratio: self.structure.stats.void_ratio,
             path: None,
-            stored: Some(StoredStats {
-                spp: setup.spp,
-                light: light.stats(),
-            }),
+            stored,
         }
+    }
+
+    /// The wavelength sampler and colour matching of this scene's light.
+    fn spectral_sampler(&self) -> SpectralSampler {
+        let s = &self.scene;
+        SpectralSampler::new(
+            s.light.illuminant,
+            &s.spectrum,
+            s.integrator.wavelengths as usize,
+        )
+    }
+
+    /// The scene's directional or point light at `source` for the stone model's methods
+    /// (`None` for other kinds: a sphere or rect light is an [`AreaLight`]).
+    fn scene_light(&self, source: LightSource) -> Option<PathLight> {
+        let s = &self.scene;
+        matches!(s.light.kind, LightKind::Directional | LightKind::Point).then_some(PathLight {
+            source,
+            intensity: s.light.intensity as f32,
+            disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
+        })
     }
 
     /// The lobe integrator's frame for light angle `light_angle_deg`.
@@ -484,18 +516,8 @@ impl Prepared {
         let s = &self.scene;
         let mut times = self.times;
         let (camera, source) = self.placement(light_angle_deg);
-        let sampler = SpectralSampler::new(
-            s.light.illuminant,
-            &s.spectrum,
-            s.integrator.wavelengths as usize,
-        );
-        let light = matches!(s.light.kind, LightKind::Directional | LightKind::Point).then_some(
-            PathLight {
-                source,
-                intensity: s.light.intensity as f32,
-                disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
-            },
-        );
+        let sampler = self.spectral_sampler();
+        let light = self.scene_light(source);
         let setup = LobeSetup {
             camera,
             width: s.render.width as usize,
@@ -511,20 +533,7 @@ impl Prepared {
         let start = Instant::now();
         let image = render_lobes(stone, &setup);
         times.view_pass = seconds(start);
-        let start = Instant::now();
-        let m = self.display_matrix(sampler.white_xyz);
-        let rgb = rgb_of_xyz(&image.xyz, m, setup.width, setup.height);
-        times.color = seconds(start);
-        Frame {
-            spectral: image.spectral,
-            rgb,
-            light_rays: 0,
-            ledger: EnergyLedger::default(),
-            times,
-            void_ratio: self.structure.stats.void_ratio,
-            path: None,
-            stored: None,
-        }
+        self.deterministic_frame(times, image.spectral, &image.xyz, &sampler, None)
     }
 
     /// The path integrator's image for light angle `light_angle_deg`, in passes as `passes`
@@ -551,18 +560,8 @@ impl Prepared {
     ) -> (PathImage, glam::Mat3) {
         let s = &self.scene;
         let (camera, source) = self.placement(light_angle_deg);
-        let sampler = SpectralSampler::new(
-            s.light.illuminant,
-            &s.spectrum,
-            s.integrator.wavelengths as usize,
-        );
-        let light = matches!(s.light.kind, LightKind::Directional | LightKind::Point).then_some(
-            PathLight {
-                source,
-                intensity: s.light.intensity as f32,
-                disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
-            },
-        );
+        let sampler = self.spectral_sampler();
+        let light = self.scene_light(source);
         let area_light = self.area_light(source, camera_up(s));
         let image = trace_passes(
             stone,
