@@ -561,19 +561,9 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// The light's disc seen along `dir` from outside, in image units (as the path tracer's
-    /// gloss shows it).
+    /// The light's disc seen along `dir` from outside, in image units.
     fn disc(&self, dir: Vec3) -> f32 {
-        let Some(light) = self.setup.light else {
-            return 0.0;
-        };
-        let r = light.disc_radius_rad;
-        let to_light = light.source.direction_to_light(Vec3::ZERO);
-        if r > 0.0 && dir.dot(to_light) >= r.cos() {
-            light.intensity / (r * r)
-        } else {
-            0.0
-        }
+        self.setup.light.map_or(0.0, |light| light.disc(dir))
     }
 }
 

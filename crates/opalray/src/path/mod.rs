@@ -149,6 +149,20 @@ pub struct PathLight {
     pub disc_radius_rad: f32,
 }
 
+impl PathLight {
+    /// Its disc seen along `dir` from outside (the gloss's image of the lamp), in image
+    /// units: the irradiance over the disc's solid angle π r², times π; 0 off the disc.
+    pub fn disc(&self, dir: Vec3) -> f32 {
+        let r = self.disc_radius_rad;
+        let to_light = self.source.direction_to_light(Vec3::ZERO);
+        if r > 0.0 && dir.dot(to_light) >= r.cos() {
+            self.intensity / (r * r)
+        } else {
+            0.0
+        }
+    }
+}
+
 /// Everything the path integrator needs besides the stone.
 pub struct PathSetup<'a> {
     /// The camera.
@@ -328,17 +342,7 @@ impl<'a> Tracer<'a> {
 
     /// The light's disc seen along `dir` from outside, in image units.
     fn disc(&self, dir: Vec3) -> f32 {
-        let Some(light) = self.setup.light else {
-            return 0.0;
-        };
-        let to_light = light.source.direction_to_light(Vec3::ZERO);
-        let r = light.disc_radius_rad;
-        if r > 0.0 && dir.dot(to_light) >= r.cos() {
-            // Irradiance E over the disc's solid angle π r², times π for image units.
-            light.intensity / (r * r)
-        } else {
-            0.0
-        }
+        self.setup.light.map_or(0.0, |light| light.disc(dir))
     }
 
     /// The path `state` inside the stone. If `split`, every reflection at the domain crossings

@@ -125,17 +125,9 @@ impl<'a> Gather<'a> {
         self.inside(p, dir, (1.0 - fresnel) / (n * n), sums);
     }
 
-    /// The light's disc seen along `dir` from outside, in image units (as the path tracer's
-    /// gloss shows it).
+    /// The light's disc seen along `dir` from outside, in image units.
     fn disc(&self, dir: Vec3) -> f32 {
-        let light = &self.setup.light;
-        let r = light.disc_radius_rad;
-        let to_light = light.source.direction_to_light(Vec3::ZERO);
-        if r > 0.0 && dir.dot(to_light) >= r.cos() {
-            light.intensity / (r * r)
-        } else {
-            0.0
-        }
+        self.setup.light.disc(dir)
     }
 
     /// The refracted camera ray from `p` along `dir` with weight `weight`, to where it leaves.
