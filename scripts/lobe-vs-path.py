@@ -2,9 +2,9 @@
 """The lobe integrator against the path tracer, preset by preset.
 
     scripts/lobe-vs-path.py [--width 64] [--height 48] [--spp 256] [--bin target/release/opalray]
-                            [--keep DIR] PRESET [PRESET ...]
+                            [--keep DIR] PRESET|SCENE.toml [...]
 
-For each preset: the same stone rendered by the lobe integrator (the preset's own method) and
+For each preset (or scene file): the same stone rendered by the lobe integrator (the preset's own method) and
 by the path tracer (`--method path`, raw: not denoised, `--spp` samples per pixel), both as
 8-bit sRGB PNGs decoded to linear RGB and blurred by a Gaussian of σ = 1.5 px; over the
 stone's face (scripts/look-metrics.py's ellipse of the pixels that differ from the backdrop):
@@ -100,7 +100,8 @@ def coverage(srgb8, face):
 
 
 def render(binary, preset, out, extra):
-    subprocess.run([binary, "render", "--preset", preset, "--output", out] + extra,
+    scene = [preset] if preset.endswith(".toml") else ["--preset", preset]
+    subprocess.run([binary, "render"] + scene + ["--output", out] + extra,
                    check=True, capture_output=True)
     return np.asarray(Image.open(out).convert("RGB"))
 
@@ -119,8 +120,10 @@ def main():
     os.makedirs(folder, exist_ok=True)
     print("preset  Y(lobe)/Y(path)  dE00 median  dE00 p90  colour lobe  colour path")
     for preset in a.presets:
-        lobe8 = render(a.bin, preset, os.path.join(folder, f"{preset}-lobe.png"), size)
-        path8 = render(a.bin, preset, os.path.join(folder, f"{preset}-path.png"),
+        name = os.path.splitext(os.path.basename(preset))[0]
+        lobe8 = render(a.bin, preset, os.path.join(folder, f"{name}-lobe.png"),
+                       size + ["--method", "lobe"])
+        path8 = render(a.bin, preset, os.path.join(folder, f"{name}-path.png"),
                        size + ["--method", "path", "--no-denoise", "--spp", str(a.spp)])
         face = look.face_mask(lobe8.astype(np.float64) / 255.0)
         lo, pa = blur(linear(lobe8)), blur(linear(path8))

@@ -518,12 +518,15 @@ impl Prepared {
         let (camera, source) = self.placement(light_angle_deg);
         let sampler = self.spectral_sampler();
         let light = self.scene_light(source);
+        let area_light = self.area_light(source, camera_up(s));
         let setup = LobeSetup {
             camera,
             width: s.render.width as usize,
             height: s.render.height as usize,
             spp: s.integrator.spp,
             light,
+            area_light,
+            light_intensity: s.light.intensity as f32,
             environment,
             gloss: s.render.gloss as f32,
             seed: sample_seed(s.structure.seed, s.integrator.seed),

@@ -33,6 +33,8 @@ fn face(stone: &Stone, scene: &Scene, env: &Environment, n: usize, frac: f32) ->
             height: n,
             spp: 4,
             light: None,
+            area_light: None,
+            light_intensity: 0.0,
             environment: env,
             gloss: 1.0,
             seed: 3,

@@ -46,7 +46,7 @@ use crate::error::{Error, Result};
 use crate::sampling::distribution::Distribution2D;
 use crate::scene::{CameraConfig, EnvironmentConfig, EnvironmentKind};
 
-mod filter;
+pub(crate) mod filter;
 
 /// Texels (width, height) of a built-in environment's sampling raster.
 pub const BUILT_IN_GRID: (usize, usize) = (256, 128);

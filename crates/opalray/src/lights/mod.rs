@@ -6,13 +6,15 @@
 //!
 //! - [`env`]: the environment around the stone and its sampling;
 //! - [`env_map`]: the environment file reader (Radiance `.hdr`, OpenEXR) to luminance;
-//! - [`emitters`]: the area lights and what a ray leaving the stone sees.
+//! - [`emitters`]: the area lights and what a ray leaving the stone sees;
+//! - [`lobe_share`]: how much of a narrow lobe of directions an area light fills.
 //!
 //! Physics as built: `docs/model.md`.
 
 pub mod emitters;
 pub mod env;
 pub mod env_map;
+pub mod lobe_share;
 
 pub use emitters::{AreaLight, LightSample};
 pub use env::{EnvSample, Environment};

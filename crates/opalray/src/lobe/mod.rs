@@ -16,17 +16,18 @@
 //!   its equivalent width times the light × colour-matching functions over its profile
 //!   ([`colour`]), times the notches of the lines crossed before, each at the line's centre.
 //!   A point or directional light adds `π E R D(h)/(4 cos θ_h)`, the lobe's density at the
-//!   half vector, as the path tracer's estimate does. The ray goes on through.
+//!   half vector, as the path tracer's estimate does; a sphere or rect light is read
+//!   through the lobe ([`crate::lights::AreaLight::lobe_share`]). The ray goes on through.
 //! - **Body**: where the eye ray is scattered by the potch (or a milky domain's haze), with
 //!   probability `1 − e^{−τ}` over a span, it sees the body as a chip of its Munsell value
 //!   lit by the environment's irradiance at the surface it entered ([`Irradiance`]) — the
 //!   calibrated slab's reflectance as a Lambertian response, not its multiple scattering.
 //! - **Exit**: the environment through the far surface (`(1 − F) n²`, the rest reflected
-//!   inside, bounded); a backing shows its reflectance under the environment's irradiance
-//!   from above, dimmed as the eye ray was.
+//!   inside, bounded); a backing shows its reflectance under the light that reaches it
+//!   through the stone ([`BackingLight`]).
 //!
-//! Left out, and measured in `docs/model.md`: Bragg reflections of reflected light (a second
-//! line), the lobe's colour change across its width, the lensing of the dome on the lobe's
+//! Left out, and measured in `docs/model.md`: third and later Bragg reflections, the lobe's
+//! colour change across its width, the lensing of the dome on the lobe's
 //! width, the notches of the lines on the body's and the environment's broadband light
 //! except those of the eye ray, and the cap plane's reflection of a triplet.
 
@@ -39,7 +40,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::geometry::Camera;
-use crate::lights::Environment;
+use crate::lights::{AreaLight, Environment};
 use crate::path::{PathLight, SpectralSampler};
 use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
@@ -59,6 +60,11 @@ pub struct LobeSetup<'a> {
     pub spp: u32,
     /// The scene's point or directional light, if any.
     pub light: Option<PathLight>,
+    /// The scene's sphere or rect light, if any, read through every lobe
+    /// ([`AreaLight::lobe_share`]).
+    pub area_light: Option<AreaLight>,
+    /// The light's irradiance at the stone's centre on a plane facing it (`light.intensity`).
+    pub light_intensity: f32,
     /// The environment.
     pub environment: &'a Environment,
     /// Scale of the surface's gloss.
@@ -88,6 +94,7 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
     let bins = grid.bins;
     let colours = LineColours::new(setup.spectral);
     let irradiance = Irradiance::new(setup.environment);
+    let backing_light = BackingLight::new(stone, setup, &colours, &irradiance);
     let mut xyz = vec![[0.0f32; 3]; w * h];
     let mut spectral = SpectralImage::new(w, h, grid);
     let spp = setup.spp.max(1) as usize;
@@ -96,7 +103,8 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
         .zip(spectral.data.par_chunks_mut(w * bins))
         .enumerate()
         .for_each(|(y, (xyz_row, bins_row))| {
-            let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance);
+            let mut tracer =
+                trace::Tracer::new(stone, setup, &colours, &irradiance, backing_light.as_ref());
             for (x, (out, out_bins)) in xyz_row
                 .iter_mut()
                 .zip(bins_row.chunks_mut(bins))
@@ -116,7 +124,8 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
         .zip(edges.par_chunks(w))
         .enumerate()
         .for_each(|(y, ((xyz_row, bins_row), edge_row))| {
-            let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance);
+            let mut tracer =
+                trace::Tracer::new(stone, setup, &colours, &irradiance, backing_light.as_ref());
             // The centre's ray counts as one of the pixel's `spp`.
             let mut positions = vec![(0.0f32, 0.0f32); spp - 1];
             let mut centre_bins = vec![0.0f32; bins];
@@ -283,6 +292,73 @@ impl Irradiance {
     }
 }
 
+/// Points of the back plane, across and along, at which the light reaching the backing is
+/// computed.
+const BACKING_GRID: (usize, usize) = (48, 36);
+
+/// The light reaching the backing through the stone (`Tracer::light_on_backing`): tabulated
+/// over the back plane on a grid spanning the girdle and read bilinearly.
+pub(crate) struct BackingLight {
+    half: (f32, f32),
+    values: Vec<f32>,
+}
+
+impl BackingLight {
+    /// The table of `stone` lit as `setup` says; `None` without a backing.
+    fn new(
+        stone: &Stone,
+        setup: &LobeSetup,
+        colours: &LineColours,
+        irradiance: &Irradiance,
+    ) -> Option<Self> {
+        stone.back?;
+        let axes = stone.shape.semi_axes();
+        let half = (axes.x, axes.y);
+        let (nx, ny) = BACKING_GRID;
+        let mut values = vec![0.0f32; nx * ny];
+        values.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+            let mut tracer = trace::Tracer::new(stone, setup, colours, irradiance, None);
+            for (i, v) in row.iter_mut().enumerate() {
+                let (x, y) = grid_point(half, i, j);
+                // Inside the girdle (a point outside it is moved in: the edge's cells are
+                // read by the pixels just inside it).
+                let r = ((x / half.0).powi(2) + (y / half.1).powi(2)).sqrt();
+                let pull = if r > 0.98 { 0.98 / r } else { 1.0 };
+                let up = crate::geometry::Ray {
+                    origin: Vec3::new(x * pull, y * pull, -1e3),
+                    direction: Vec3::Z,
+                };
+                if let Some((t0, _)) = stone.shape.intersect(&up) {
+                    *v = tracer.light_on_backing(up.at(t0));
+                }
+            }
+        });
+        Some(BackingLight { half, values })
+    }
+
+    /// The light at `at` (on the back plane).
+    fn at(&self, at: Vec3) -> f32 {
+        let (nx, ny) = BACKING_GRID;
+        let fx = ((at.x / self.half.0 + 1.0) * 0.5 * (nx - 1) as f32).clamp(0.0, (nx - 1) as f32);
+        let fy = ((at.y / self.half.1 + 1.0) * 0.5 * (ny - 1) as f32).clamp(0.0, (ny - 1) as f32);
+        let (i, j) = ((fx as usize).min(nx - 2), (fy as usize).min(ny - 2));
+        let (tx, ty) = (fx - i as f32, fy - j as f32);
+        let v = |i: usize, j: usize| self.values[j * nx + i];
+        let low = v(i, j) * (1.0 - tx) + v(i + 1, j) * tx;
+        let high = v(i, j + 1) * (1.0 - tx) + v(i + 1, j + 1) * tx;
+        low * (1.0 - ty) + high * ty
+    }
+}
+
+/// The back plane's grid point `(i, j)` over `[−a, a] × [−b, b]`, `half = (a, b)`.
+fn grid_point(half: (f32, f32), i: usize, j: usize) -> (f32, f32) {
+    let (nx, ny) = BACKING_GRID;
+    (
+        half.0 * (2.0 * i as f32 / (nx - 1) as f32 - 1.0),
+        half.1 * (2.0 * j as f32 / (ny - 1) as f32 - 1.0),
+    )
+}
+
 /// The unit vector at polar angle `theta` from +z and azimuth `phi` from +x.
 fn polar(theta: f32, phi: f32) -> Vec3 {
     let (s, c) = theta.sin_cos();
@@ -292,7 +368,75 @@ fn polar(theta: f32, phi: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{EnvironmentConfig, EnvironmentKind};
+    use crate::scene::{preset, EnvironmentConfig, EnvironmentKind};
+
+    /// The light on the black opal's backing at its centre and near its rim, in a uniform
+    /// environment of 1, with the stone's potch and haze as `extinction_per_mm`.
+    fn backing_light(extinction_per_mm: f32) -> (f32, f32, f32) {
+        let scene = preset("black-opal").unwrap();
+        let mut stone = Stone::new(&scene).unwrap();
+        stone.potch.extinction_per_mm = extinction_per_mm;
+        stone.potch.domain_scattering_per_mm = extinction_per_mm;
+        let env = Environment::new(
+            &EnvironmentConfig {
+                kind: EnvironmentKind::Uniform,
+                ..EnvironmentConfig::default()
+            },
+            0.0,
+        )
+        .unwrap();
+        let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
+        let setup = LobeSetup {
+            camera: Camera::look_at(Vec3::new(0.0, 0.0, 100.0), Vec3::ZERO, Vec3::Y, 10.0, 8, 8),
+            width: 8,
+            height: 8,
+            spp: 1,
+            light: None,
+            area_light: None,
+            light_intensity: 0.0,
+            environment: &env,
+            gloss: 1.0,
+            seed: 1,
+            body_reflectance: 0.0,
+            spectral: &sampler,
+        };
+        let colours = LineColours::new(&sampler);
+        let irradiance = Irradiance::new(&env);
+        let table = BackingLight::new(&stone, &setup, &colours, &irradiance).unwrap();
+        let axes = stone.shape.semi_axes();
+        let z = -1e3;
+        let back = |x: f32, y: f32| {
+            let up = crate::geometry::Ray {
+                origin: Vec3::new(x, y, z),
+                direction: Vec3::Z,
+            };
+            let (t0, _) = stone.shape.intersect(&up).unwrap();
+            table.at(up.at(t0))
+        };
+        (back(0.0, 0.0), back(0.9 * axes.x, 0.0), stone.n_eff)
+    }
+
+    #[test]
+    fn the_backing_is_lit_through_the_stone() {
+        // Lossless: inside a clear dielectric in a furnace the radiance is n² in every
+        // direction that leads out (the furnace through the surface); what the dome
+        // reflects back down sees the backing itself, which this light leaves out. So at
+        // most n², and at least what escapes through the dome at once, (1 − F) n² over the
+        // directions that meet it within the critical angle: most of them at the centre of
+        // a dome, fewer under its steep rim.
+        let (centre, rim, n) = backing_light(0.0);
+        for (v, least) in [(centre, 0.75), (rim, 0.25)] {
+            assert!(
+                v <= 1.0001 * n * n && v > least * n * n,
+                "{v} against {}",
+                n * n
+            );
+        }
+        // Under the black opal's opaque potch (3 mm⁻¹ over 2–4 mm), e^{−6} at most reaches
+        // the backing's centre: it must not be lit by the room as if the stone were not there.
+        let (centre, _, n) = backing_light(3.0);
+        assert!(centre < 0.01 * n * n, "{centre}");
+    }
 
     #[test]
     fn irradiance_of_a_uniform_environment_is_its_value_and_of_a_half_space_half() {

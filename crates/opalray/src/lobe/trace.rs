@@ -6,8 +6,9 @@ use std::f32::consts::PI;
 
 use glam::Vec3;
 
-use super::{Irradiance, LineColours, LobeSetup};
+use super::{BackingLight, Irradiance, LineColours, LobeSetup};
 use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
+use crate::lights::emitters::seen;
 use crate::optics::BraggLine;
 use crate::scene::Backing;
 use crate::stone::{ActiveLine, Boundary, Hint, Region, Span, Stone};
@@ -24,6 +25,8 @@ const MIN_WEIGHT: f32 = 1e-4;
 const CUT: f32 = 1e-5;
 /// Most lines of the eye ray kept for the notches of later reflections.
 const MAX_EYE_LINES: usize = 96;
+/// Directions of the quadrature of the light reaching a point of the backing.
+const BACK_DIRECTIONS: usize = 24;
 
 /// What one pixel's camera rays add up to.
 pub(super) struct Sums<'b> {
@@ -41,6 +44,8 @@ pub(super) struct Tracer<'a> {
     setup: &'a LobeSetup<'a>,
     colours: &'a LineColours,
     irradiance: &'a Irradiance,
+    /// The light reaching the backing through the stone (`None` while it is being made).
+    backing_light: Option<&'a BackingLight>,
     spans: Vec<Span>,
     lines: Vec<ActiveLine>,
     out_spans: Vec<Span>,
@@ -54,8 +59,12 @@ pub(super) struct Tracer<'a> {
     /// The same per bin.
     notch_bins: Vec<f32>,
     bin_width_nm: f64,
-    /// The most radiance any reflection can see: the environment's peak, through the surface.
+    /// The most radiance any reflection can see: the environment's peak or an area light's
+    /// value, through the surface.
     peak: f32,
+    /// The scene's light as the body sees it: the direction towards it from the stone's
+    /// centre and its irradiance there on a plane facing it.
+    body_light: Option<(Vec3, f32)>,
 }
 
 impl<'a> Tracer<'a> {
@@ -64,12 +73,14 @@ impl<'a> Tracer<'a> {
         setup: &'a LobeSetup<'a>,
         colours: &'a LineColours,
         irradiance: &'a Irradiance,
+        backing_light: Option<&'a BackingLight>,
     ) -> Self {
         Tracer {
             stone,
             setup,
             colours,
             irradiance,
+            backing_light,
             spans: Vec::with_capacity(64),
             lines: Vec::with_capacity(16),
             out_spans: Vec::with_capacity(64),
@@ -79,16 +90,26 @@ impl<'a> Tracer<'a> {
             notch_xyz: [0.0; 3],
             notch_bins: vec![0.0; setup.spectral.grid.bins],
             bin_width_nm: setup.spectral.grid.bin_width_nm(),
-            peak: setup.environment.peak() * stone.n_eff * stone.n_eff,
+            peak: setup
+                .environment
+                .peak()
+                .max(setup.area_light.map_or(0.0, |a| a.value()))
+                * stone.n_eff
+                * stone.n_eff,
+            body_light: setup
+                .light
+                .map(|l| (l.source.direction_to_light(Vec3::ZERO), l.intensity))
+                .or(setup
+                    .area_light
+                    .map(|a| (a.center().normalize(), setup.light_intensity))),
         }
     }
 
     /// One camera ray.
     pub(super) fn sample(&mut self, ray: Ray, sums: &mut Sums) {
         let stone = self.stone;
-        let env = self.setup.environment;
         let Some((t0, _)) = stone.shape.intersect(&ray).filter(|&(t0, _)| t0 > 0.0) else {
-            sums.white += f64::from(env.value(ray.direction));
+            sums.white += f64::from(self.seen_sharp(ray.origin, ray.direction));
             return;
         };
         self.eye_lines.clear();
@@ -101,8 +122,9 @@ impl<'a> Tracer<'a> {
         let n = stone.index_of(region);
         let fresnel = fresnel_dielectric(-ray.direction.dot(normal), 1.0, n);
         let mirror = reflect(ray.direction, normal);
-        sums.white +=
-            f64::from(fresnel * self.setup.gloss * (env.value(mirror) + self.disc(mirror)));
+        sums.white += f64::from(
+            fresnel * self.setup.gloss * (self.seen_sharp(p, mirror) + self.disc(mirror)),
+        );
         let Some(dir) = refract(ray.direction, normal, 1.0, n) else {
             return;
         };
@@ -125,7 +147,6 @@ impl<'a> Tracer<'a> {
     ) {
         let stone = self.stone;
         let potch = stone.potch;
-        let mut optical_depth = 0.0f32;
         for _ in 0..MAX_SEGMENTS {
             let ray = Ray {
                 origin: pos,
@@ -165,7 +186,6 @@ impl<'a> Tracer<'a> {
                         let r = layer_reflectance(self.setup.body_reflectance, layer, ground);
                         self.body(w * (1.0 - kept), r, &entry, sums);
                         w *= kept;
-                        optical_depth += tau;
                     }
                     if w < MIN_WEIGHT {
                         return;
@@ -179,7 +199,7 @@ impl<'a> Tracer<'a> {
                     let normal = stone.shape.normal(at);
                     let f = fresnel_dielectric(dir.dot(normal), n, 1.0);
                     if let Some(out) = refract(dir, normal, n, 1.0) {
-                        let v = w * (1.0 - f) * n * n * self.setup.environment.value(out);
+                        let v = w * (1.0 - f) * n * n * self.seen_sharp(at, out);
                         self.add_notched_white(f64::from(v), sums);
                     }
                     w *= f;
@@ -187,7 +207,7 @@ impl<'a> Tracer<'a> {
                     pos = at - normal * EPSILON_MM;
                 }
                 Boundary::Back => {
-                    self.backing(w * (-optical_depth).exp(), sums);
+                    self.backing(w, at, sums);
                     return;
                 }
                 Boundary::CapPlane => {
@@ -394,7 +414,7 @@ impl<'a> Tracer<'a> {
                     // widened by the refraction out (its mean over the two axes).
                     let cos_out = out.dot(normal).max(1e-3);
                     let spread = 2.0 * sigma * stone.n_eff * (cos_in.max(1e-3) / cos_out).sqrt();
-                    seen = w * (1.0 - f) * n * n * self.setup.environment.filtered(out, spread);
+                    seen = w * (1.0 - f) * n * n * self.seen_through_lobe(at, out, spread);
                 }
                 (
                     seen,
@@ -503,20 +523,20 @@ impl<'a> Tracer<'a> {
     /// already).
     fn body(&mut self, w: f32, reflectance: f32, entry: &Entry, sums: &mut Sums) {
         let n = self.stone.n_eff;
-        let e = self.irradiance.at(entry.normal);
+        let e = self.irradiance_on(entry.normal);
         let v = w * n * n * reflectance * e / (1.0 - entry.fresnel_normal);
         self.add_notched_white(f64::from(v), sums);
     }
 
-    /// The backing seen by the eye ray with weight `w`: its reflectance under the
-    /// environment's irradiance from above.
-    fn backing(&mut self, w: f32, sums: &mut Sums) {
+    /// The backing seen at `at` by the eye ray with weight `w`: its reflectance under the
+    /// light that reaches it through the stone ([`BackingLight`]).
+    fn backing(&mut self, w: f32, at: Vec3, sums: &mut Sums) {
         let stone = self.stone;
         let Some(back) = stone.back else {
             return;
         };
-        let n = stone.n_eff;
-        let v = w * n * n * self.irradiance.at(Vec3::Z);
+        let light = self.backing_light.map_or(0.0, |b| b.at(at));
+        let v = w * light;
         match back.kind {
             Backing::None => {}
             Backing::Black => {
@@ -532,6 +552,96 @@ impl<'a> Tracer<'a> {
                 }
             }
         }
+    }
+
+    /// The light reaching the backing at `at` (on the back plane), as the radiance a white
+    /// Lambertian backing there sends back into the stone: the mean, over
+    /// [`BACK_DIRECTIONS`] cosine-distributed directions up into the stone (a Fibonacci
+    /// spiral on the disc, lifted to the hemisphere), of what each sees through the stone —
+    /// dimmed by the potch and haze, refracted out with `(1 − F) n²` (the rest reflected
+    /// inside and followed), the environment read through a lobe of the quadrature's spacing
+    /// and the area light — and the point or directional light along its refracted path.
+    /// The lines' notches on the way are left out, and so is the light the backing sends
+    /// up that the dome reflects back to it.
+    pub(super) fn light_on_backing(&mut self, at: Vec3) -> f32 {
+        let count = BACK_DIRECTIONS as f32;
+        // Half the spacing of the directions, over normals (`boundary_out` doubles it).
+        let sigma = 0.25 * (PI / count).sqrt();
+        let golden = PI * (3.0 - 5f32.sqrt());
+        let start = at + Vec3::Z * EPSILON_MM;
+        let mut sum = 0.0;
+        for k in 0..BACK_DIRECTIONS {
+            let r = ((k as f32 + 0.5) / count).sqrt();
+            let phi = golden * k as f32;
+            let dir = Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - r * r).max(0.0).sqrt());
+            sum += self.seen_through_stone(start, dir, sigma);
+        }
+        sum / count + self.point_light_on(start)
+    }
+
+    /// What a ray from `pos` along `dir` inside the stone sees through it: as
+    /// [`Tracer::seen_out`], dimmed by the potch and haze of every segment in the opal.
+    fn seen_through_stone(&mut self, pos: Vec3, dir: Vec3, sigma: f32) -> f32 {
+        let stone = self.stone;
+        let potch = stone.potch;
+        let (mut pos, mut dir, mut region) = (pos, dir, stone.region_at(pos));
+        let (mut w, mut seen) = (1.0f32, 0.0f32);
+        for _ in 0..MAX_SEGMENTS {
+            let ray = Ray {
+                origin: pos,
+                direction: dir,
+            };
+            let Some((t_end, boundary)) = stone.exit(&ray, region) else {
+                break;
+            };
+            if region == Region::Opal {
+                let mut tau = 0.0f32;
+                stone.walk(pos, dir, 0.0, t_end, Hint::default(), &mut |s| {
+                    let sigma = match s.domain {
+                        None => potch.extinction_per_mm,
+                        Some(_) => potch.domain_scattering_per_mm,
+                    };
+                    tau += sigma * (s.t1 - s.t0);
+                    true
+                });
+                w *= (-tau).exp();
+            }
+            if w < MIN_WEIGHT {
+                break;
+            }
+            let event;
+            (event, pos, dir, region, w) =
+                self.boundary_out(ray.at(t_end), dir, region, boundary, w, sigma);
+            seen += event;
+            if boundary == Boundary::Back || w < MIN_WEIGHT {
+                break;
+            }
+        }
+        seen
+    }
+
+    /// The point or directional light's irradiance at `x` inside the stone along its
+    /// refracted path, dimmed by the potch and haze on the way (its lines' notches left
+    /// out), as the radiance a white Lambertian surface facing up sends back.
+    fn point_light_on(&mut self, x: Vec3) -> f32 {
+        let Some(light) = self.setup.light else {
+            return 0.0;
+        };
+        let stone = self.stone;
+        let Some((to_light, irradiance, distance)) = stone.light_entry(&light.source, x) else {
+            return 0.0;
+        };
+        let kept = stone.towards_light(
+            x,
+            to_light,
+            distance,
+            Hint::default(),
+            None,
+            &mut self.out_spans,
+            &mut self.out_lines,
+            &mut |_, _| {},
+        );
+        light.intensity * irradiance * kept * to_light.z.max(0.0)
     }
 
     /// Add `v` of the light's white less the eye ray's notches.
@@ -559,6 +669,42 @@ impl<'a> Tracer<'a> {
         if let Some(b) = self.setup.spectral.grid.bin_of(center_nm) {
             sums.bins[b] += (v * s / self.bin_width_nm) as f32;
         }
+    }
+
+    /// What a ray leaving the stone at `at` along `dir` sees: the area light where it meets
+    /// it, else the environment.
+    fn seen_sharp(&self, at: Vec3, dir: Vec3) -> f32 {
+        seen(
+            self.setup.environment,
+            self.setup.area_light.as_ref(),
+            at,
+            dir,
+        )
+        .0
+    }
+
+    /// What a lobe of directions of width `spread` (radians, per axis) about `dir` sees
+    /// leaving the stone at `at`: the area light over the share of the lobe it fills
+    /// ([`crate::lights::AreaLight::lobe_share`]), the environment through the rest.
+    fn seen_through_lobe(&self, at: Vec3, dir: Vec3, spread: f32) -> f32 {
+        let env = self.setup.environment.filtered(dir, spread);
+        match self.setup.area_light {
+            Some(light) => {
+                let share = light.lobe_share(at, dir, spread);
+                env * (1.0 - share) + light.value() * share
+            }
+            None => env,
+        }
+    }
+
+    /// The irradiance on a plane of unit normal `n` outside the stone: the environment's
+    /// ([`Irradiance`]) and the light's, `E max(0, n·ℓ)` (its horizon's clipping of a large
+    /// area light left out).
+    fn irradiance_on(&self, n: Vec3) -> f32 {
+        let light = self
+            .body_light
+            .map_or(0.0, |(to, e)| e * n.dot(to).max(0.0));
+        self.irradiance.at(n) + light
     }
 
     /// The light's disc seen along `dir` from outside, in image units.

@@ -207,14 +207,6 @@ impl Scene {
         if self.integrator.method == Method::Stored {
             self.validate_stored()?;
         }
-        if self.integrator.method == Method::Lobe
-            && matches!(self.light.kind, LightKind::Sphere | LightKind::Rect)
-        {
-            return Err(Error::field(
-                "light.kind",
-                "the lobe integrator renders a directional or point light and the environment,                  not a sphere or rect light yet; set light.kind = \"point\", or                  integrator.method = \"path\"",
-            ));
-        }
         if self.integrator.method == Method::TwoPass && self.light.kind == LightKind::None {
             return Err(Error::field(
                 "light.kind",
