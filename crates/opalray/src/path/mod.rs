@@ -107,8 +107,8 @@ enum Crossing {
 }
 /// Offset of a new ray's origin along its direction, mm (0.1 µm).
 const EPSILON_MM: f32 = 1e-4;
-/// Most lines one domain crossing can have (one per family normal: 4 + 6 + 3).
-const MAX_LINES_PER_CROSSING: usize = 13;
+/// Most lines one domain crossing can have (one per family normal: 4 + 6 + 12 + 3).
+const MAX_LINES_PER_CROSSING: usize = 25;
 /// Most probability of a reflection branch at a domain crossing after the first segment.
 const MAX_BRANCH_PROBABILITY: f64 = 0.25;
 /// Most probability with which an already reflected path reflects at a crossing (the rest

@@ -19,7 +19,7 @@ use glam::{Quat, Vec3};
 
 use crate::error::Result;
 use crate::geometry::{Cabochon, Ellipsoid, Outline, Ray};
-use crate::optics::{BraggLine, Families};
+use crate::optics::{BraggLine, Families, FamilyKind};
 use crate::sampling::{stage, Rng};
 use crate::scene::{Backing, Cut, FamilyChoice, OrientationLaw, Pattern, Scene};
 use crate::structure::orientation::jitter;
@@ -37,6 +37,9 @@ const WIDTH_ROWS: usize = 64;
 const WIDTH_MIN_COS: f64 = 0.2;
 /// Full width at half maximum of a Gaussian over its standard deviation, `2√(2 ln 2)`.
 const FWHM_PER_SIGMA: f64 = 2.354_820_045;
+/// A line whose centre lies below this fraction of the range's short end is not met (a thin
+/// chord's broad line reaches a little beyond its centre).
+const LINE_REACH: f64 = 0.8;
 /// FWHM of a slit's Fraunhofer pattern `sinc²`, in wavelengths over the slit's width.
 const SLIT_FWHM_PER_WAVELENGTH: f64 = 0.885_893;
 
@@ -317,7 +320,17 @@ impl Stone {
         };
 
         // Every family normal of every domain, in the stone frame.
-        let families = Families::new(&scene.crystal, d.families == FamilyChoice::Only111);
+        let mut families = Families::new(&scene.crystal, d.families == FamilyChoice::Only111);
+        // Families whose line cannot reach the spectral range in any domain are left out
+        // ({311} below D ≈ 250 nm), by the test `Stone::lines` makes of each line first: they
+        // would only cost every crossing its test.
+        let largest_nm = scene.crystal.sphere_diameter_nm * (1.0 + 3.0 * d.sphere_diameter_spread);
+        let two_n = 2.0 * families.n_eff;
+        let range_lo = scene.spectrum.min_nm;
+        families.kinds.retain(|f| {
+            f.kind == FamilyKind::F111
+                || two_n * f.spacing_over_diameter * largest_nm >= LINE_REACH * range_lo
+        });
         let slot_kind: Vec<u8> = families
             .kinds
             .iter()
@@ -676,7 +689,7 @@ impl Stone {
             let family = &self.families.kinds[kind as usize];
             let spacing_nm = family.spacing_over_diameter * f64::from(dm.sphere_diameter_nm);
             let center = two_n * family.spacing_over_diameter * c;
-            if center < 0.8 * self.range_nm.0 || center > 1.05 * self.range_nm.1 {
+            if center < LINE_REACH * self.range_nm.0 || center > 1.05 * self.range_nm.1 {
                 continue;
             }
             let layers = (f64::from(chord_mm) * 1e6 * c / spacing_nm)
