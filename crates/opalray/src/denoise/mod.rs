@@ -424,11 +424,11 @@ mod tests {
         let mut image = render(&two_patches, 8, 0.3, None);
         let firefly = [20.0f32, 12.0, 150.0];
         for i in (0..W * H).step_by(37) {
-            for c in 0..3 {
+            for (c, f) in firefly.iter().enumerate() {
                 // One even sample of eight `firefly` higher: the mean by firefly / 8, the even
                 // half's mean by firefly / 4, so the halves' difference by firefly / 4.
-                image.xyz[i][c] += firefly[c] / 8.0;
-                image.half_difference[i][c] += firefly[c] / 4.0;
+                image.xyz[i][c] += f / 8.0;
+                image.half_difference[i][c] += f / 4.0;
             }
         }
         let out = denoise(&image, W, H, &NlMeans::default()).unwrap();
