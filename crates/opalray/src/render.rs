@@ -121,6 +121,19 @@ pub struct PathStats {
     /// With `integrator.denoise` (and two samples per pixel or more): `Some`, holding the
     /// noise left after the filter as its filtered halves estimate it (blind to its bias).
     pub denoised: Option<Option<Noise>>,
+    /// With the filter: the share of the image's X, Y, Z its firefly cut took (and returned
+    /// about the fireflies), and its bias in the image's mean X, Y, Z (filtered over raw,
+    /// less 1).
+    pub denoise_bias: Option<DenoiseBias>,
+}
+
+/// What the denoiser did to the image's energy and colour ([`crate::denoise::Denoised`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct DenoiseBias {
+    /// Share of X, Y, Z the firefly cut took before the filter (returned after it).
+    pub firefly_cut_xyz: [f64; 3],
+    /// The filtered image's mean X, Y, Z over the raw image's, less 1.
+    pub bias_xyz: [f64; 3],
 }
 
 impl PathStats {
@@ -139,6 +152,9 @@ impl PathStats {
             "denoised": self.denoised.map(|noise| serde_json::json!({
                 "noise_estimate": noise,
                 "noise_estimate_is": "the filtered halves' difference: the noise left, not the filter's bias",
+                "firefly_cut_xyz": self.denoise_bias.map(|b| b.firefly_cut_xyz),
+                "bias_xyz": self.denoise_bias.map(|b| b.bias_xyz),
+                "bias_is": "filtered over raw mean X, Y, Z, less 1, on the same samples (the firefly cut's light returned about the fireflies)",
             })),
         })
     }
@@ -408,6 +424,10 @@ impl Prepared {
             time_limit_s,
             stopped_by_time_limit: time_limit_s.is_some() && image.spp < s.integrator.spp,
             noise: image.noise(m),
+            denoise_bias: denoised.as_ref().map(|d| DenoiseBias {
+                firefly_cut_xyz: d.cut_share,
+                bias_xyz: d.bias,
+            }),
             denoised: denoised.map(|d| d.noise(&image.on_stone, image.spp, m)),
         };
         Frame {

@@ -84,6 +84,43 @@ fn the_220_line_follows_d_n_eff_cos_theta() {
 }
 
 #[test]
+fn the_311_line_follows_bragg_snell_for_350_nm_spheres() {
+    // DESIGN §4: for D ≳ 310 nm {311} (d₃₁₁ = a/√11, a = √2 D) reaches the visible. Light
+    // from air at θ₀ to the (311) planes' normal reflects at λ = 2 d √(n̄² − sin² θ₀) (Bragg–
+    // Snell), n̄² = f n_s² + (1 − f) n_m²: 430.5 nm face-on for D = 350 nm.
+    let mut scene = grains(3.0);
+    scene.crystal.sphere_diameter_nm = 350.0;
+    scene.domains.sphere_diameter_spread = 0.0;
+    let stone = Stone::new(&scene).unwrap();
+    let c = &scene.crystal;
+    let n_bar = (c.filling_fraction * c.n_sphere.powi(2)
+        + (1.0 - c.filling_fraction) * c.n_matrix.powi(2))
+    .sqrt();
+    let d311 = 2f64.sqrt() * 350.0 / 11f64.sqrt();
+    let q = stone.domains[0].orientation;
+    let n311 = (q * Vec3::new(3.0, 1.0, 1.0)).normalize();
+    for theta0_deg in [0.0f64, 20.0, 40.0] {
+        let sin_inside = theta0_deg.to_radians().sin() / n_bar;
+        let (t, _) = n311.any_orthonormal_pair();
+        let dir = -(n311 * (1.0 - sin_inside * sin_inside).sqrt() as f32 + t * sin_inside as f32);
+        let mut lines: Vec<ActiveLine> = Vec::new();
+        stone.lines(0, dir.normalize(), 2.0, &mut lines);
+        let expected = 2.0 * d311 * (n_bar * n_bar - theta0_deg.to_radians().sin().powi(2)).sqrt();
+        let line = lines.iter().find(|l| l.normal.dot(n311).abs() > 0.9999);
+        let Some(line) = line else {
+            panic!("θ₀ {theta0_deg}°: no line along the (311) normal ({expected:.1} nm expected)")
+        };
+        assert!(
+            (line.line.center_nm - expected).abs() < 0.1,
+            "θ₀ {theta0_deg}°: {} vs {expected} nm",
+            line.line.center_nm
+        );
+    }
+    // Face-on, 430.5 nm (n̄ = 1.4423 for the default crystal).
+    assert!((2.0 * d311 * n_bar - 430.5).abs() < 0.1);
+}
+
+#[test]
 fn a_spread_of_sphere_sizes_spreads_the_hues_of_face_on_domains() {
     // Face-on {111} lines of every domain: one wavelength without spread, tens of nm with 3 %.
     let span = |spread: f64| {

@@ -2,20 +2,23 @@
 //! strength of each from the crystal's structure (DESIGN §4).
 //!
 //! Input: a [`CrystalConfig`] → output: [`Families`], one [`FamilyOptics`] per family kind
-//! ({111}, {200}, {220}) with its spacing, its coupling and its plane normals in the lattice
-//! frame.
+//! ({111}, {220}, {311}, {200}) with its spacing, its coupling and its plane normals in the
+//! lattice frame.
 //!
 //! The cubic cell of an FCC lattice of touching spheres of diameter D has edge `a = √2·D`.
 //! A family (hkl) has spacing `d = a / √(h² + k² + l²)`: `d₁₁₁ = D·√(2/3)`, `d₂₀₀ = D/√2`,
-//! `d₂₂₀ = D/2`. All three are allowed reflections of FCC (h, k, l all odd or all even), where
+//! `d₂₂₀ = D/2`, `d₃₁₁ = D·√(2/11)`. All four are allowed reflections of FCC (h, k, l all odd
+//! or all even), where
 //! the four spheres of the cubic cell scatter in phase, so the Fourier coefficient of the
 //! permittivity for the reciprocal vector `G = 2π/d` is that of one sphere, as for (111):
 //! `ε_G = f (ε_s − ε_m) F(G r)`, `F(x) = 3 (sin x − x cos x)/x³`. The relative coupling
 //! `g = |ε_G| / ε̄` is the relative width of the family's stop band at normal incidence. For the
 //! default crystal (r = D/2): `x₁₁₁ = π√(3/2) = 3.85` (F = 0.120), `x₂₀₀ = π√2 = 4.44`
-//! (F = 0.0075), `x₂₂₀ = 2π` (|F| = 0.076). A thick domain's integrated reflectance (over
+//! (F = 0.0075), `x₂₂₀ = 2π` (|F| = 0.076), `x₃₁₁ = π√(11/2) = 7.37` (|F| = 0.0193, 16 % of
+//! (111)'s coupling). A thick domain's integrated reflectance (over
 //! wavelength) grows as `g·λ_B`, so {220} reflects `0.633 × 0.612 = 0.39` of (111)'s and {200}
 //! has 0.06 of (111)'s coupling, too weak to saturate: about 1 % of its reflectance at 400 layers.
+//! {311}'s line, `2 d₃₁₁ n̄ cos θ = 1.23 D cos θ`, reaches the visible only for D ≳ 310 nm.
 
 use std::f64::consts::PI;
 
@@ -33,11 +36,18 @@ pub enum FamilyKind {
     F200,
     /// {220}: six families, normals along the cube's face diagonals.
     F220,
+    /// {311}: twelve families.
+    F311,
 }
 
 impl FamilyKind {
     /// All kinds, strongest first.
-    pub const ALL: [FamilyKind; 3] = [FamilyKind::F111, FamilyKind::F220, FamilyKind::F200];
+    pub const ALL: [FamilyKind; 4] = [
+        FamilyKind::F111,
+        FamilyKind::F220,
+        FamilyKind::F311,
+        FamilyKind::F200,
+    ];
 
     /// Miller indices of one member.
     pub fn miller(self) -> [i32; 3] {
@@ -45,6 +55,7 @@ impl FamilyKind {
             FamilyKind::F111 => [1, 1, 1],
             FamilyKind::F200 => [2, 0, 0],
             FamilyKind::F220 => [2, 2, 0],
+            FamilyKind::F311 => [3, 1, 1],
         }
     }
 
@@ -68,6 +79,20 @@ impl FamilyKind {
                 [0., 1., 1.],
                 [0., 1., -1.],
             ],
+            FamilyKind::F311 => &[
+                [3., 1., 1.],
+                [3., -1., 1.],
+                [3., 1., -1.],
+                [3., -1., -1.],
+                [1., 3., 1.],
+                [-1., 3., 1.],
+                [1., 3., -1.],
+                [-1., 3., -1.],
+                [1., 1., 3.],
+                [-1., 1., 3.],
+                [1., -1., 3.],
+                [-1., -1., 3.],
+            ],
         };
         raw.iter()
             .map(|v| Vec3::from_array(*v).normalize())
@@ -80,6 +105,7 @@ impl FamilyKind {
             FamilyKind::F111 => "111",
             FamilyKind::F200 => "200",
             FamilyKind::F220 => "220",
+            FamilyKind::F311 => "311",
         }
     }
 }
@@ -107,7 +133,7 @@ pub struct Families {
 }
 
 impl Families {
-    /// The families of `crystal`: all three kinds, or {111} alone when `only_111`.
+    /// The families of `crystal`: all four kinds, or {111} alone when `only_111`.
     pub fn new(crystal: &CrystalConfig, only_111: bool) -> Families {
         let f = crystal.filling_fraction;
         let eps_s = crystal.n_sphere * crystal.n_sphere;
@@ -166,12 +192,42 @@ mod tests {
     }
 
     #[test]
-    fn normals_at_70_5_degrees_for_111_and_counts_4_6_3() {
+    fn the_311_coupling_is_16_percent_of_the_111() {
+        // DESIGN §4: {311} about 16 % of the (111) coupling. Independently: x = G r with
+        // r = D/2 (touching spheres; the default filling fraction 0.74 gives r within 10⁻⁴), d₃₁₁ = D √(2/11), so x = π √(11/2); F(x) = 3(sin x − x cos x)/x³.
+        let families = Families::new(&CrystalConfig::default(), false);
+        let f311 = families
+            .kinds
+            .iter()
+            .find(|k| k.kind == FamilyKind::F311)
+            .unwrap();
+        let form = |x: f64| 3.0 * (x.sin() - x * x.cos()) / x.powi(3);
+        let (x111, x311) = (PI * 1.5f64.sqrt(), PI * 5.5f64.sqrt());
+        let expected = (form(x311) / form(x111)).abs();
+        let ratio = f311.coupling / families.kinds[0].coupling;
+        assert!(
+            (ratio - expected).abs() < 0.01 * expected,
+            "{ratio} vs {expected}"
+        );
+        assert!((ratio - 0.16).abs() < 0.01, "{ratio}");
+        assert!((f311.spacing_over_diameter - (2.0f64 / 11.0).sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn normals_at_70_5_degrees_for_111_and_counts_4_6_12_3() {
         let n = FamilyKind::F111.normals();
         assert_eq!(n.len(), 4);
         let angle = n[0].dot(n[1]).abs().acos().to_degrees();
         assert!((angle - 70.53).abs() < 0.01, "{angle}");
         assert_eq!(FamilyKind::F220.normals().len(), 6);
         assert_eq!(FamilyKind::F200.normals().len(), 3);
+        // The twelve {311} normals: no two alike (nor opposite).
+        let n = FamilyKind::F311.normals();
+        assert_eq!(n.len(), 12);
+        for (i, a) in n.iter().enumerate() {
+            for b in &n[i + 1..] {
+                assert!(a.dot(*b).abs() < 0.99, "{a} {b}");
+            }
+        }
     }
 }

@@ -57,9 +57,11 @@ pub fn spectral_channel_name(wavelength_nm: f64) -> String {
 /// 32-bit float channel per bin named by its centre wavelength (see
 /// [`spectral_channel_name`]), e.g. `S0.385,000000nm` … `S0.775,000000nm` for the default
 /// grid, and the header attribute `spectralLayoutVersion = "1.0"`. Values are the image's
-/// bin-averaged radiance in opalray's relative units (1 = a white diffuser under the light),
-/// so no `emissiveUnits` attribute is written. `provenance`'s entries become text
-/// attributes. Written atomically.
+/// bin-averaged spectral radiance per nm in opalray's relative units, normalised so that
+/// `∫ S(λ) ȳ(λ) dλ` over the range is the pixel's luminance Y (Y = 1: a white diffuser under
+/// the light, which under D65 reads about 0.0097 per nm at 555 nm, not 1), so no
+/// `emissiveUnits` attribute is written. `provenance`'s entries become text attributes.
+/// Written atomically.
 pub fn write_spectral_exr(
     path: &Path,
     image: &SpectralImage,

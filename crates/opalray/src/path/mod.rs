@@ -32,17 +32,19 @@
 //!   wavelengths it carries, [`PathSpectrum::reflectances`]; at most 0.95 in all), or
 //!   goes on through, its weight over `1 − p` (its cost grows linearly with depth, its
 //!   weight stays about 1). A reflection draws the lobe's normal `h` about the
-//!   family normal (Gaussian, the rocking width and the mosaic spread,
-//!   [`Stone::lobe_sigma`]) and mirrors the ray about `h`; its line is evaluated at the angle to
-//!   `h` — the half-vector law `λ = 2 d n̄ cos θ_h`. The reflection happens at the domain's
-//!   entry face (the stack reflects within its penetration depth, tens of µm).
+//!   family normal (Gaussian, the mosaic spread and the diffraction of the domain's width,
+//!   [`Stone::lobe_sigma`]: a perfect domain is a mirror; the rocking width is in R(λ, θ)) and
+//!   mirrors the ray about `h`; its line is evaluated at the angle to `h` — the half-vector
+//!   law `λ = 2 d n̄ cos θ_h`. The reflection happens at the domain's entry face (the stack
+//!   reflects within its penetration depth, tens of µm).
 //! - **The light** (directional or point): next-event estimation at every domain crossing and
 //!   potch scattering, through the one refracted path from the light ([`refracted_entry`]),
 //!   with the surface's exact lensing, its spectrum filtered by every domain and potch on the
 //!   way. A sphere or rect light is estimated at the same events and backings (`nee.rs`;
 //!   at a crossing, only on a path not yet reflected), balanced against the escaping paths
 //!   that meet it. A domain adds
-//!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals.
+//!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals convolved with
+//!   the lamp's disc ([`Stone::lamp_density`]), so that a mirror shows the lamp's disc.
 //! - Russian roulette below a weight of 0.02; at most `max_depth` events.
 //!
 //! Spectra: see [`spectral`]. Every sample of every pixel draws from its own stream; rows are
@@ -105,8 +107,8 @@ enum Crossing {
 }
 /// Offset of a new ray's origin along its direction, mm (0.1 µm).
 const EPSILON_MM: f32 = 1e-4;
-/// Most lines one domain crossing can have (one per family normal: 4 + 6 + 3).
-const MAX_LINES_PER_CROSSING: usize = 13;
+/// Most lines one domain crossing can have (one per family normal: 4 + 6 + 12 + 3).
+const MAX_LINES_PER_CROSSING: usize = 25;
 /// Most probability of a reflection branch at a domain crossing after the first segment.
 const MAX_BRANCH_PROBABILITY: f64 = 0.25;
 /// Most probability with which an already reflected path reflects at a crossing (the rest
@@ -1009,8 +1011,9 @@ impl<'a> Tracer<'a> {
         }
         let mut hits: [(ActiveLine, f32); 4] = [(self.lines[0], 0.0); 4];
         let mut count = 0;
+        let lamp = self.setup.light.map_or(0.0, |l| l.disc_radius_rad);
         for line in &self.lines {
-            let density = self.stone.lobe_density(line, h, cos_h);
+            let density = self.stone.lamp_density(line, h, cos_h, lamp);
             if density > 0.0 && count < hits.len() {
                 hits[count] = (*line, density);
                 count += 1;

@@ -28,7 +28,7 @@ use crate::geometry::fresnel_dielectric;
 use crate::geometry::refracted_entry;
 use crate::geometry::LightSource;
 use crate::sampling::Rng;
-use crate::stone::ActiveLine;
+use crate::stone::{angle_between, ActiveLine};
 
 use super::spectral::PathSpectrum;
 use crate::lights::AreaLight;
@@ -238,7 +238,7 @@ impl Tracer<'_> {
         for (line, &p_pick) in lines.iter().zip(pick) {
             // The branch's own law: the lobe about the normal at the incidence's angle.
             let sigma = self.stone.lobe_sigma(line.kind, -dir.dot(line.normal));
-            let alpha = h.dot(line.normal).clamp(-1.0, 1.0).acos();
+            let alpha = angle_between(h, line.normal);
             // The reflected direction's density: over normals, over 4 cos θ_h.
             let lobe = lobe_density(alpha, sigma) / (4.0 * cos_h);
             if lobe <= 0.0 {
@@ -308,7 +308,7 @@ impl Tracer<'_> {
             return None;
         }
         let sigma = self.stone.lobe_sigma(line.kind, -dir.dot(line.normal));
-        let alpha = h.dot(line.normal).clamp(-1.0, 1.0).acos();
+        let alpha = angle_between(h, line.normal);
         Some(Drawn {
             density: p_pick as f32 * lobe_density(alpha, sigma) / (4.0 * cos_h),
             from,

@@ -104,7 +104,8 @@ pub struct DomainsConfig {
     /// the fields' orientation at its place, degrees; the fields carry the rest of
     /// `orientation_spread_deg`, so the tilts' RMS stays that.
     pub tilt_jitter_deg: f64,
-    /// Mosaic spread of a domain's planes, degrees (RMS tilt), added to the rocking width.
+    /// Mosaic spread of a domain's planes, degrees (RMS tilt): the spread of its reflection
+    /// over directions (0: a mirror).
     pub mosaic_spread_deg: f64,
     /// The plane families that reflect.
     pub families: FamilyChoice,

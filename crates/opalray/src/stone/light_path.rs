@@ -197,11 +197,39 @@ impl Stone {
     /// the Gaussian holds `1 − e^(−sigmas²/2)` of the lobe within them).
     pub fn lobe_density_within(&self, line: &ActiveLine, h: Vec3, cos_h: f32, sigmas: f32) -> f32 {
         let sigma = self.lobe_sigma(line.kind, cos_h);
-        let alpha = h.dot(line.normal).clamp(-1.0, 1.0).acos();
-        if alpha < sigmas * sigma {
-            (-0.5 * (alpha / sigma).powi(2)).exp() / (2.0 * PI * sigma * sigma)
-        } else {
-            0.0
-        }
+        gaussian_density(angle_between(h, line.normal), sigma, sigmas)
+    }
+
+    /// [`Stone::lobe_density`] for a lamp of angular radius `lamp_radius_rad` (outside): the
+    /// lobe convolved with the lamp's disc, the disc taken as the Gaussian of its variance.
+    /// A disc of radius `a` inside (`r / n̄`, the surface's lensing left out) has the variance
+    /// `a²/4` per axis, and the half vector turns by half the light's turn: `σ_lamp = a / 4`.
+    /// A mirror (mosaic 0) then shows the lamp as wide as its disc, not as a point.
+    pub fn lamp_density(
+        &self,
+        line: &ActiveLine,
+        h: Vec3,
+        cos_h: f32,
+        lamp_radius_rad: f32,
+    ) -> f32 {
+        let lamp = 0.25 * lamp_radius_rad / self.n_eff;
+        let sigma = self.lobe_sigma(line.kind, cos_h).hypot(lamp);
+        gaussian_density(angle_between(h, line.normal), sigma, LOBE_SIGMAS)
+    }
+}
+
+/// The angle between the unit vectors `a` and `b`, radians, accurate near 0 (`2 asin(|a − b|/2)`;
+/// `acos` of the dot product loses everything under ~3·10⁻⁴ rad in f32).
+pub fn angle_between(a: Vec3, b: Vec3) -> f32 {
+    2.0 * (0.5 * (a - b).length()).min(1.0).asin()
+}
+
+/// The density over normals (per steradian) of a Gaussian tilt of standard deviation `sigma`
+/// at angle `alpha`, in the small-angle form `e^(−α²/2σ²) / (2πσ²)`; zero beyond `sigmas` σ.
+fn gaussian_density(alpha: f32, sigma: f32, sigmas: f32) -> f32 {
+    if alpha < sigmas * sigma {
+        (-0.5 * (alpha / sigma).powi(2)).exp() / (2.0 * PI * sigma * sigma)
+    } else {
+        0.0
     }
 }

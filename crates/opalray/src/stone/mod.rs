@@ -19,7 +19,7 @@ use glam::{Quat, Vec3};
 
 use crate::error::Result;
 use crate::geometry::{Cabochon, Ellipsoid, Outline, Ray};
-use crate::optics::{rocking_fwhm_rad, BraggLine, Families};
+use crate::optics::{BraggLine, Families, FamilyKind};
 use crate::sampling::{stage, Rng};
 use crate::scene::{Backing, Cut, FamilyChoice, OrientationLaw, Pattern, Scene};
 use crate::structure::orientation::jitter;
@@ -27,7 +27,7 @@ use crate::structure::AXIS_111;
 
 use balls::Balls;
 use grains::{normal, Grains};
-pub use light_path::LOBE_SIGMAS;
+pub use light_path::{angle_between, LOBE_SIGMAS};
 use rough::Outlines;
 use size_field::SizeField;
 
@@ -37,6 +37,11 @@ const WIDTH_ROWS: usize = 64;
 const WIDTH_MIN_COS: f64 = 0.2;
 /// Full width at half maximum of a Gaussian over its standard deviation, `2√(2 ln 2)`.
 const FWHM_PER_SIGMA: f64 = 2.354_820_045;
+/// A line whose centre lies below this fraction of the range's short end is not met (a thin
+/// chord's broad line reaches a little beyond its centre).
+const LINE_REACH: f64 = 0.8;
+/// FWHM of a slit's Fraunhofer pattern `sinc²`, in wavelengths over the slit's width.
+const SLIT_FWHM_PER_WAVELENGTH: f64 = 0.885_893;
 
 /// A piece of a ray inside the stone: `[t0, t1]` along it, in one domain (or potch: `None`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -315,7 +320,17 @@ impl Stone {
         };
 
         // Every family normal of every domain, in the stone frame.
-        let families = Families::new(&scene.crystal, d.families == FamilyChoice::Only111);
+        let mut families = Families::new(&scene.crystal, d.families == FamilyChoice::Only111);
+        // Families whose line cannot reach the spectral range in any domain are left out
+        // ({311} below D ≈ 250 nm), by the test `Stone::lines` makes of each line first: they
+        // would only cost every crossing its test.
+        let largest_nm = scene.crystal.sphere_diameter_nm * (1.0 + 3.0 * d.sphere_diameter_spread);
+        let two_n = 2.0 * families.n_eff;
+        let range_lo = scene.spectrum.min_nm;
+        families.kinds.retain(|f| {
+            f.kind == FamilyKind::F111
+                || two_n * f.spacing_over_diameter * largest_nm >= LINE_REACH * range_lo
+        });
         let slot_kind: Vec<u8> = families
             .kinds
             .iter()
@@ -336,7 +351,8 @@ impl Stone {
             })
             .collect();
 
-        // Rocking widths of the coherent stack, widened by the mosaic spread.
+        // The reflection's spread over directions: the mosaic and the diffraction of the
+        // domain's width (the rocking width is an acceptance in wavelength, kept in R(λ, θ)).
         let d111 = families.kinds[0].spacing_over_diameter;
         let layers = f64::from(scene.crystal.layers);
         let layer_cap: Vec<f64> = families
@@ -345,15 +361,16 @@ impl Stone {
             .map(|f| layers * d111 / f.spacing_over_diameter)
             .collect();
         let mosaic = d.mosaic_spread_deg.to_radians();
+        let width_mm = domain_width_mm(scene);
         let lobe_sigma = families
             .kinds
             .iter()
-            .zip(&layer_cap)
-            .map(|(f, &cap)| {
+            .map(|f| {
+                let spacing_mm = f.spacing_over_diameter * scene.crystal.sphere_diameter_nm * 1e-6;
                 std::array::from_fn(|row| {
-                    let c = width_row_cos(row);
-                    let rock = rocking_fwhm_rad(f.coupling, c, cap) / FWHM_PER_SIGMA;
-                    (rock * rock + mosaic * mosaic).sqrt() as f32
+                    let diffraction =
+                        diffraction_sigma_rad(spacing_mm, width_row_cos(row), width_mm);
+                    mosaic.hypot(diffraction) as f32
                 })
             })
             .collect();
@@ -672,7 +689,7 @@ impl Stone {
             let family = &self.families.kinds[kind as usize];
             let spacing_nm = family.spacing_over_diameter * f64::from(dm.sphere_diameter_nm);
             let center = two_n * family.spacing_over_diameter * c;
-            if center < 0.8 * self.range_nm.0 || center > 1.05 * self.range_nm.1 {
+            if center < LINE_REACH * self.range_nm.0 || center > 1.05 * self.range_nm.1 {
                 continue;
             }
             let layers = (f64::from(chord_mm) * 1e6 * c / spacing_nm)
@@ -697,7 +714,9 @@ impl Stone {
     }
 
     /// Standard deviation (rad) of the reflection lobe of family kind `kind` about its normal
-    /// at cos θ `cos_theta`: the rocking width of the coherent stack and the mosaic spread.
+    /// at cos θ `cos_theta`: the mosaic spread and the diffraction of the domain's width
+    /// ([`diffraction_sigma_rad`]). A perfect domain (mosaic 0) is a mirror; the stack's
+    /// rocking width is not in it (it sets which wavelengths reflect, in R(λ, θ)).
     pub fn lobe_sigma(&self, kind: u8, cos_theta: f32) -> f32 {
         let table = &self.lobe_sigma[kind as usize];
         let x = (f64::from(cos_theta) - WIDTH_MIN_COS) / (1.0 - WIDTH_MIN_COS)
@@ -739,6 +758,24 @@ impl Merge {
         if let (Some(p), false) = (self.pending, self.stopped) {
             visit(p);
         }
+    }
+}
+
+/// The far-field spread of a reflection by a domain `width_mm` wide, as the standard deviation
+/// (rad, inside) of the Gaussian of the same half width: a uniformly lit aperture's `sinc²`
+/// has FWHM `0.886 λ/w` (Born & Wolf §8.5), λ the wavelength inside, `2 d cos θ` for planes of
+/// spacing `spacing_mm` met at `cos_theta` (Bragg's law).
+pub fn diffraction_sigma_rad(spacing_mm: f64, cos_theta: f64, width_mm: f64) -> f64 {
+    SLIT_FWHM_PER_WAVELENGTH * 2.0 * spacing_mm * cos_theta / width_mm / FWHM_PER_SIGMA
+}
+
+/// A domain's width, mm: the grains' `grain_size_mm`, or the diameter of the paper's mean
+/// ball (`2 R` cells of the growth grid).
+fn domain_width_mm(scene: &Scene) -> f64 {
+    let s = &scene.structure;
+    match scene.domains.pattern {
+        Pattern::Grains => scene.domains.grain_size_mm,
+        Pattern::Paper => 2.0 * s.mean_radius_cells * 2.0 * s.semi_axes_mm[0] / s.grid[0] as f64,
     }
 }
 
@@ -1005,15 +1042,24 @@ mod tests {
     }
 
     #[test]
-    fn the_lobe_is_the_rocking_width_without_mosaic() {
+    fn a_perfect_domain_spreads_its_reflection_by_its_width_alone() {
+        // Mosaic 0: the lobe is the diffraction of the 2 mm grain, FWHM 0.886 λ/w with λ the
+        // wavelength inside (the line's centre over n_eff) — about 0.01°, not the stack's
+        // rocking width (0.48° at 30° for 400 layers, DESIGN §4).
         let mut scene = grains_scene();
         scene.domains.mosaic_spread_deg = 0.0;
         let stone = Stone::new(&scene).unwrap();
-        let fwhm = stone.lobe_sigma(0, 30f32.to_radians().cos()) as f64 * FWHM_PER_SIGMA;
-        assert!(
-            (fwhm.to_degrees() / 0.48 - 1.0).abs() < 0.1,
-            "{}",
-            fwhm.to_degrees()
-        );
+        let c = 30f64.to_radians().cos();
+        let fwhm = f64::from(stone.lobe_sigma(0, c as f32)) * FWHM_PER_SIGMA;
+        let d111_nm = 250.0 * (2.0f64 / 3.0).sqrt();
+        let lambda_inside_mm = 2.0 * d111_nm * c * 1e-6;
+        let expected = 0.886 * lambda_inside_mm / scene.domains.grain_size_mm;
+        assert!((fwhm / expected - 1.0).abs() < 0.01, "{fwhm} vs {expected}");
+        assert!(fwhm.to_degrees() < 0.02, "{}°", fwhm.to_degrees());
+        // With a mosaic, the mosaic rules it.
+        scene.domains.mosaic_spread_deg = 1.5;
+        let stone = Stone::new(&scene).unwrap();
+        let sigma = f64::from(stone.lobe_sigma(0, c as f32)).to_degrees();
+        assert!((sigma - 1.5).abs() < 1e-3, "{sigma}°");
     }
 }

@@ -1,6 +1,6 @@
 //! The stored method (`integrator.method = "stored"`): the paper's two passes on the stone
 //! model. Light is stored per grid cell of the stone, then gathered from the eye by eq. (2)
-//! with each domain's plane families, rocking width and half-vector law: a deterministic,
+//! with each domain's plane families, mosaic lobe and half-vector law: a deterministic,
 //! noise-free preview of what the path tracer converges to, less what it finds by two or
 //! more scattering events.
 //!
