@@ -31,6 +31,7 @@
 //! except those of the eye ray, and the cap plane's reflection of a triplet.
 
 pub mod colour;
+mod method;
 mod trace;
 
 use std::f32::consts::PI;
@@ -46,6 +47,7 @@ use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
 
 pub use colour::LineColours;
+pub use method::LobeMethod;
 
 /// Everything the lobe integrator needs besides the stone.
 pub struct LobeSetup<'a> {

@@ -8,9 +8,11 @@
 //! scatters by the body tone. At the far surface the ray sees the backdrop through the stone
 //! and reflects internally.
 
+mod method;
 mod shading;
 mod walk;
 
+pub use method::TwoPass;
 pub use shading::{CellTag, ClusterShade, Lobe, Shading, LOBE_CUTOFF};
 
 use glam::Vec3;
