@@ -3,6 +3,7 @@
 //! frame, through the table in [`crate::integrator`]) → colour, timing every stage. Also the
 //! pieces the integrators share: the light and camera placed, the frame, the colour stage.
 
+use std::sync::OnceLock;
 use std::time::Instant;
 
 use glam::{Quat, Vec3};
@@ -62,10 +63,11 @@ impl StageTimes {
 pub struct Prepared {
     /// The scene.
     pub scene: Scene,
-    /// The grown structure.
-    pub structure: Structure,
-    /// The cluster optics tables.
-    pub optics: OpticsTables,
+    /// The grown structure ([`Prepared::structure`]): grown by `prepare` for the paper's two
+    /// passes, on first use for the other methods (which do not read it).
+    structure: OnceLock<Structure>,
+    /// The cluster optics tables ([`Prepared::optics`]), built as the structure is.
+    optics: OnceLock<OpticsTables>,
     /// The stone model of the methods that render it (path, stored, lobe).
     pub stone: Option<std::sync::Arc<Stone>>,
     /// Their environment, its map read and its sampling distribution built (the stored
@@ -75,7 +77,7 @@ pub struct Prepared {
     pub times: StageTimes,
     /// The paper's two passes: the stone's cells, laid out at the first frame and shared by
     /// every later one (a sweep's).
-    pub(crate) cells: std::sync::OnceLock<StoneCells>,
+    pub(crate) cells: OnceLock<StoneCells>,
 }
 
 /// One rendered frame.
@@ -91,8 +93,9 @@ pub struct Frame {
     pub ledger: EnergyLedger,
     /// Seconds per stage (structure and optics as prepared).
     pub times: StageTimes,
-    /// Void ratio of the structure (void cells / inside cells).
-    pub void_ratio: f64,
+    /// Void ratio of the paper's grown structure (void cells / inside cells); `None` for
+    /// the methods that render the stone model (which do not grow it).
+    pub void_ratio: Option<f64>,
     /// The path integrator's samples and noise (`None` for the other methods).
     pub path: Option<PathStats>,
     /// The stored method's samples and stored light (`None` for the other methods).
@@ -146,28 +149,69 @@ pub(crate) fn seconds(since: Instant) -> f64 {
     since.elapsed().as_secs_f64()
 }
 
-/// Grow the structure and build the optics of `scene` (checked first: its fields, then what
-/// its method refuses), then what its integrator builds once.
+/// Check `scene` (its fields, then what its method refuses) and build what its integrator
+/// reads whatever the light angle: the structure and optics for the paper's two passes, the
+/// stone model and environment for the others.
 pub fn prepare(scene: &Scene) -> Result<Prepared> {
     crate::integrator::check(scene)?;
-    let mut times = StageTimes::default();
-    let start = Instant::now();
-    let structure = grow_structure(&scene.structure)?;
-    times.structure = seconds(start);
-    let start = Instant::now();
-    let optics = build_optics(&scene.crystal, &scene.spectrum)?;
-    times.optics = seconds(start);
     let mut prepared = Prepared {
         scene: scene.clone(),
-        structure,
-        optics,
+        structure: OnceLock::new(),
+        optics: OnceLock::new(),
         stone: None,
         environment: None,
-        times,
-        cells: std::sync::OnceLock::new(),
+        times: StageTimes::default(),
+        cells: OnceLock::new(),
     };
     prepared.integrator().prepare(&mut prepared)?;
     Ok(prepared)
+}
+
+impl Prepared {
+    /// The grown structure (paper §2.4): the paper's two passes grow it in `prepare`; for
+    /// another method it is grown now, on first use (not timed).
+    pub fn structure(&self) -> Result<&Structure> {
+        if let Some(structure) = self.structure.get() {
+            return Ok(structure);
+        }
+        let structure = grow_structure(&self.scene.structure)?;
+        Ok(self.structure.get_or_init(|| structure))
+    }
+
+    /// The cluster optics tables (paper §3.1), built as [`Prepared::structure`] is grown.
+    pub fn optics(&self) -> Result<&OpticsTables> {
+        if let Some(optics) = self.optics.get() {
+            return Ok(optics);
+        }
+        let optics = build_optics(&self.scene.crystal, &self.scene.spectrum)?;
+        Ok(self.optics.get_or_init(|| optics))
+    }
+
+    /// The structure to edit before rendering (tests of the passes on a structure made by
+    /// hand); the cells laid out from the grown one are dropped.
+    pub fn structure_mut(&mut self) -> Result<&mut Structure> {
+        self.structure()?;
+        self.cells = OnceLock::new();
+        Ok(self.structure.get_mut().expect("grown just above"))
+    }
+
+    /// The optics tables to edit before rendering (tests: an index-matched furnace).
+    pub fn optics_mut(&mut self) -> Result<&mut OpticsTables> {
+        self.optics()?;
+        Ok(self.optics.get_mut().expect("built just above"))
+    }
+
+    /// Grow the structure and build the optics now, timed as their stages: the paper's two
+    /// passes' `prepare`.
+    pub(crate) fn grow(&mut self) -> Result<()> {
+        let start = Instant::now();
+        self.structure()?;
+        self.times.structure = seconds(start);
+        let start = Instant::now();
+        self.optics()?;
+        self.times.optics = seconds(start);
+        Ok(())
+    }
 }
 
 impl Prepared {
@@ -299,7 +343,7 @@ impl Prepared {
             light_rays: 0,
             ledger: EnergyLedger::default(),
             times,
-            void_ratio: self.structure.stats.void_ratio,
+            void_ratio: None,
             path: None,
             stored,
         }
@@ -394,3 +438,48 @@ fn lab_to_stone(s: &Scene) -> Quat {
 /// Angular radius of the scene light's disc as the path integrator's gloss shows it, degrees
 /// (a small lamp or the sun: 0.5°).
 pub const LIGHT_DISC_RADIUS_DEG: f32 = 0.5;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{preset, IntegratorConfig, Method};
+
+    /// `name` at 8 × 6.
+    fn tiny(name: &str) -> Scene {
+        let mut scene = preset(name).unwrap();
+        scene.render.width = 8;
+        scene.render.height = 6;
+        scene
+    }
+
+    #[test]
+    fn each_method_prepares_only_what_it_reads() {
+        // The stone's methods grow no cell grid and build no optics tables.
+        for method in [Method::Path, Method::Stored, Method::Lobe] {
+            let mut scene = tiny("paper");
+            scene.integrator = IntegratorConfig::of(method);
+            let prepared = prepare(&scene).unwrap();
+            assert!(prepared.stone.is_some(), "{method:?}");
+            assert!(prepared.structure.get().is_none(), "{method:?}");
+            assert!(prepared.optics.get().is_none(), "{method:?}");
+            assert_eq!(prepared.render(30.0).void_ratio, None, "{method:?}");
+        }
+        // The paper's two passes build no stone model.
+        let prepared = prepare(&tiny("paper")).unwrap();
+        assert!(prepared.stone.is_none() && prepared.environment.is_none());
+        assert!(prepared.structure.get().is_some() && prepared.cells.get().is_some());
+    }
+
+    #[test]
+    fn a_structure_asked_of_a_stone_method_is_the_two_passes_one() {
+        let two_pass = prepare(&tiny("paper")).unwrap();
+        let mut scene = tiny("paper");
+        scene.integrator = IntegratorConfig::of(Method::Lobe);
+        let lobe = prepare(&scene).unwrap();
+        let (a, b) = (two_pass.structure().unwrap(), lobe.structure().unwrap());
+        assert_eq!(a.cells, b.cells);
+        assert_eq!(a.stats.void_ratio, b.stats.void_ratio);
+        let (a, b) = (two_pass.optics().unwrap(), lobe.optics().unwrap());
+        assert_eq!(a.reflectance, b.reflectance);
+    }
+}

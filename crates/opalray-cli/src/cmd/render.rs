@@ -110,13 +110,13 @@ pub fn run(args: Args) -> Result<()> {
     let frame = if opalray::integrator::of(scene.integrator.method()).renders_in_passes() {
         render_in_passes(&scene, time_limit)?
     } else {
-        let bar = progress(2, "structure");
+        let bar = progress(2, "prepare");
         let prepared = opalray::render::prepare(&scene)?;
         progress_line(format_args!(
-            "structure and optics ready ({}); light and view passes",
+            "prepared ({}); rendering",
             duration_words(prepared.times.total())
         ));
-        bar.set_message("light, view");
+        bar.set_message("render");
         bar.inc(1);
         let frame = prepared.render(scene.light.angle_deg);
         bar.finish_and_clear();

@@ -81,7 +81,7 @@ impl Integrator for PathTracer {
             light_rays: 0,
             ledger: EnergyLedger::default(),
             times,
-            void_ratio: prepared.structure.stats.void_ratio,
+            void_ratio: None,
             path: Some(path),
             stored: None,
         }

@@ -64,11 +64,12 @@ impl Integrator for TwoPass {
         false
     }
 
-    /// The stone's cells laid out once for every frame (timed as the light pass); with the
-    /// structure and optics every prepared scene holds, all the passes read.
+    /// The structure grown, the optics built and the stone's cells laid out once for every
+    /// frame (timed as the light pass): all the passes read.
     fn prepare(&self, prepared: &mut Prepared) -> Result<()> {
+        prepared.grow()?;
         let start = Instant::now();
-        let cells = StoneCells::new(&prepared.structure);
+        let cells = StoneCells::new(prepared.structure()?);
         prepared.times.light_pass = seconds(start);
         prepared.cells = std::sync::OnceLock::from(cells);
         Ok(())
@@ -78,16 +79,27 @@ impl Integrator for TwoPass {
     fn render(&self, prepared: &Prepared, light_angle_deg: f64, _passes: &Passes) -> Frame {
         let cells = prepared
             .cells
-            .get_or_init(|| StoneCells::new(&prepared.structure));
+            .get_or_init(|| StoneCells::new(prepared.grown().0));
         prepared.render_in(cells, light_angle_deg)
     }
 }
 
 impl Prepared {
+    /// The structure and optics, grown in `prepare` for the two passes (for another method,
+    /// now). Panics only if `self.scene` was made invalid after `prepare` checked it.
+    fn grown(&self) -> (&crate::structure::Structure, &crate::optics::OpticsTables) {
+        let checked = "prepare checked the scene: its structure grows and its optics build";
+        (
+            self.structure().expect(checked),
+            self.optics().expect(checked),
+        )
+    }
+
     /// The two passes' frame with the stone's cells laid out by the caller: `cells` must be
     /// [`StoneCells::new`] of this structure.
     pub fn render_in(&self, cells: &StoneCells, light_angle_deg: f64) -> Frame {
         let s = &self.scene;
+        let (structure, optics) = self.grown();
         let mut times = self.times;
         let (camera, source) = self.placement(light_angle_deg);
         let spectrum = self.light_spectrum();
@@ -100,9 +112,9 @@ impl Prepared {
         let start = Instant::now();
         let phong_exponent = s.render.phong_exponent as f32;
         let shading = Shading::new(
-            &self.structure,
+            structure,
             cells,
-            &ClusterOptics::new(&self.optics),
+            &ClusterOptics::new(optics),
             &light,
             phong_exponent,
             body_albedo,
@@ -111,8 +123,8 @@ impl Prepared {
         // before the image is allocated keeps the peak memory down.
         light.fluence = Vec::new();
         let spectral = trace_view(
-            &self.structure,
-            &self.optics,
+            structure,
+            optics,
             &light,
             &shading,
             &ViewSetup {
@@ -139,7 +151,7 @@ impl Prepared {
             light_rays: light.ledger.rays,
             ledger: light.ledger,
             times,
-            void_ratio: self.structure.stats.void_ratio,
+            void_ratio: Some(structure.stats.void_ratio),
             path: None,
             stored: None,
         }
@@ -163,10 +175,11 @@ impl Prepared {
         spectrum: &[f32],
     ) -> LightField {
         let s = &self.scene;
+        let (structure, optics) = self.grown();
         trace_light(
-            &self.structure,
+            structure,
             cells,
-            &self.optics,
+            optics,
             &LightSetup {
                 source,
                 spectrum,
@@ -191,7 +204,7 @@ mod tests {
         let frame = prepared.render_in(&cells, -20.0);
         assert_eq!(light.ledger, frame.ledger);
         assert_eq!(light.slot_of_cell, cells.slot_of_cell);
-        let bins = prepared.optics.grid.bins;
+        let bins = prepared.optics().unwrap().grid.bins;
         assert_eq!(
             light.fluence.len(),
             cells.slots() * crate::light_pass::LOBES * (bins + 4)

@@ -347,9 +347,9 @@ mod tests {
         let spectrum = prepared.light_spectrum();
         let (_, source) = prepared.placement(30.0);
         let light = trace_light(
-            &prepared.structure,
+            prepared.structure().unwrap(),
             &cells,
-            &prepared.optics,
+            prepared.optics().unwrap(),
             &LightSetup {
                 source,
                 spectrum: &spectrum,
@@ -360,8 +360,15 @@ mod tests {
                 termination: Termination::DEFAULT,
             },
         );
-        let optics = ClusterOptics::new(&prepared.optics);
-        let shading = Shading::new(&prepared.structure, &cells, &optics, &light, 40.0, 0.5);
+        let optics = ClusterOptics::new(prepared.optics().unwrap());
+        let shading = Shading::new(
+            prepared.structure().unwrap(),
+            &cells,
+            &optics,
+            &light,
+            40.0,
+            0.5,
+        );
         let bins = shading.bins;
         let mut r = vec![0.0f32; bins];
         let (mut packed, mut with_light) = (0usize, 0usize);
