@@ -425,11 +425,13 @@ mod tests {
         scene.structure.seed = u64::MAX;
         let err = scene.validate().unwrap_err().to_string();
         assert!(err.contains("structure.seed"), "{err}");
-        let mut scene = Scene::default();
-        scene.integrator = IntegratorConfig::Path(PathConfig {
-            seed: u64::MAX,
-            ..PathConfig::default()
-        });
+        let scene = Scene {
+            integrator: IntegratorConfig::Path(PathConfig {
+                seed: u64::MAX,
+                ..PathConfig::default()
+            }),
+            ..Scene::default()
+        };
         let err = scene.validate().unwrap_err().to_string();
         assert!(err.contains("integrator.seed"), "{err}");
     }
