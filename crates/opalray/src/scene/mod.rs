@@ -7,6 +7,7 @@
 mod body;
 mod integrator;
 mod look;
+mod methods;
 mod presets;
 mod shape;
 mod stone;
