@@ -110,12 +110,27 @@ class Scene:
         (``replace(crystal={"sphere_diameter_nm": 215})`` keeps the crystal's other fields),
         or a dotted field path, given as a dict key or through ``**``
         (``replace({"light.angle_deg": -45})``). Nested dicts merge; lists and values replace.
+        A new ``integrator.method`` keeps the integrator's fields the new method takes and
+        drops the others (``replace(integrator={"method": "lobe"})`` on a path-traced scene).
         """
         data = self.to_dict()
+        merged = copy.deepcopy(data)
         if changes:
-            _merge(data, changes)
-        _merge(data, more)
-        return Scene(data)
+            _merge(merged, changes)
+        _merge(merged, more)
+        section = merged.get("integrator")
+        method = section.get("method") if isinstance(section, dict) else None
+        keep = _opalray.integrator_fields(method) if isinstance(method, str) else None
+        if keep is not None and method != data["integrator"]["method"]:
+            # A switch of method keeps the fields the new one takes and drops the others;
+            # the fields given with it are kept, and checked.
+            old = data["integrator"]
+            data["integrator"] = {k: v for k, v in old.items() if k == "method" or k in keep}
+            if changes:
+                _merge(data, changes)
+            _merge(data, more)
+            merged = data
+        return Scene(merged)
 
     def __getitem__(self, section: str) -> Any:
         return copy.deepcopy(self._data[section])

@@ -147,3 +147,16 @@ def test_none_leaves_a_field_at_its_default_and_a_path_is_a_scene(tmp_path):
     assert opalray.prepare(tmp_path / "wide.toml").scene == wide
     assert opalray.prepare(str(tmp_path / "wide.toml"), render={"height": 50}).scene == wide.replace(
         render={"height": 50})
+
+
+def test_a_new_method_keeps_only_the_integrator_fields_it_takes():
+    # A dict is refused another method's field, as a scene file is.
+    with pytest.raises(ValueError, match=r"integrator\.max_depth") as err:
+        opalray.Scene({"integrator": {"method": "lobe", "max_depth": 3}})
+    assert '"path"' in str(err.value) and "\n" not in str(err.value)
+    # Switching the method keeps the fields the new one takes and drops the others.
+    path = opalray.Scene({"integrator": {"method": "path", "max_depth": 3, "spp": 5}})
+    lobe = path.replace(integrator={"method": "lobe"})
+    assert lobe["integrator"] == {"method": "lobe", "spp": 5, "seed": 0}
+    stored = lobe.replace({"integrator.method": "stored", "integrator.cell_mm": 0.3})
+    assert stored["integrator"] == {"method": "stored", "spp": 5, "seed": 0, "cell_mm": 0.3}

@@ -110,7 +110,10 @@ fn from_toml<'py>(py: Python<'py>, value: &toml::Value) -> PyResult<Bound<'py, P
 /// Deserialize and validate a scene from a TOML value, with the scene file's messages
 /// (`field `path`: …`), less the line number a file has and a dict does not.
 fn scene_of_value(value: toml::Value) -> opalray::Result<Scene> {
-    Scene::from_toml_value(value, ORIGIN)
+    let scene = Scene::from_toml_value(value, ORIGIN)?;
+    // What the scene's method refuses is refused as the scene is made, as in a file.
+    opalray::integrator::check(&scene)?;
+    Ok(scene)
 }
 
 /// The validated [`Scene`] a Python dict describes (missing fields take the defaults).
@@ -153,7 +156,19 @@ pub fn preset<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
 /// `parse_toml(text, origin) -> dict`: a scene file's text, parsed and validated by the core.
 #[pyfunction]
 pub fn parse_toml<'py>(py: Python<'py>, text: &str, origin: &str) -> PyResult<Bound<'py, PyAny>> {
-    dict_of(py, &Scene::from_toml_str(text, origin).map_err(to_py_err)?)
+    let scene = Scene::from_toml_str(text, origin).map_err(to_py_err)?;
+    opalray::integrator::check(&scene).map_err(to_py_err)?;
+    dict_of(py, &scene)
+}
+
+/// `integrator_fields(method) -> list[str] | None`: the `[integrator]` fields `method` takes
+/// besides `method` (`None` for a name that is no method: the scene's check names it).
+#[pyfunction]
+pub fn integrator_fields(method: &str) -> Option<Vec<&'static str>> {
+    opalray::scene::Method::ALL
+        .into_iter()
+        .find(|m| m.name() == method)
+        .map(|m| m.fields().to_vec())
 }
 
 /// `to_toml(dict) -> str`: the complete scene as TOML text, as `opalray scene` prints it.

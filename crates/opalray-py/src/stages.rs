@@ -4,7 +4,7 @@
 
 use std::sync::mpsc::{channel, RecvTimeoutError};
 use std::sync::{Arc, OnceLock};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2};
@@ -101,15 +101,10 @@ impl Stages {
         threads: Option<usize>,
     ) -> PyResult<Frame> {
         let angle = self.angle(light_angle_deg)?;
-        let (prepared, cells) = (self.prepared.clone(), self.cells.clone());
+        let prepared = self.prepared.clone();
         let job = move || {
-            // As `Prepared::render`, the light pass's time includes laying out the cells
-            // (only the first frame of a prepared scene does).
-            let start = Instant::now();
-            let cells = cells.get_or_init(|| StoneCells::new(&prepared.structure));
-            let layout = start.elapsed().as_secs_f64();
-            let mut frame = prepared.render_in(cells, angle);
-            frame.times.light_pass += layout;
+            // By the scene's integrator (the two passes' cells were laid out when prepared).
+            let frame = prepared.render(angle);
             let mut scene = prepared.scene.clone();
             scene.light.angle_deg = angle;
             Frame::new(&scene, frame, angle)
@@ -229,10 +224,8 @@ impl Stages {
             .prepared
             .posed(&camera, rotation_deg)
             .map_err(to_py_err)?;
-        let cells = self.cells.clone();
         let job = move || {
-            let cells = cells.get_or_init(|| StoneCells::new(&posed.structure));
-            let frame = posed.render_in(cells, posed.scene.light.angle_deg);
+            let frame = posed.render(posed.scene.light.angle_deg);
             opalray::to_display_rgb8(&frame.rgb, &posed.scene.color)
         };
         let codes = run_on(py, threads, job)?;
@@ -250,14 +243,17 @@ impl Stages {
     ) -> PyResult<StoredLight> {
         let angle = self.angle(light_angle_deg)?;
         let (prepared, cells) = (self.prepared.clone(), self.cells.clone());
-        run_on(py, threads, move || {
-            let cells = cells.get_or_init(|| StoneCells::new(&prepared.structure));
-            StoredLight {
+        let light = run_on(py, threads, move || {
+            // Grown when prepared for the two passes, here for another method.
+            let structure = prepared.structure()?;
+            let cells = cells.get_or_init(|| StoneCells::new(structure));
+            Ok::<_, opalray::Error>(StoredLight {
                 field: prepared.light_pass_in(cells, angle),
                 cell_of_slot: cells.cell_of_slot.clone(),
                 spectrum: prepared.light_spectrum(),
-            }
-        })
+            })
+        })?;
+        light.map_err(to_py_err)
     }
 
     /// The stone model of the scene (the path integrator's: domains as geometry), built on
@@ -285,39 +281,39 @@ impl Stages {
     }
 
     /// Cell kinds, `nz × ny × nx` uint8 (indexed `[z, y, x]`): 0 outside, 1 void, 2 cluster.
-    fn cell_kinds<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u8>> {
-        let s = &self.prepared.structure;
-        Array1::from_iter(s.cells.iter().map(|&c| c as u8)).into_pyarray(py)
+    fn cell_kinds<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<u8>>> {
+        let s = self.prepared.structure().map_err(to_py_err)?;
+        Ok(Array1::from_iter(s.cells.iter().map(|&c| c as u8)).into_pyarray(py))
     }
 
     /// Lattice orientation of every cell as unit quaternions `(x, y, z, w)` (scalar last,
     /// as scipy's `Rotation.from_quat`), flat `cells × 4` float32; identity where no cluster.
-    fn orientations<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f32>> {
-        let s = &self.prepared.structure;
+    fn orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let s = self.prepared.structure().map_err(to_py_err)?;
         let flat: Vec<f32> = s.orientations.iter().flat_map(|q| q.to_array()).collect();
-        Array2::from_shape_vec((s.cells.len(), 4), flat)
+        Ok(Array2::from_shape_vec((s.cells.len(), 4), flat)
             .expect("4 per cell")
-            .into_pyarray(py)
+            .into_pyarray(py))
     }
 
     /// The (111) plane normal of every cell in the stone frame, flat `cells × 3` float32.
-    fn normals<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f32>> {
-        let s = &self.prepared.structure;
+    fn normals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let s = self.prepared.structure().map_err(to_py_err)?;
         let flat: Vec<f32> = (0..s.cells.len())
             .flat_map(|i| s.normal(i).to_array())
             .collect();
-        Array2::from_shape_vec((s.cells.len(), 3), flat)
+        Ok(Array2::from_shape_vec((s.cells.len(), 3), flat)
             .expect("3 per cell")
-            .into_pyarray(py)
+            .into_pyarray(py))
     }
 
     /// `(nx, ny, nz, semi_axes_mm, cell_size_mm, stats_json)` of the structure.
     #[allow(clippy::type_complexity)]
-    fn structure_info(&self) -> (usize, usize, usize, [f64; 3], [f64; 3], String) {
-        let s = &self.prepared.structure;
+    fn structure_info(&self) -> PyResult<(usize, usize, usize, [f64; 3], [f64; 3], String)> {
+        let s = self.prepared.structure().map_err(to_py_err)?;
         let stats = serde_json::to_string(&s.stats).expect("stats serialise");
         let [nx, ny, nz] = s.grid;
-        (nx, ny, nz, s.semi_axes_mm, s.cell_size_mm(), stats)
+        Ok((nx, ny, nz, s.semi_axes_mm, s.cell_size_mm(), stats))
     }
 
     /// One optics table, `angles × bins` float32: `which` is `R`, `T` or `D`.
@@ -326,7 +322,7 @@ impl Stages {
         py: Python<'py>,
         which: &str,
     ) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        let o = &self.prepared.optics;
+        let o = self.prepared.optics().map_err(to_py_err)?;
         let data = match which {
             "R" => &o.reflectance,
             "T" => &o.transmittance,
@@ -345,18 +341,22 @@ impl Stages {
     }
 
     /// `cos θ` inside the stone of every optics row (float64, `angles` long).
-    fn optics_cos_theta<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let o = &self.prepared.optics;
-        Array1::from_iter((0..o.angles).map(|i| o.row_cos_theta(i))).into_pyarray(py)
+    fn optics_cos_theta<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let o = self.prepared.optics().map_err(to_py_err)?;
+        Ok(Array1::from_iter((0..o.angles).map(|i| o.row_cos_theta(i))).into_pyarray(py))
     }
 
     /// Centre of every wavelength bin, nm.
-    fn wavelengths_nm<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        Array1::from(self.prepared.optics.grid.centers_nm()).into_pyarray(py)
+    fn wavelengths_nm<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(
+            Array1::from(self.prepared.optics().map_err(to_py_err)?.grid.centers_nm())
+                .into_pyarray(py),
+        )
     }
 
     /// `(n_eff, d111_nm)` of the cluster.
-    fn optics_info(&self) -> (f64, f64) {
-        (self.prepared.optics.n_eff, self.prepared.optics.d111_nm)
+    fn optics_info(&self) -> PyResult<(f64, f64)> {
+        let o = self.prepared.optics().map_err(to_py_err)?;
+        Ok((o.n_eff, o.d111_nm))
     }
 }

@@ -23,18 +23,30 @@ fn render(c: &mut Criterion) {
         body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
         termination: Termination::DEFAULT,
     };
-    let cells = StoneCells::new(&prepared.structure);
+    let cells = StoneCells::new(prepared.structure().unwrap());
     let mut group = c.benchmark_group("render");
     group.sample_size(10);
     group.bench_function("light_pass_default", |b| {
-        b.iter(|| trace_light(&prepared.structure, &cells, &prepared.optics, &light_setup))
+        b.iter(|| {
+            trace_light(
+                prepared.structure().unwrap(),
+                &cells,
+                prepared.optics().unwrap(),
+                &light_setup,
+            )
+        })
     });
-    let light = trace_light(&prepared.structure, &cells, &prepared.optics, &light_setup);
-    let optics = ClusterOptics::new(&prepared.optics);
+    let light = trace_light(
+        prepared.structure().unwrap(),
+        &cells,
+        prepared.optics().unwrap(),
+        &light_setup,
+    );
+    let optics = ClusterOptics::new(prepared.optics().unwrap());
     let exponent = scene.render.phong_exponent as f32;
     let shade = || {
         Shading::new(
-            &prepared.structure,
+            prepared.structure().unwrap(),
             &cells,
             &optics,
             &light,
@@ -59,8 +71,8 @@ fn render(c: &mut Criterion) {
     group.bench_function("view_pass_640x480", |b| {
         b.iter(|| {
             trace_view(
-                &prepared.structure,
-                &prepared.optics,
+                prepared.structure().unwrap(),
+                prepared.optics().unwrap(),
                 &light,
                 &shading,
                 &view_setup,

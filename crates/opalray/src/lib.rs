@@ -8,7 +8,8 @@
 //! scene (TOML | preset = scenes/*.toml)  ->  color, optics (R, T, Bragg lines), structure (growth)
 //!   -> stone (the stone model)  +  lights (environment, its file reader, area lights)
 //!   -> an integrator: light_pass + view_pass (paper, on cells) | path (+ denoise) | stored
-//!   -> render.rs: prepare(scene), then the match on integrator.method -> Frame
+//!      | lobe, each with a method.rs implementing integrator::Integrator (one table)
+//!   -> render.rs: prepare(scene) (integrator::check, then its prepare), render -> Frame
 //!   -> to_rgb (CIE 1931 -> XYZ -> RGB, gamut-mapped) -> output (PNG | EXR | spectral EXR)
 //! ```
 #![warn(missing_docs)]
@@ -17,6 +18,7 @@ pub mod color;
 pub mod denoise;
 pub mod error;
 pub mod geometry;
+pub mod integrator;
 pub mod light_pass;
 pub mod lights;
 pub mod lobe;

@@ -1,32 +1,28 @@
-//! The orchestrator: the only module that knows the whole chain
-//! scene → structure → optics → light pass → view pass → colour, timing every stage.
+//! The orchestrator: scene → [`prepare`] (the scene checked, the structure and optics, then
+//! what its integrator builds once) → [`Prepared::render`] per light angle (its integrator's
+//! frame, through the table in [`crate::integrator`]) → colour, timing every stage. Also the
+//! pieces the integrators share: the light and camera placed, the frame, the colour stage.
 
+use std::sync::OnceLock;
 use std::time::Instant;
 
 use glam::{Quat, Vec3};
 use serde::Serialize;
 
-use crate::color::{illuminant_spectrum, to_rgb, RgbImage};
+use crate::color::{illuminant_spectrum, RgbImage};
 use crate::color::{xyz_to_rgb_adapted, RgbSpace};
-use crate::denoise::{denoise, NlMeans};
 use crate::error::Result;
 use crate::geometry::Camera;
-use crate::light_pass::{
-    trace_light, ClusterOptics, EnergyLedger, LightField, LightSetup, LightSource, StoneCells,
-    Termination,
-};
+use crate::light_pass::{EnergyLedger, LightSource, StoneCells};
 use crate::lights::{AreaLight, Environment};
-use crate::lobe::{render_lobes, LobeSetup};
 use crate::optics::{build_optics, OpticsTables};
-use crate::path::{trace_passes, Noise, Passes, PathImage, PathLight, PathSetup, SpectralSampler};
+use crate::path::{Noise, Passes, PathLight, SpectralSampler};
 use crate::sampling::mix64;
-use crate::scene::{LightKind, Method, Scene, BODY_EXTINCTION_PER_MM};
+use crate::scene::{LightKind, Scene};
 use crate::spectrum::SpectralImage;
-use crate::stone::body::munsell_y;
 use crate::stone::Stone;
-use crate::stored::{gather_view, store_light, StoredSetup, StoredStats};
+use crate::stored::StoredStats;
 use crate::structure::{grow_structure, Structure};
-use crate::view_pass::{trace_view, Shading, ViewSetup};
 
 /// Seconds spent in each stage (the paper reports the same breakdown).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
@@ -67,18 +63,21 @@ impl StageTimes {
 pub struct Prepared {
     /// The scene.
     pub scene: Scene,
-    /// The grown structure.
-    pub structure: Structure,
-    /// The cluster optics tables.
-    pub optics: OpticsTables,
-    /// The stone model of the path integrator and the stored method (`integrator.method =
-    /// "path"` or `"stored"`).
+    /// The grown structure ([`Prepared::structure`]): grown by `prepare` for the paper's two
+    /// passes, on first use for the other methods (which do not read it).
+    structure: OnceLock<Structure>,
+    /// The cluster optics tables ([`Prepared::optics`]), built as the structure is.
+    optics: OnceLock<OpticsTables>,
+    /// The stone model of the methods that render it (path, stored, lobe).
     pub stone: Option<std::sync::Arc<Stone>>,
-    /// The path integrator's environment, its map read and its sampling distribution built
-    /// (the stored method's: the backdrop).
+    /// Their environment, its map read and its sampling distribution built (the stored
+    /// method's: the backdrop).
     pub environment: Option<Environment>,
     /// Time of the structure and optics stages.
     pub times: StageTimes,
+    /// The paper's two passes: the stone's cells, laid out at the first frame and shared by
+    /// every later one (a sweep's).
+    pub(crate) cells: OnceLock<StoneCells>,
 }
 
 /// One rendered frame.
@@ -94,8 +93,9 @@ pub struct Frame {
     pub ledger: EnergyLedger,
     /// Seconds per stage (structure and optics as prepared).
     pub times: StageTimes,
-    /// Void ratio of the structure (void cells / inside cells).
-    pub void_ratio: f64,
+    /// Void ratio of the paper's grown structure (void cells / inside cells); `None` for
+    /// the methods that render the stone model (which do not grow it).
+    pub void_ratio: Option<f64>,
     /// The path integrator's samples and noise (`None` for the other methods).
     pub path: Option<PathStats>,
     /// The stored method's samples and stored light (`None` for the other methods).
@@ -160,42 +160,74 @@ impl PathStats {
     }
 }
 
-fn seconds(since: Instant) -> f64 {
+/// Seconds since `since`.
+pub(crate) fn seconds(since: Instant) -> f64 {
     since.elapsed().as_secs_f64()
 }
 
-/// Grow the structure and build the optics of `scene` (validated first).
+/// Check `scene` (its fields, then what its method refuses) and build what its integrator
+/// reads whatever the light angle: the structure and optics for the paper's two passes, the
+/// stone model and environment for the others.
 pub fn prepare(scene: &Scene) -> Result<Prepared> {
-    scene.validate()?;
-    let mut times = StageTimes::default();
-    let start = Instant::now();
-    let structure = grow_structure(&scene.structure)?;
-    times.structure = seconds(start);
-    let start = Instant::now();
-    let optics = build_optics(&scene.crystal, &scene.spectrum)?;
-    times.optics = seconds(start);
-    let (stone, environment) = match scene.integrator.method {
-        Method::TwoPass => (None, None),
-        Method::Path | Method::Stored | Method::Lobe => {
-            let start = Instant::now();
-            let stone = Stone::new(scene)?;
-            times.structure += seconds(start);
-            // The lights are built once, for every frame: timed as the light pass.
-            let start = Instant::now();
-            let environment = Environment::new(&scene.environment, scene.render.background as f32)?
-                .posed(&scene.environment, &scene.camera);
-            times.light_pass = seconds(start);
-            (Some(std::sync::Arc::new(stone)), Some(environment))
-        }
-    };
-    Ok(Prepared {
+    crate::integrator::check(scene)?;
+    let mut prepared = Prepared {
         scene: scene.clone(),
-        structure,
-        optics,
-        stone,
-        environment,
-        times,
-    })
+        structure: OnceLock::new(),
+        optics: OnceLock::new(),
+        stone: None,
+        environment: None,
+        times: StageTimes::default(),
+        cells: OnceLock::new(),
+    };
+    prepared.integrator().prepare(&mut prepared)?;
+    Ok(prepared)
+}
+
+impl Prepared {
+    /// The grown structure (paper §2.4): the paper's two passes grow it in `prepare`; for
+    /// another method it is grown now, on first use (not timed).
+    pub fn structure(&self) -> Result<&Structure> {
+        if let Some(structure) = self.structure.get() {
+            return Ok(structure);
+        }
+        let structure = grow_structure(&self.scene.structure)?;
+        Ok(self.structure.get_or_init(|| structure))
+    }
+
+    /// The cluster optics tables (paper §3.1), built as [`Prepared::structure`] is grown.
+    pub fn optics(&self) -> Result<&OpticsTables> {
+        if let Some(optics) = self.optics.get() {
+            return Ok(optics);
+        }
+        let optics = build_optics(&self.scene.crystal, &self.scene.spectrum)?;
+        Ok(self.optics.get_or_init(|| optics))
+    }
+
+    /// The structure to edit before rendering (tests of the passes on a structure made by
+    /// hand); the cells laid out from the grown one are dropped.
+    pub fn structure_mut(&mut self) -> Result<&mut Structure> {
+        self.structure()?;
+        self.cells = OnceLock::new();
+        Ok(self.structure.get_mut().expect("grown just above"))
+    }
+
+    /// The optics tables to edit before rendering (tests: an index-matched furnace).
+    pub fn optics_mut(&mut self) -> Result<&mut OpticsTables> {
+        self.optics()?;
+        Ok(self.optics.get_mut().expect("built just above"))
+    }
+
+    /// Grow the structure and build the optics now, timed as their stages: the paper's two
+    /// passes' `prepare`.
+    pub(crate) fn grow(&mut self) -> Result<()> {
+        let start = Instant::now();
+        self.structure()?;
+        self.times.structure = seconds(start);
+        let start = Instant::now();
+        self.optics()?;
+        self.times.optics = seconds(start);
+        Ok(())
+    }
 }
 
 impl Prepared {
@@ -210,7 +242,7 @@ impl Prepared {
         let mut posed = self.clone();
         posed.scene.camera = camera.clone();
         posed.scene.environment.rotation_deg = rotation_deg;
-        posed.scene.validate()?;
+        crate::integrator::check(&posed.scene)?;
         posed.environment = posed
             .environment
             .map(|e| e.posed(&posed.scene.environment, &posed.scene.camera));
@@ -264,228 +296,51 @@ impl Prepared {
             .collect()
     }
 
-    /// Light pass, view pass and colour for one light angle. (Laying out the stone's cells
-    /// for the passes is timed with the light pass.)
+    /// The frame for light angle `light_angle_deg`, by the scene's integrator.
     pub fn render(&self, light_angle_deg: f64) -> Frame {
         self.render_progressive(light_angle_deg, &Passes::default())
     }
 
     /// [`Prepared::render`], the path integrator's passes as `passes` says (a time limit, a
-    /// report after each pass); the two passes ignore `passes`.
+    /// report after each pass); the other methods ignore `passes`.
     pub fn render_progressive(&self, light_angle_deg: f64, passes: &Passes) -> Frame {
-        if let (Some(stone), Some(environment)) = (&self.stone, &self.environment) {
-            match self.scene.integrator.method {
-                Method::Stored => return self.render_stored(stone, environment, light_angle_deg),
-                Method::Lobe => return self.render_lobe(stone, environment, light_angle_deg),
-                _ => {}
-            }
-            return self.render_path(stone, environment, light_angle_deg, passes);
+        self.integrator().render(self, light_angle_deg, passes)
+    }
+
+    /// The scene's integrator.
+    pub fn integrator(&self) -> &'static dyn crate::integrator::Integrator {
+        crate::integrator::of(self.scene.integrator.method())
+    }
+
+    /// Build the stone model and the environment (timed as structure and light pass): the
+    /// inputs of the methods that render the stone.
+    pub(crate) fn build_stone(&mut self) -> Result<()> {
+        let scene = &self.scene;
+        let start = Instant::now();
+        let stone = Stone::new(scene)?;
+        self.times.structure += seconds(start);
+        // The lights are built once, for every frame: timed as the light pass.
+        let start = Instant::now();
+        let environment = Environment::new(&scene.environment, scene.render.background as f32)?
+            .posed(&scene.environment, &scene.camera);
+        self.times.light_pass = seconds(start);
+        self.stone = Some(std::sync::Arc::new(stone));
+        self.environment = Some(environment);
+        Ok(())
+    }
+
+    /// The stone and environment [`Prepared::build_stone`] built (a method that renders the
+    /// stone builds them in its `prepare`).
+    pub(crate) fn stone_inputs(&self) -> (&Stone, &Environment) {
+        match (&self.stone, &self.environment) {
+            (Some(stone), Some(environment)) => (stone, environment),
+            _ => unreachable!("the stone's methods build the stone when prepared"),
         }
-        let start = Instant::now();
-        let cells = StoneCells::new(&self.structure);
-        let layout = seconds(start);
-        let mut frame = self.render_in(&cells, light_angle_deg);
-        frame.times.light_pass += layout;
-        frame
-    }
-
-    /// [`Prepared::render`] with the stone's cells laid out once, for many frames (a sweep):
-    /// `cells` must be [`StoneCells::new`] of this structure.
-    pub fn render_in(&self, cells: &StoneCells, light_angle_deg: f64) -> Frame {
-        if self.stone.is_some() {
-            return self.render_progressive(light_angle_deg, &Passes::default());
-        }
-        let s = &self.scene;
-        let mut times = self.times;
-        let (camera, source) = self.placement(light_angle_deg);
-        let spectrum = self.light_spectrum();
-        let body_albedo = s.render.body_albedo();
-
-        let start = Instant::now();
-        let mut light = self.trace_light_in(cells, source, &spectrum);
-        times.light_pass = seconds(start);
-
-        let start = Instant::now();
-        let phong_exponent = s.render.phong_exponent as f32;
-        let shading = Shading::new(
-            &self.structure,
-            cells,
-            &ClusterOptics::new(&self.optics),
-            &light,
-            phong_exponent,
-            body_albedo,
-        );
-        // The shading holds what the view pass needs of the stored spectra; freeing them
-        // before the image is allocated keeps the peak memory down.
-        light.fluence = Vec::new();
-        let spectral = trace_view(
-            &self.structure,
-            &self.optics,
-            &light,
-            &shading,
-            &ViewSetup {
-                camera,
-                width: s.render.width as usize,
-                height: s.render.height as usize,
-                source,
-                light_spectrum: &spectrum,
-                phong_exponent,
-                gloss: s.render.gloss as f32,
-                background: s.render.background as f32,
-                body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
-                reflection_block: s.render.reflection_block as usize,
-            },
-        );
-        times.view_pass = seconds(start);
-
-        let start = Instant::now();
-        let rgb = to_rgb(&spectral, &s.color, s.light.illuminant);
-        times.color = seconds(start);
-        Frame {
-            spectral,
-            rgb,
-            light_rays: light.ledger.rays,
-            ledger: light.ledger,
-            times,
-            void_ratio: self.structure.stats.void_ratio,
-            path: None,
-            stored: None,
-        }
-    }
-}
-
-impl Prepared {
-    /// The light pass alone (paper §3.2) for light angle `light_angle_deg`: the light stored
-    /// in every inside cell, as the view pass of [`Prepared::render_in`] would receive it.
-    /// `cells` must be [`StoneCells::new`] of this structure. Defined for the two passes
-    /// only: with `integrator.method = "path"` there is no stored light, and the result is
-    /// that of the same scene's two passes.
-    pub fn light_pass_in(&self, cells: &StoneCells, light_angle_deg: f64) -> LightField {
-        let (_, source) = self.placement(light_angle_deg);
-        self.trace_light_in(cells, source, &self.light_spectrum())
-    }
-
-    /// [`trace_light`] with this scene's light settings, from `source` with `spectrum`.
-    fn trace_light_in(
-        &self,
-        cells: &StoneCells,
-        source: LightSource,
-        spectrum: &[f32],
-    ) -> LightField {
-        let s = &self.scene;
-        trace_light(
-            &self.structure,
-            cells,
-            &self.optics,
-            &LightSetup {
-                source,
-                spectrum,
-                rays: s.light.rays,
-                seed: s.structure.seed,
-                body_albedo: s.render.body_albedo(),
-                body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
-                termination: Termination::of(s.light.cutoff, s.light.roulette),
-            },
-        )
-    }
-
-    /// The path integrator's frame for light angle `light_angle_deg`.
-    fn render_path(
-        &self,
-        stone: &Stone,
-        environment: &Environment,
-        light_angle_deg: f64,
-        passes: &Passes,
-    ) -> Frame {
-        let s = &self.scene;
-        let mut times = self.times;
-        let start = Instant::now();
-        let (image, m) = self.trace_path(stone, environment, light_angle_deg, passes);
-        times.view_pass = seconds(start);
-        let (width, height) = (s.render.width as usize, s.render.height as usize);
-        let start = Instant::now();
-        let denoised = s
-            .integrator
-            .denoise
-            .then(|| denoise(&image, width, height, &NlMeans::default()))
-            .flatten();
-        let rgb = rgb_of_xyz(
-            denoised.as_ref().map_or(&image.xyz, |d| &d.xyz),
-            m,
-            width,
-            height,
-        );
-        times.color = seconds(start);
-        let time_limit_s = passes.time_limit.map(|t| t.as_secs_f64());
-        let path = PathStats {
-            spp: image.spp,
-            target_spp: s.integrator.spp,
-            passes: image.passes,
-            time_limit_s,
-            stopped_by_time_limit: time_limit_s.is_some() && image.spp < s.integrator.spp,
-            noise: image.noise(m),
-            denoise_bias: denoised.as_ref().map(|d| DenoiseBias {
-                firefly_cut_xyz: d.cut_share,
-                bias_xyz: d.bias,
-            }),
-            denoised: denoised.map(|d| d.noise(&image.on_stone, image.spp, m)),
-        };
-        Frame {
-            spectral: image.spectral,
-            rgb,
-            light_rays: 0,
-            ledger: EnergyLedger::default(),
-            times,
-            void_ratio: self.structure.stats.void_ratio,
-            path: Some(path),
-            stored: None,
-        }
-    }
-
-    /// The stored method's frame for light angle `light_angle_deg`: the light pass timed as
-    /// such, the view pass as such.
-    fn render_stored(
-        &self,
-        stone: &Stone,
-        environment: &Environment,
-        light_angle_deg: f64,
-    ) -> Frame {
-        let s = &self.scene;
-        let mut times = self.times;
-        let (camera, source) = self.placement(light_angle_deg);
-        let sampler = self.spectral_sampler();
-        let setup = StoredSetup {
-            camera,
-            width: s.render.width as usize,
-            height: s.render.height as usize,
-            spp: s.integrator.spp,
-            light: PathLight {
-                source,
-                intensity: s.light.intensity as f32,
-                disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
-            },
-            environment,
-            gloss: s.render.gloss as f32,
-            seed: sample_seed(s.structure.seed, s.integrator.seed),
-            cell_mm: s.integrator.cell_mm,
-            spectral: &sampler,
-        };
-        let start = Instant::now();
-        let light = store_light(stone, &setup);
-        times.light_pass += seconds(start);
-        let start = Instant::now();
-        let image = gather_view(stone, &light, &setup);
-        times.view_pass = seconds(start);
-        let stats = StoredStats {
-            spp: setup.spp,
-            light: light.stats(),
-        };
-        self.deterministic_frame(times, image.spectral, &image.xyz, &sampler, Some(stats))
     }
 
     /// The frame of a method without passes (stored, lobe): its XYZ image `xyz` to the
     /// scene's RGB (timed as colour), and its `spectral` image.
-    fn deterministic_frame(
+    pub(crate) fn deterministic_frame(
         &self,
         mut times: StageTimes,
         spectral: SpectralImage,
@@ -504,25 +359,22 @@ impl Prepared {
             light_rays: 0,
             ledger: EnergyLedger::default(),
             times,
-            void_ratio: self.structure.stats.void_ratio,
+            void_ratio: None,
             path: None,
             stored,
         }
     }
 
-    /// The wavelength sampler and colour matching of this scene's light.
-    fn spectral_sampler(&self) -> SpectralSampler {
+    /// The wavelength sampler and colour matching of this scene's light, `draws` wavelengths
+    /// per contribution.
+    pub(crate) fn spectral_sampler(&self, draws: u32) -> SpectralSampler {
         let s = &self.scene;
-        SpectralSampler::new(
-            s.light.illuminant,
-            &s.spectrum,
-            s.integrator.wavelengths as usize,
-        )
+        SpectralSampler::new(s.light.illuminant, &s.spectrum, draws as usize)
     }
 
     /// The scene's directional or point light at `source` for the stone model's methods
     /// (`None` for other kinds: a sphere or rect light is an [`AreaLight`]).
-    fn scene_light(&self, source: LightSource) -> Option<PathLight> {
+    pub(crate) fn scene_light(&self, source: LightSource) -> Option<PathLight> {
         let s = &self.scene;
         matches!(s.light.kind, LightKind::Directional | LightKind::Point).then_some(PathLight {
             source,
@@ -531,84 +383,9 @@ impl Prepared {
         })
     }
 
-    /// The lobe integrator's frame for light angle `light_angle_deg`.
-    fn render_lobe(&self, stone: &Stone, environment: &Environment, light_angle_deg: f64) -> Frame {
-        let s = &self.scene;
-        let mut times = self.times;
-        let (camera, source) = self.placement(light_angle_deg);
-        let sampler = self.spectral_sampler();
-        let light = self.scene_light(source);
-        let area_light = self.area_light(source, camera_up(s));
-        let setup = LobeSetup {
-            camera,
-            width: s.render.width as usize,
-            height: s.render.height as usize,
-            spp: s.integrator.spp,
-            light,
-            area_light,
-            light_intensity: s.light.intensity as f32,
-            environment,
-            gloss: s.render.gloss as f32,
-            seed: sample_seed(s.structure.seed, s.integrator.seed),
-            body_reflectance: munsell_y(f64::from(s.render.body_tone)) as f32,
-            spectral: &sampler,
-        };
-        let start = Instant::now();
-        let image = render_lobes(stone, &setup);
-        times.view_pass = seconds(start);
-        self.deterministic_frame(times, image.spectral, &image.xyz, &sampler, None)
-    }
-
-    /// The path integrator's image for light angle `light_angle_deg`, in passes as `passes`
-    /// says, with the map from its XYZ to the frame's linear RGB (colour space and exposure);
-    /// `None` for the two passes. The per-pixel variance and half differences it carries are
-    /// for statistical comparisons of renders.
-    pub fn render_path_image(
-        &self,
-        light_angle_deg: f64,
-        passes: &Passes,
-    ) -> Option<(PathImage, glam::Mat3)> {
-        let stone = self.stone.as_ref()?;
-        let environment = self.environment.as_ref()?;
-        Some(self.trace_path(stone, environment, light_angle_deg, passes))
-    }
-
-    /// [`Prepared::render_path_image`] of `stone`.
-    fn trace_path(
-        &self,
-        stone: &Stone,
-        environment: &Environment,
-        light_angle_deg: f64,
-        passes: &Passes,
-    ) -> (PathImage, glam::Mat3) {
-        let s = &self.scene;
-        let (camera, source) = self.placement(light_angle_deg);
-        let sampler = self.spectral_sampler();
-        let light = self.scene_light(source);
-        let area_light = self.area_light(source, camera_up(s));
-        let image = trace_passes(
-            stone,
-            &PathSetup {
-                camera,
-                width: s.render.width as usize,
-                height: s.render.height as usize,
-                spp: s.integrator.spp,
-                max_depth: s.integrator.max_depth,
-                light,
-                environment: environment.clone(),
-                area_light,
-                gloss: s.render.gloss as f32,
-                seed: sample_seed(s.structure.seed, s.integrator.seed),
-                spectral: &sampler,
-            },
-            passes,
-        );
-        (image, self.display_matrix(sampler.white_xyz))
-    }
-
     /// XYZ (relative to the light's white `white_xyz`) → the scene's linear RGB, adapted to
     /// its white and scaled by the exposure.
-    fn display_matrix(&self, white_xyz: [f64; 3]) -> glam::Mat3 {
+    pub(crate) fn display_matrix(&self, white_xyz: [f64; 3]) -> glam::Mat3 {
         let s = &self.scene;
         (xyz_to_rgb_adapted(RgbSpace::of(s.color.space), white_xyz)
             * 2f64.powf(s.color.exposure_ev))
@@ -617,7 +394,7 @@ impl Prepared {
 }
 
 /// A linear RGB image of the XYZ pixels `xyz` by the matrix `m`.
-fn rgb_of_xyz(xyz: &[[f32; 3]], m: glam::Mat3, width: usize, height: usize) -> RgbImage {
+pub(crate) fn rgb_of_xyz(xyz: &[[f32; 3]], m: glam::Mat3, width: usize, height: usize) -> RgbImage {
     let data = xyz
         .iter()
         .map(|&v| (m * glam::Vec3::from_array(v)).to_array())
@@ -631,7 +408,7 @@ fn rgb_of_xyz(xyz: &[[f32; 3]], m: glam::Mat3, width: usize, height: usize) -> R
 
 /// The path integrator's sample seed: `integrator.seed` mixed with `structure.seed`, so that
 /// either changes every sample stream.
-fn sample_seed(structure_seed: u64, integrator_seed: u64) -> u64 {
+pub(crate) fn sample_seed(structure_seed: u64, integrator_seed: u64) -> u64 {
     mix64(structure_seed ^ mix64(integrator_seed))
 }
 
@@ -662,7 +439,7 @@ impl Prepared {
 }
 
 /// The camera's up axis in the opal's frame (the picture's up).
-fn camera_up(s: &Scene) -> Vec3 {
+pub(crate) fn camera_up(s: &Scene) -> Vec3 {
     lab_to_stone(s) * Vec3::Y
 }
 
@@ -681,18 +458,44 @@ pub const LIGHT_DISC_RADIUS_DEG: f32 = 0.5;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::{preset, IntegratorConfig, Method};
+
+    /// `name` at 8 × 6.
+    fn tiny(name: &str) -> Scene {
+        let mut scene = preset(name).unwrap();
+        scene.render.width = 8;
+        scene.render.height = 6;
+        scene
+    }
 
     #[test]
-    fn light_pass_in_is_the_light_the_render_stores() {
-        let (prepared, cells) = StoneCells::of_default_scene([24, 18, 6]);
-        let light = prepared.light_pass_in(&cells, -20.0);
-        let frame = prepared.render_in(&cells, -20.0);
-        assert_eq!(light.ledger, frame.ledger);
-        assert_eq!(light.slot_of_cell, cells.slot_of_cell);
-        let bins = prepared.optics.grid.bins;
-        assert_eq!(
-            light.fluence.len(),
-            cells.slots() * crate::light_pass::LOBES * (bins + 4)
-        );
+    fn each_method_prepares_only_what_it_reads() {
+        // The stone's methods grow no cell grid and build no optics tables.
+        for method in [Method::Path, Method::Stored, Method::Lobe] {
+            let mut scene = tiny("paper");
+            scene.integrator = IntegratorConfig::of(method);
+            let prepared = prepare(&scene).unwrap();
+            assert!(prepared.stone.is_some(), "{method:?}");
+            assert!(prepared.structure.get().is_none(), "{method:?}");
+            assert!(prepared.optics.get().is_none(), "{method:?}");
+            assert_eq!(prepared.render(30.0).void_ratio, None, "{method:?}");
+        }
+        // The paper's two passes build no stone model.
+        let prepared = prepare(&tiny("paper")).unwrap();
+        assert!(prepared.stone.is_none() && prepared.environment.is_none());
+        assert!(prepared.structure.get().is_some() && prepared.cells.get().is_some());
+    }
+
+    #[test]
+    fn a_structure_asked_of_a_stone_method_is_the_two_passes_one() {
+        let two_pass = prepare(&tiny("paper")).unwrap();
+        let mut scene = tiny("paper");
+        scene.integrator = IntegratorConfig::of(Method::Lobe);
+        let lobe = prepare(&scene).unwrap();
+        let (a, b) = (two_pass.structure().unwrap(), lobe.structure().unwrap());
+        assert_eq!(a.cells, b.cells);
+        assert_eq!(a.stats.void_ratio, b.stats.void_ratio);
+        let (a, b) = (two_pass.optics().unwrap(), lobe.optics().unwrap());
+        assert_eq!(a.reflectance, b.reflectance);
     }
 }

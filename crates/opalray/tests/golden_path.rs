@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 use glam::{Mat3, Vec3};
 use opalray::path::{Passes, PathImage};
 use opalray::render::prepare;
-use opalray::scene::{preset, Backing, OrientationLaw};
+use opalray::scene::{preset, Backing, IntegratorConfig, OrientationLaw, PathConfig};
 use opalray::Scene;
 
 /// A channel beyond this many combined standard errors makes its pixel an outlier.
@@ -39,8 +39,10 @@ const MAGIC: &str = "opalray path golden v1";
 fn scene() -> Scene {
     let mut s = preset("harlequin").unwrap();
     // The path tracer, denoised, as the preset rendered when the reference was made.
-    s.integrator.method = opalray::scene::Method::Path;
-    s.integrator.denoise = true;
+    s.integrator = IntegratorConfig::Path(PathConfig {
+        denoise: true,
+        ..PathConfig::default()
+    });
     // The stone the reference was rendered with (the preset has since drawn another).
     s.structure.seed = 1;
     // Thick grains of independent orientations (fewer domains along a ray than the
@@ -58,7 +60,7 @@ fn scene() -> Scene {
     s.render.width = 48;
     s.render.height = 36;
     s.spectrum.bins = 16;
-    s.integrator.spp = SPP;
+    s.integrator.set_spp(SPP);
     s
 }
 
@@ -233,7 +235,7 @@ fn check(name: &str, scene: &Scene) {
     let path = reference_path();
     if std::env::var_os("OPALRAY_BLESS").is_some() {
         let mut scene = scene.clone();
-        scene.integrator.seed = REFERENCE_SEED;
+        scene.integrator.set_seed(REFERENCE_SEED);
         let (actual, m) = render(&scene);
         save(&path, &actual);
         let png = path.with_extension("png");
@@ -298,7 +300,7 @@ fn student_tail_matches_the_cauchy_and_normal_laws() {
 #[test]
 fn golden_harlequin_path_with_independent_samples() {
     let mut s = scene();
-    s.integrator.seed = TEST_SEED;
+    s.integrator.set_seed(TEST_SEED);
     check("harlequin-path", &s);
 }
 
@@ -307,7 +309,7 @@ fn golden_path_test_fails_for_spheres_three_percent_larger() {
     // The test must be able to fail: the same stone with spheres 3 % larger (every line 3 %
     // redder) is refused.
     let mut s = scene();
-    s.integrator.seed = TEST_SEED;
+    s.integrator.set_seed(TEST_SEED);
     s.crystal.sphere_diameter_nm *= 1.03;
     let (actual, _) = render(&s);
     let c = compare(&actual, &load(&reference_path()));

@@ -7,7 +7,9 @@ use opalray::geometry::Camera;
 use opalray::lights::Environment;
 use opalray::lobe::{render_lobes, LobeImage, LobeSetup};
 use opalray::path::SpectralSampler;
-use opalray::scene::{preset, EnvironmentConfig, EnvironmentKind, Method, Scene};
+use opalray::scene::{
+    preset, EnvironmentConfig, EnvironmentKind, IntegratorConfig, PathConfig, Scene,
+};
 use opalray::stone::Stone;
 
 fn uniform() -> Environment {
@@ -95,9 +97,11 @@ fn the_lobe_integrator_matches_the_path_tracers_mean_over_the_stone() {
     scene.render.width = 40;
     scene.render.height = 30;
     let lobe = opalray::render(&scene).unwrap();
-    scene.integrator.method = Method::Path;
-    scene.integrator.denoise = false;
-    scene.integrator.spp = 96;
+    scene.integrator = IntegratorConfig::Path(PathConfig {
+        spp: 96,
+        denoise: false,
+        ..PathConfig::default()
+    });
     let path = opalray::render(&scene).unwrap();
     let y = |rgb: &opalray::RgbImage| -> f64 {
         rgb.data

@@ -202,10 +202,10 @@ fn path_tracer_is_identical_at_one_two_and_three_threads() {
     use opalray::path::Passes;
     use std::time::Duration;
     let mut scene = preset("harlequin").unwrap();
-    scene.integrator.method = opalray::scene::Method::Path;
+    scene.integrator = scene.integrator.switched(opalray::scene::Method::Path);
     scene.render.width = 48;
     scene.render.height = 36;
-    scene.integrator.spp = 5;
+    scene.integrator.set_spp(5);
     let prepared = prepare(&scene).unwrap();
     let bits = |frame: &opalray::Frame| -> Vec<u32> {
         frame
@@ -261,7 +261,7 @@ fn path_tracer_is_identical_at_one_two_and_three_threads() {
     let stats = limited.path.unwrap();
     assert!(stats.stopped_by_time_limit && stats.spp == 2, "{stats:?}");
     let mut two = scene.clone();
-    two.integrator.spp = 2;
+    two.integrator.set_spp(2);
     let two = prepare(&two).unwrap().render(scene.light.angle_deg);
     assert_eq!(
         bits(&limited),

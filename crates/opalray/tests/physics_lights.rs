@@ -277,8 +277,8 @@ fn a_render_under_a_small_sphere_light_matches_the_point_light() {
     let mut scene = opalray::scene::preset("harlequin").unwrap();
     scene.render.width = 48;
     scene.render.height = 36;
-    scene.integrator.spp = 64;
-    scene.integrator.method = Method::Path;
+    scene.integrator = scene.integrator.switched(Method::Path);
+    scene.integrator.set_spp(64);
     scene.environment.kind = EnvironmentKind::None;
     scene.render.background = 0.0;
     scene.light.kind = LightKind::Point;

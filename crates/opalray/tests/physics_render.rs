@@ -31,7 +31,7 @@ fn flat_scene() -> Scene {
 /// Replace every inside cell of `prepared` with a cluster whose (111) normal is `normal`.
 fn single_crystal(prepared: &mut Prepared, normal: Vec3) {
     let q = Quat::from_rotation_arc(AXIS_111, normal.normalize());
-    let s: &mut Structure = &mut prepared.structure;
+    let s: &mut Structure = prepared.structure_mut().unwrap();
     for (cell, o) in s.cells.iter_mut().zip(s.orientations.iter_mut()) {
         if *cell != Cell::Outside {
             *cell = Cell::Cluster;
@@ -78,13 +78,13 @@ fn bisecting_cluster_flashes_its_bragg_wavelength() {
     // Bragg's law gives λ = 2 d111 n_eff cos(θt / 2) (DESIGN §4).
     let scene = flat_scene();
     let mut prepared = prepare(&scene).unwrap();
-    let n_eff = prepared.optics.n_eff;
+    let n_eff = prepared.optics().unwrap().n_eff;
     let theta_t = (30f64.to_radians().sin() / n_eff).asin();
     let normal = Vec3::new(theta_t.sin() as f32, 0.0, (1.0 + theta_t.cos()) as f32);
     single_crystal(&mut prepared, normal);
     let frame = prepared.render(30.0);
     let spectrum = brightest_spectrum(&frame.spectral, 20);
-    let expected = 2.0 * prepared.optics.d111_nm * n_eff * (0.5 * theta_t).cos();
+    let expected = 2.0 * prepared.optics().unwrap().d111_nm * n_eff * (0.5 * theta_t).cos();
     let peak = peak_wavelength(&frame.spectral, &spectrum);
     assert!(
         (peak - expected).abs() <= 10.0,
@@ -105,7 +105,7 @@ fn opening_the_light_angle_shifts_flashes_to_blue() {
     let mut previous = f64::INFINITY;
     for angle in [10.0f64, 35.0, 60.0] {
         let mut prepared = prepare(&scene).unwrap();
-        let n_eff = prepared.optics.n_eff;
+        let n_eff = prepared.optics().unwrap().n_eff;
         let theta_t = (angle.to_radians().sin() / n_eff).asin();
         single_crystal(
             &mut prepared,
@@ -113,7 +113,7 @@ fn opening_the_light_angle_shifts_flashes_to_blue() {
         );
         let frame = prepared.render(angle);
         let peak = peak_wavelength(&frame.spectral, &brightest_spectrum(&frame.spectral, 20));
-        let expected = 2.0 * prepared.optics.d111_nm * n_eff * (0.5 * theta_t).cos();
+        let expected = 2.0 * prepared.optics().unwrap().d111_nm * n_eff * (0.5 * theta_t).cos();
         assert!(
             (peak - expected).abs() <= 10.0,
             "{angle}°: {peak} nm, Bragg {expected} nm"
@@ -129,17 +129,17 @@ fn furnace_light_passes_unchanged() {
     // with all its power, and every cell must hold the incident fluence (irradiance 1).
     let scene = small_scene(32, 24, 8, 90_000);
     let mut prepared = prepare(&scene).unwrap();
-    for cell in prepared.structure.cells.iter_mut() {
+    for cell in prepared.structure_mut().unwrap().cells.iter_mut() {
         if *cell == Cell::Cluster {
             *cell = Cell::Void;
         }
     }
-    prepared.optics.n_eff = 1.0;
+    prepared.optics_mut().unwrap().n_eff = 1.0;
     let spectrum = prepared.light_spectrum();
     let light = trace_light(
-        &prepared.structure,
-        &StoneCells::new(&prepared.structure),
-        &prepared.optics,
+        prepared.structure().unwrap(),
+        &StoneCells::new(prepared.structure().unwrap()),
+        prepared.optics().unwrap(),
         &LightSetup {
             source: LightSource::Directional {
                 direction: Vec3::new(-0.3, 0.1, -1.0).normalize(),
@@ -238,8 +238,8 @@ fn split_lattice_delivers_the_light_on_the_stones_outline() {
     let scene = small_scene(32, 24, 40, 60_000);
     let prepared = prepare(&scene).unwrap();
     let spectrum = prepared.light_spectrum();
-    let power =
-        spectrum.iter().map(|&v| f64::from(v)).sum::<f64>() * prepared.optics.grid.bin_width_nm();
+    let power = spectrum.iter().map(|&v| f64::from(v)).sum::<f64>()
+        * prepared.optics().unwrap().grid.bin_width_nm();
     let [a, b, c] = scene.structure.semi_axes_mm;
     for angle in [0.0f64, 30.0, -55.0] {
         let frame = prepared.render(angle);
@@ -312,20 +312,20 @@ fn direct_light_inside_is_the_refracted_irradiance() {
     let mut scene = flat_scene();
     scene.structure.semi_axes_mm = [100.0, 75.0, 0.6];
     let mut prepared = prepare(&scene).unwrap();
-    for cell in prepared.structure.cells.iter_mut() {
+    for cell in prepared.structure_mut().unwrap().cells.iter_mut() {
         if *cell == Cell::Cluster {
             *cell = Cell::Void;
         }
     }
-    let n = prepared.optics.n_eff;
+    let n = prepared.optics().unwrap().n_eff;
     let spectrum = prepared.light_spectrum();
-    let [nx, ny, nz] = prepared.structure.grid;
+    let [nx, ny, nz] = prepared.structure().unwrap().grid;
     for angle in [0.0f64, 40.0, 70.0] {
         let theta = angle.to_radians();
         let light = trace_light(
-            &prepared.structure,
-            &StoneCells::new(&prepared.structure),
-            &prepared.optics,
+            prepared.structure().unwrap(),
+            &StoneCells::new(prepared.structure().unwrap()),
+            prepared.optics().unwrap(),
             &LightSetup {
                 source: LightSource::Directional {
                     direction: Vec3::new(theta.sin() as f32, 0.0, -theta.cos() as f32),

@@ -8,15 +8,15 @@
 //! that a change to either renderer that moves them apart, or together, is seen.
 
 use opalray::render::prepare;
-use opalray::scene::{preset, Method};
+use opalray::scene::{preset, IntegratorConfig, Method};
 
 /// Linear RGB of the paper scene at `w × h` rendered by `method`.
 fn render(method: Method, w: u32, h: u32, spp: u32) -> Vec<[f32; 3]> {
     let mut scene = preset("paper").unwrap();
     scene.render.width = w;
     scene.render.height = h;
-    scene.integrator.method = method;
-    scene.integrator.spp = spp;
+    scene.integrator = IntegratorConfig::of(method);
+    scene.integrator.set_spp(spp);
     scene.light.rays = 20_000;
     let prepared = prepare(&scene).unwrap();
     prepared.render(scene.light.angle_deg).rgb.data

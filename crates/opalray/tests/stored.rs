@@ -3,7 +3,7 @@
 //! domains rather than a grid's axes.
 
 use opalray::render::{prepare, Frame};
-use opalray::scene::{preset, Method};
+use opalray::scene::{preset, IntegratorConfig, Method, PathConfig};
 use opalray::Scene;
 
 fn paper_stone(w: u32, h: u32) -> Scene {
@@ -44,9 +44,11 @@ fn stored_over_path(max_depth: u32) -> f64 {
     let scene = paper_stone(48, 36);
     let stored = opalray::render(&scene).unwrap().rgb.data;
     let mut path_scene = scene.clone();
-    path_scene.integrator.method = Method::Path;
-    path_scene.integrator.spp = 32;
-    path_scene.integrator.max_depth = max_depth;
+    path_scene.integrator = IntegratorConfig::Path(PathConfig {
+        spp: 32,
+        max_depth,
+        ..PathConfig::default()
+    });
     let path = opalray::render(&path_scene).unwrap().rgb.data;
     let mask = on_stone(&scene, 0);
     let (mut a, mut r, mut n) = (0.0, 0.0, 0);
@@ -81,7 +83,10 @@ const SINGLE_RATIO_RANGE: (f64, f64) = (0.95, 1.05);
 
 #[test]
 fn the_stored_method_falls_short_of_the_path_tracer_by_its_multiple_scattering() {
-    let ratio = stored_over_path(preset("paper-path").unwrap().integrator.max_depth);
+    let IntegratorConfig::Path(paper_path) = preset("paper-path").unwrap().integrator else {
+        panic!("paper-path is path-traced");
+    };
+    let ratio = stored_over_path(paper_path.max_depth);
     assert!(
         (FULL_RATIO_RANGE.0..FULL_RATIO_RANGE.1).contains(&ratio),
         "ratio {ratio}"
@@ -183,7 +188,7 @@ fn the_stored_methods_edges_do_not_follow_the_image_axes() {
     let scene = paper_stone(640, 480);
     let share = axis_share(&opalray::render(&scene).unwrap(), &scene);
     let mut old = preset("paper").unwrap();
-    old.integrator.method = Method::Stored;
+    old.integrator = IntegratorConfig::of(Method::Stored);
     // The old renderer's stone has no stone model to mask with: the same outline.
     let old_share = {
         let mut two_pass = preset("paper").unwrap();

@@ -196,7 +196,9 @@ pub struct LookArgs {
     /// The renderer (integrator.method): lobe (the gem presets': every Bragg lobe integrated
     /// against the lights, seconds a frame, no noise), path (the reference path tracer: add
     /// --denoise and --spp 8 or more), stored, or two-pass (the paper's).
-    #[arg(long, value_name = "NAME", value_parser = ["lobe", "path", "stored", "two-pass"])]
+    #[arg(long, value_name = "NAME", value_parser = clap::builder::PossibleValuesParser::new(
+        opalray::scene::Method::ALL.map(opalray::scene::Method::name)
+    ))]
     pub method: Option<String>,
     /// Rock the stone: tilt it towards the camera about the picture's horizontal axis,
     /// degrees, the lights staying with the camera (camera.tilt_deg).
@@ -214,11 +216,14 @@ pub struct LookArgs {
 }
 
 impl LookArgs {
-    /// Set `integrator.method` from `--method`, if given.
+    /// Set `integrator.method` from `--method`, if given, keeping the `[integrator]` fields
+    /// the new method takes and dropping the others (a file is refused them instead).
     pub fn apply_method(&self, scene: &mut Scene) -> Result<()> {
         if let Some(name) = &self.method {
-            scene.integrator.method = serde_json::from_value(serde_json::json!(name))
+            let method: opalray::scene::Method = serde_json::from_value(serde_json::json!(name))
                 .map_err(|e| anyhow::anyhow!("--method {name}: {e}"))?;
+            // The flag keeps the fields the new method takes and drops the others.
+            scene.integrator = scene.integrator.switched(method);
         }
         Ok(())
     }
@@ -252,18 +257,36 @@ impl LookArgs {
         if let Some(v) = self.exposure {
             scene.color.exposure_ev = v;
         }
-        if let Some(v) = self.spp {
-            scene.integrator.spp = v;
-        }
         self.apply_method(scene)?;
+        if let Some(v) = self.spp {
+            // Checked whatever the method; the paper's two passes take no samples per pixel.
+            opalray::scene::check_spp(v).map_err(|err| self.named(err))?;
+            scene.integrator.set_spp(v);
+        }
         if let Some(v) = self.tilt {
             scene.camera.tilt_deg = v;
         }
         if self.denoise || self.no_denoise {
-            scene.integrator.denoise = self.denoise;
+            match &mut scene.integrator {
+                opalray::scene::IntegratorConfig::Path(c) => c.denoise = self.denoise,
+                // Without the filter there is nothing to switch off.
+                _ if self.no_denoise => {}
+                _ => {
+                    return Err(self.named(opalray::Error::field(
+                        "integrator.denoise",
+                        "filters the path integrator's image only; set integrator.method = \
+                         \"path\" (--method path) or drop the flag",
+                    )))
+                }
+            }
         }
-        // A field the user set with a flag is named by that flag.
-        scene.validate().map_err(|err| match &err {
+        opalray::integrator::check(scene).map_err(|err| self.named(err))?;
+        Ok(())
+    }
+
+    /// `err`, a field the user set with a flag named by that flag.
+    fn named(&self, err: opalray::Error) -> anyhow::Error {
+        match &err {
             opalray::Error::InvalidField { field, message } => match self.flag_of(field) {
                 Some(flag) => anyhow::anyhow!("{flag} ({field}): {message}"),
                 None => anyhow::Error::new(err)
@@ -271,8 +294,7 @@ impl LookArgs {
             },
             _ => anyhow::Error::new(err)
                 .context("checking the scene with the command-line flags applied"),
-        })?;
-        Ok(())
+        }
     }
 
     /// The flag that set scene field `field`, if one did.

@@ -20,10 +20,6 @@ const PIXEL_BYTES: f64 = 32.0;
 const PIXEL_BIN_BYTES: f64 = 4.0;
 /// Per light ray: its lattice cell and its share of the deposits.
 const RAY_BYTES: f64 = 64.0;
-/// Per grid point of the stored method's light (`integrator.method = "stored"`): its slot,
-/// the cell and its notches (measured 44 bytes on the paper's stone, with room for deeper
-/// stones crossing more domains).
-const STORED_POINT_BYTES: f64 = 100.0;
 /// Per optics table entry (bin × angle): R, T and diffuse, both polarisations.
 const TABLE_BYTES: f64 = 64.0;
 
@@ -50,16 +46,8 @@ pub fn peak_bytes(scene: &Scene, extra: Extra) -> f64 {
         + pixels * (PIXEL_BYTES + PIXEL_BIN_BYTES * bins)
         + scene.light.rays as f64 * RAY_BYTES
         + bins * scene.crystal.angles as f64 * TABLE_BYTES;
-    if scene.integrator.method == opalray::scene::Method::Stored {
-        let h = scene.integrator.cell_mm;
-        let points: f64 = scene
-            .body
-            .box_semi_axes(scene.structure.semi_axes_mm)
-            .iter()
-            .map(|a| (2.0 * a / h).ceil() + 1.0)
-            .product();
-        bytes += points * STORED_POINT_BYTES;
-    }
+    // The integrator's own data (the stored method's light grid).
+    bytes += opalray::integrator::of(scene.integrator.method()).memory_bytes(scene);
     let frames = extra.frames as f64;
     bytes += frames * pixels * 3.0;
     if extra.animation {

@@ -3,7 +3,7 @@
 //! these move anything in a given scene.
 
 use anyhow::{bail, Result};
-use opalray::scene::{EnvironmentKind, LightKind, Method};
+use opalray::scene::{EnvironmentKind, LightKind};
 use opalray::Scene;
 
 /// The flags that choose what a sweep moves, and over which range.
@@ -119,10 +119,14 @@ impl Moves {
             Moves::Light if scene.light.kind == LightKind::None => {
                 Err("the scene has no light (light.kind = \"none\")".into())
             }
-            Moves::Environment if scene.integrator.method == Method::TwoPass => Err(
-                "the paper's two passes see no environment (integrator.method = \"two-pass\")"
-                    .into(),
-            ),
+            Moves::Environment
+                if !opalray::integrator::of(scene.integrator.method()).sees_environment() =>
+            {
+                Err(format!(
+                    "its renderer sees no environment (integrator.method = \"{}\")",
+                    scene.integrator.method().name()
+                ))
+            }
             Moves::Environment
                 if matches!(
                     scene.environment.kind,

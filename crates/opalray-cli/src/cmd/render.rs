@@ -8,7 +8,7 @@ use serde_json::json;
 use std::time::Duration;
 
 use opalray::path::{PassReport, Passes};
-use opalray::scene::{Method, MAX_SPP};
+use opalray::scene::{IntegratorConfig, MAX_SPP};
 use opalray::Scene;
 
 use super::common::{
@@ -89,14 +89,14 @@ pub fn run(args: Args) -> Result<()> {
                      seconds; try 60"
                 );
             }
-            if scene.integrator.method != Method::Path {
+            if !opalray::integrator::of(scene.integrator.method()).renders_in_passes() {
                 anyhow::bail!(
                     "--time-limit: only the path integrator renders in passes; set \
                      integrator.method = \"path\" (e.g. --preset harlequin) or drop the flag"
                 );
             }
             if args.look.spp.is_none() {
-                scene.integrator.spp = MAX_SPP;
+                scene.integrator.set_spp(MAX_SPP);
             }
             Some(Duration::from_secs_f64(limit))
         }
@@ -107,16 +107,16 @@ pub fn run(args: Args) -> Result<()> {
         return Ok(());
     }
     super::memory::check(&scene, super::memory::Extra::default())?;
-    let frame = if scene.integrator.method == Method::Path {
+    let frame = if opalray::integrator::of(scene.integrator.method()).renders_in_passes() {
         render_in_passes(&scene, time_limit)?
     } else {
-        let bar = progress(2, "structure");
+        let bar = progress(2, "prepare");
         let prepared = opalray::render::prepare(&scene)?;
         progress_line(format_args!(
-            "structure and optics ready ({}); light and view passes",
+            "prepared ({}); rendering",
             duration_words(prepared.times.total())
         ));
-        bar.set_message("light, view");
+        bar.set_message("render");
         bar.inc(1);
         let frame = prepared.render(scene.light.angle_deg);
         bar.finish_and_clear();
@@ -167,7 +167,8 @@ pub fn run(args: Args) -> Result<()> {
                 ""
             }
         ));
-        if scene.integrator.denoise && path.denoised.is_none() {
+        let denoise = matches!(&scene.integrator, IntegratorConfig::Path(c) if c.denoise);
+        if denoise && path.denoised.is_none() {
             crate::stdio::note(format_args!(
                 "not denoised: the filter needs two samples per pixel or more (--spp 2)"
             ));
@@ -228,7 +229,7 @@ fn render_in_passes(scene: &Scene, time_limit: Option<Duration>) -> Result<opalr
     ));
     let (len, unit) = match time_limit {
         Some(limit) => (limit.as_secs_f64().ceil() as u64, "s"),
-        None => (u64::from(scene.integrator.spp), "spp"),
+        None => (u64::from(scene.integrator.spp().unwrap_or(1)), "spp"),
     };
     bar.set_length(len.max(1));
     bar.set_position(0);

@@ -144,8 +144,6 @@ pub fn run(args: Args) -> Result<()> {
 
     let start = Instant::now();
     let prepared = opalray::render::prepare(&scene)?;
-    // The stone's cells are laid out once for all frames.
-    let cells = opalray::light_pass::StoneCells::new(&prepared.structure);
     let bar = progress(angles.len() as u64, "sweep");
     // Each frame goes into the sheet as it completes; none is kept.
     let mut sheet = opalray::output::ContactSheet::blank(angles.len(), w, h, columns);
@@ -186,12 +184,12 @@ pub fn run(args: Args) -> Result<()> {
             Some(rgb8) => rgb8,
             None => {
                 let frame = match moves {
-                    Moves::Light => prepared.render_in(&cells, angle),
+                    Moves::Light => prepared.render(angle),
                     _ => {
                         let posed = pose(&scene, moves, angle);
                         prepared
                             .posed(&posed.camera, posed.environment.rotation_deg)?
-                            .render_in(&cells, scene.light.angle_deg)
+                            .render(scene.light.angle_deg)
                     }
                 };
                 per_frame.push(frame.times);

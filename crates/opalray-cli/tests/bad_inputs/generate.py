@@ -241,6 +241,14 @@ for section, expected in [("[environment]\\nkind = \"studio\"", "environment.kin
          file=f"s.toml:[integrator]\\nmethod = \"stored\"\\n{section}")
 case("render --preset paper-stone --time-limit 5 --width 8 --height 6", "only the path integrator")
 
+# Issue 45: each method's [integrator] fields its own; another method's is refused by name.
+for section, expected in [("method = \"path\"\\ncell_mm = 0.2", "integrator.cell_mm"),
+                          ("method = \"lobe\"\\nmax_depth = 8", "integrator.max_depth"),
+                          ("spp = 4", "integrator.spp"),
+                          ("method = \"stored\"\\ndenoise = true", "integrator.denoise")]:
+    case(f"render s.toml {TINY}", expected, file=f"s.toml:[integrator]\\n{section}")
+case("render --preset black-opal --denoise --width 8 --height 6", "--denoise")
+
 # Issue 44: environment maps. A path-traced scene reading m.hdr (or m.exr) beside it.
 ENV_SCENE = "e.toml:[integrator]\\nmethod = \"path\"\\n[environment]\\nkind = \"file\"\\npath = \"{}\""
 ENV_RUN = "render e.toml --width 8 --height 6 --spp 1"

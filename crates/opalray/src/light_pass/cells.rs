@@ -165,7 +165,7 @@ impl StoneCells {
         let mut scene = crate::scene::Scene::default();
         scene.structure.grid = grid;
         let prepared = crate::render::prepare(&scene).expect("the default scene is valid");
-        let cells = StoneCells::new(&prepared.structure);
+        let cells = StoneCells::new(prepared.structure().unwrap());
         (prepared, cells)
     }
 }
@@ -251,7 +251,7 @@ mod tests {
     fn each_site_holds_its_cells_slot_kind_volume_and_normal() {
         // The paper's grid: a stone of many patches.
         let (prepared, cells) = StoneCells::of_default_scene([100, 75, 25]);
-        let structure = &prepared.structure;
+        let structure = prepared.structure().unwrap();
         let (mut whole, mut cut) = (0, 0);
         for (cell, site) in cells.sites.iter().enumerate() {
             assert_eq!(site.cell(), structure.cells[cell], "cell {cell}");

@@ -277,7 +277,7 @@ mod tests {
         // An odd-sized grid, so that rows and planes hold different numbers of stored cells;
         // the default grid's 40 bins (their own copy of the blend) and another count.
         let (prepared, stone) = StoneCells::of_default_scene([23, 17, 9]);
-        let cells = &prepared.structure.cells;
+        let cells = &prepared.structure().unwrap().cells;
         for bins in [crate::spectrum::DEFAULT_BINS, 3] {
             check_against_plain_passes(cells, &stone, bins + 4);
         }

@@ -101,7 +101,7 @@ mod tests {
             body_extinction_per_mm: 0.0,
             termination: Termination::DEFAULT,
         };
-        let walker = Walker::new(&cells, &prepared.optics, &setup);
+        let walker = Walker::new(&cells, prepared.optics().unwrap(), &setup);
         let side = walker.lattice.side();
         let per_row = side.div_ceil(TILE);
         let order = heaviest_first(&walker, side, per_row);

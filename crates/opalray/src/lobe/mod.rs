@@ -32,6 +32,7 @@
 //! except those of the eye ray, and the cap plane's reflection of a triplet.
 
 pub mod colour;
+mod method;
 mod trace;
 
 use std::f32::consts::PI;
@@ -47,6 +48,7 @@ use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
 
 pub use colour::LineColours;
+pub use method::LobeMethod;
 
 /// Everything the lobe integrator needs besides the stone.
 pub struct LobeSetup<'a> {

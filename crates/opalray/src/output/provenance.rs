@@ -41,17 +41,17 @@ impl Provenance {
     pub fn of_samples(scene: &Scene, path_spp: Option<u32>, stored_spp: Option<u32>) -> Self {
         let mut scene = scene.clone();
         if let Some(spp) = path_spp {
-            scene.integrator.spp = spp;
+            scene.integrator.set_spp(spp);
         }
         // The lobe integrator's rays per edge pixel are the scene's.
-        let lobe_spp =
-            (scene.integrator.method == crate::scene::Method::Lobe).then_some(scene.integrator.spp);
+        let method = scene.integrator.method();
+        let lobe_spp = scene
+            .integrator
+            .spp()
+            .filter(|_| method == crate::scene::Method::Lobe);
         let spp = path_spp.or(stored_spp).or(lobe_spp);
         let version = env!("CARGO_PKG_VERSION");
-        let method = serde_json::to_value(scene.integrator.method)
-            .ok()
-            .and_then(|v| v.as_str().map(str::to_string))
-            .unwrap_or_default();
+        let method = method.name().to_string();
         let mut entries = vec![
             ("Software".to_string(), format!("opalray {version}")),
             (SCENE_KEY.to_string(), scene.to_toml()),
@@ -193,7 +193,7 @@ mod tests {
     fn recorded() -> (Scene, Provenance) {
         let mut scene = crate::scene::preset("black-opal").unwrap();
         scene.structure.seed = 11;
-        scene.integrator.spp = 3;
+        scene.integrator.set_spp(3);
         // A name beyond Latin-1 travels as UTF-8 in both headers.
         scene.environment.kind = crate::scene::EnvironmentKind::File;
         scene.environment.path = "maps/atelier-ü-光.hdr".into();

@@ -51,6 +51,7 @@
 //! rendered in parallel into pre-sized buffers, so the image does not depend on the number of
 //! threads nor on how the passes fall ([`passes`]). Its noise: [`noise`].
 
+mod method;
 mod nee;
 pub mod noise;
 mod notches;
@@ -72,6 +73,7 @@ use crate::stone::body::{hg_cos, hg_phase};
 use crate::stone::{ActiveLine, Boundary, Hint, Region, Span, Stone};
 use glam::Vec3;
 
+pub use method::PathTracer;
 pub use noise::Noise;
 pub use passes::{trace_passes, PassReport, Passes};
 pub use spectral::{Lines, PathSpectrum, SpectralSampler, MAX_DRAWS};

@@ -5,13 +5,19 @@
 //! would need before anything is allocated. Field tables: `docs/scene-format.md`.
 
 mod body;
+mod integrator;
 mod look;
+mod methods;
 mod presets;
 mod shape;
 mod stone;
 mod studio;
 
 pub use body::{Backing, BodyConfig, Cut};
+pub use integrator::{
+    check_spp, IntegratorConfig, LobeConfig, Method, PathConfig, StoredConfig, TwoPassConfig,
+    DEFAULT_WAVELENGTHS, MAX_SPP,
+};
 pub use look::{
     CameraConfig, ColorConfig, ColorSpaceChoice, GamutMapping, Illuminant, LightConfig, LightKind,
     RenderConfig, BODY_EXTINCTION_PER_MM,
@@ -19,8 +25,8 @@ pub use look::{
 pub use presets::{preset, DEFAULT_RENDER_PRESET, PRESET_NAMES};
 pub use stone::{CrystalConfig, StructureConfig, MAX_CELLS};
 pub use studio::{
-    map_format, DomainsConfig, EnvironmentConfig, EnvironmentKind, FamilyChoice, IntegratorConfig,
-    MapFormat, Method, OrientationLaw, Pattern, COLUMN_HEIGHT, MAX_SPP, OUTLINE_SUBDIVISION,
+    map_format, DomainsConfig, EnvironmentConfig, EnvironmentKind, FamilyChoice, MapFormat,
+    OrientationLaw, Pattern, COLUMN_HEIGHT, OUTLINE_SUBDIVISION,
 };
 
 use std::path::Path;
@@ -204,25 +210,6 @@ impl Scene {
             }
         }
         self.validate_area_light()?;
-        if self.integrator.method == Method::Stored {
-            self.validate_stored()?;
-        }
-        if self.integrator.method == Method::TwoPass && self.light.kind == LightKind::None {
-            return Err(Error::field(
-                "light.kind",
-                "the two-pass integrator needs a light; set light.kind = \"directional\" or \
-                 \"point\", or integrator.method = \"path\"",
-            ));
-        }
-        if self.integrator.method == Method::TwoPass
-            && self.environment.kind != EnvironmentKind::None
-        {
-            return Err(Error::field(
-                "environment.kind",
-                "an environment light needs the path integrator; set integrator.method = \"path\" \
-                 or environment.kind = \"none\"",
-            ));
-        }
         // The spectral image is width × height × bins floats: refuse what cannot fit.
         let bytes = u64::from(self.render.width)
             * u64::from(self.render.height)
@@ -245,79 +232,12 @@ impl Scene {
     }
 }
 
-/// Most grid points the stored method's light pass may store light at.
-pub const MAX_STORED_CELLS: f64 = 16e6;
-
 impl Scene {
-    /// The stored method takes the scene's directional or point light, no environment, no
-    /// triplet's cap, and a light grid that fits.
-    fn validate_stored(&self) -> Result<()> {
-        let kind = self.light.kind;
-        if !matches!(kind, LightKind::Directional | LightKind::Point) {
-            let name = match kind {
-                LightKind::Sphere => "sphere",
-                LightKind::Rect => "rect",
-                _ => "none",
-            };
-            return Err(Error::field(
-                "light.kind",
-                format!(
-                    "the stored method stores a directional or point light, not \"{name}\"; set \
-                     light.kind = \"directional\" or \"point\", or integrator.method = \"path\""
-                ),
-            ));
-        }
-        if self.environment.kind != EnvironmentKind::None {
-            return Err(Error::field(
-                "environment.kind",
-                "the stored method has no environment light; set integrator.method = \"path\" \
-                 or environment.kind = \"none\"",
-            ));
-        }
-        if self.body.cut == Cut::Triplet {
-            return Err(Error::field(
-                "body.cut",
-                "the stored method has no light under a triplet's cap; set integrator.method = \
-                 \"path\" or another body.cut",
-            ));
-        }
-        let axes = self.body.box_semi_axes(self.structure.semi_axes_mm);
-        let h = self.integrator.cell_mm;
-        let cells: f64 = axes.iter().map(|a| (2.0 * a / h).ceil() + 1.0).product();
-        if cells > MAX_STORED_CELLS {
-            let volume: f64 = axes.iter().map(|a| 2.0 * a).product();
-            let smallest = (volume / MAX_STORED_CELLS).cbrt() * 1.05;
-            return Err(Error::field(
-                "integrator.cell_mm",
-                format!(
-                    "{h} mm cells would make about {cells:.0} cells in this stone, more than the \
-                     limit of {MAX_STORED_CELLS:.0}; use at least {:.3} mm",
-                    (smallest * 1000.0).ceil() / 1000.0
-                ),
-            ));
-        }
-        Ok(())
-    }
-
-    /// A sphere or rect light needs the path integrator and must lie beyond the stone.
+    /// A sphere or rect light must lie beyond the stone.
     fn validate_area_light(&self) -> Result<()> {
         let kind = self.light.kind;
         if !matches!(kind, LightKind::Sphere | LightKind::Rect) {
             return Ok(());
-        }
-        let name = if kind == LightKind::Sphere {
-            "sphere"
-        } else {
-            "rect"
-        };
-        if self.integrator.method == Method::TwoPass {
-            return Err(Error::field(
-                "light.kind",
-                format!(
-                    "a {name} light needs the path integrator; set integrator.method = \"path\" \
-                     or light.kind = \"point\""
-                ),
-            ));
         }
         let stone = self
             .structure
@@ -506,8 +426,13 @@ mod tests {
         scene.structure.seed = u64::MAX;
         let err = scene.validate().unwrap_err().to_string();
         assert!(err.contains("structure.seed"), "{err}");
-        let mut scene = Scene::default();
-        scene.integrator.seed = u64::MAX;
+        let scene = Scene {
+            integrator: IntegratorConfig::Path(PathConfig {
+                seed: u64::MAX,
+                ..PathConfig::default()
+            }),
+            ..Scene::default()
+        };
         let err = scene.validate().unwrap_err().to_string();
         assert!(err.contains("integrator.seed"), "{err}");
     }
@@ -582,15 +507,13 @@ mod tests {
 
     #[test]
     fn the_lights_new_fields_are_refused_by_name_on_one_line() {
-        // `true`: under the path integrator (the two-pass refusals need the default).
+        // `true`: under the path integrator (what a method refuses: `integrator::tests`).
         for (path, text, field) in [
             (true, "[light]\nradius_mm = 0.0", "light.radius_mm"),
             (true, "[light]\nradius_mm = nan", "light.radius_mm"),
             (true, "[light]\nsize_mm = [100.0, -1.0]", "light.size_mm"),
             (true, "[light]\nsize_mm = [1e9, 10.0]", "light.size_mm"),
             (true, "[light]\nkind = \"disc\"", "light.kind"),
-            (false, "[light]\nkind = \"sphere\"", "light.kind"),
-            (false, "[light]\nkind = \"rect\"", "light.kind"),
             (
                 true,
                 "[light]\nkind = \"sphere\"\nradius_mm = 95.0",
@@ -676,30 +599,11 @@ mod tests {
                 "[domains]\nboundary_roughness = 1.5",
                 "domains.boundary_roughness",
             ),
-            ("[integrator]\nspp = 0", "integrator.spp"),
-            ("[environment]\nkind = \"studio\"", "environment.kind"),
-            ("[light]\nkind = \"none\"", "light.kind"),
+            ("[integrator]\nmethod = \"path\"\nspp = 0", "integrator.spp"),
             (
-                "[integrator]\nmethod = \"stored\"\n[environment]\nkind = \"studio\"",
-                "environment.kind",
-            ),
-            (
-                "[integrator]\nmethod = \"stored\"\n[light]\nkind = \"sphere\"",
-                "light.kind",
-            ),
-            (
-                "[integrator]\nmethod = \"stored\"\n[light]\nkind = \"none\"",
-                "light.kind",
-            ),
-            (
-                "[integrator]\nmethod = \"stored\"\n[body]\ncut = \"triplet\"",
-                "body.cut",
-            ),
-            (
-                "[integrator]\nmethod = \"stored\"\ncell_mm = 0.02",
+                "[integrator]\nmethod = \"stored\"\ncell_mm = 5.0",
                 "integrator.cell_mm",
             ),
-            ("[integrator]\ncell_mm = 5.0", "integrator.cell_mm"),
             (
                 "[domains]\nsphere_diameter_spread = 0.5",
                 "domains.sphere_diameter_spread",

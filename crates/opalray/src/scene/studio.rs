@@ -1,6 +1,6 @@
-//! The sections of the crystal-and-studio model: the domains as geometry (`[domains]`), the
-//! environment light (`[environment]`) and the integrator that renders them (`[integrator]`),
-//! each a parameter table with defaults and a `validate`.
+//! The sections of the crystal-and-studio model: the domains as geometry (`[domains]`) and
+//! the environment light (`[environment]`), each a parameter table with defaults and a
+//! `validate`.
 
 use std::path::Path;
 
@@ -376,117 +376,5 @@ pub fn map_format(path: &Path) -> Option<MapFormat> {
         "hdr" | "pic" | "rgbe" => Some(MapFormat::Radiance),
         "exr" => Some(MapFormat::OpenExr),
         _ => None,
-    }
-}
-
-/// Which renderer.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Method {
-    /// The paper's two passes on the cell grid (light stored per cluster, eq. (2) from the eye).
-    #[default]
-    TwoPass,
-    /// The spectral path tracer on the stone model: domains as geometry, every plane family,
-    /// the rocking width, lines evaluated at exact wavelengths.
-    Path,
-    /// The paper's two passes on the stone model: light stored per grid cell of the stone,
-    /// then gathered from the eye (eq. (2)), each domain's lines at their exact wavelengths.
-    /// Single reflection only; deterministic, no noise (`integrator.spp`, `cell_mm`).
-    Stored,
-    /// The lobe integrator on the stone model: every Bragg lobe integrated against the
-    /// environment and the light, the body as its Munsell value; deterministic, no noise,
-    /// seconds a frame (`integrator.spp`: stratified sub-pixel positions).
-    Lobe,
-}
-
-/// Most samples per pixel of the path integrator (`integrator.spp`).
-pub const MAX_SPP: u32 = 65_536;
-
-/// The integrator.
-///
-/// | field       | unit | default    | valid               |
-/// |-------------|------|------------|---------------------|
-/// | `method`    | –    | "two-pass" | "two-pass", "path", "stored", "lobe" |
-/// | `spp`       | –    | 16         | 1 ..= 65536         |
-/// | `max_depth` | –    | 8          | 1 ..= 256           |
-/// | `wavelengths` | –  | 4          | 1 ..= 64            |
-/// | `seed`      | –    | 0          | 0 ..= 2⁶³ − 1       |
-/// | `cell_mm`   | mm   | 0.15       | [0.02, 2]           |
-/// | `denoise`   | –    | false      | true, false         |
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct IntegratorConfig {
-    /// The renderer.
-    pub method: Method,
-    /// Path: samples per pixel (camera rays, each uniform over the pixel: anti-aliasing);
-    /// with a time limit, the most that are rendered. Stored: camera rays per pixel, at
-    /// stratified fixed positions.
-    pub spp: u32,
-    /// Path: most scattering events (surface, domain or potch) on one path.
-    pub max_depth: u32,
-    /// Path: wavelengths drawn per contribution, stratified over its spectral proposal.
-    pub wavelengths: u32,
-    /// Path: seed of the sample streams, mixed with `structure.seed` (which grows the stone):
-    /// another value renders the same stone with independent samples. Stored: seed of the
-    /// sub-pixel positions.
-    pub seed: u64,
-    /// Stored: edge of the grid cells the light is stored in, mm (finer: the light's
-    /// direction and the notches of the domains it crossed follow the stone more closely, at
-    /// the cube of the cost).
-    pub cell_mm: f64,
-    /// Path: filter the image's noise after the last pass ([`crate::denoise`]): non-local
-    /// means between its even and odd samples. Smoother at a small bias; the spectral image
-    /// is left unfiltered.
-    pub denoise: bool,
-}
-
-impl Default for IntegratorConfig {
-    fn default() -> Self {
-        IntegratorConfig {
-            method: Method::TwoPass,
-            spp: 16,
-            max_depth: 8,
-            wavelengths: 4,
-            seed: 0,
-            cell_mm: 0.15,
-            denoise: false,
-        }
-    }
-}
-
-impl IntegratorConfig {
-    /// Check ranges.
-    pub fn validate(&self) -> Result<()> {
-        for (field, v, hi, example) in [
-            ("integrator.spp", self.spp, MAX_SPP, 16),
-            ("integrator.max_depth", self.max_depth, 256, 8),
-            ("integrator.wavelengths", self.wavelengths, 64, 4),
-        ] {
-            if !(1..=hi).contains(&v) {
-                return Err(Error::field(
-                    field,
-                    format!("must be in 1..={hi}, got {v}; try {example}"),
-                ));
-            }
-        }
-        check_range("integrator.cell_mm", self.cell_mm, 0.02, 2.0, 0.15)?;
-        if self.denoise && self.method != Method::Path {
-            return Err(Error::field(
-                "integrator.denoise",
-                "filters the path integrator's image only; set integrator.method = \"path\" \
-                 or denoise = false",
-            ));
-        }
-        if i64::try_from(self.seed).is_err() {
-            return Err(Error::field(
-                "integrator.seed",
-                format!(
-                    "must be at most {} (TOML integers are signed 64-bit), got {}; try 0",
-                    i64::MAX,
-                    self.seed
-                ),
-            ));
-        }
-        Ok(())
     }
 }

@@ -594,7 +594,13 @@ impl Stone {
                     merged.push(Span { domain, ..span }, visit)
                 };
                 match outlines {
-                    Some(o) => o.walk(grains, origin, dir, t0, t1, hint, &mut merge),
+                    Some(o) => {
+                        let ray = Ray {
+                            origin,
+                            direction: dir,
+                        };
+                        o.walk(grains, &ray, t0, t1, hint, &mut merge)
+                    }
                     None => grains.walk(origin, dir, t0, t1, hint.grain, &mut merge),
                 };
                 merged.finish(visit);

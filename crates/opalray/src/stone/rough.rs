@@ -23,6 +23,7 @@ use glam::Vec3;
 use super::grains::Grains;
 use super::size_field::SizeField;
 use super::{Hint, Span};
+use crate::geometry::Ray;
 use crate::sampling::Rng;
 use crate::scene::{COLUMN_HEIGHT, OUTLINE_SUBDIVISION};
 
@@ -71,21 +72,20 @@ impl Outlines {
         grains.at(p + self.shift[j])
     }
 
-    /// Call `visit` for the grains of `grains` along `origin + t·dir`, `t ∈ [t0, t1]` (mm), in
+    /// Call `visit` for the grains of `grains` along `ray.at(t)`, `t ∈ [t0, t1]` (mm), in
     /// order, through the outlines (a grain met in two columns in a row is visited twice).
     /// `hint`: the column and grain likely to hold the start. Each span's hint names its
     /// column.
-    #[allow(clippy::too_many_arguments)]
     pub fn walk(
         &self,
         grains: &Grains,
-        origin: Vec3,
-        dir: Vec3,
+        ray: &Ray,
         t0: f32,
         t1: f32,
         hint: Hint,
         visit: &mut dyn FnMut(Span, u32) -> bool,
     ) -> bool {
+        let (origin, dir) = (ray.origin, ray.direction);
         // The grain a column's walk ended in most often holds the next column's start too (the
         // shifts are alike from column to column): it is tried first.
         let mut grain = hint.grain;

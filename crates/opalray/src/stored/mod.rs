@@ -21,6 +21,7 @@
 //! same bytes at any thread count.
 
 pub mod light;
+mod method;
 pub mod view;
 
 use rayon::prelude::*;
@@ -34,6 +35,7 @@ use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
 
 pub use light::{Arrival, LightStats, Notch, StoredLight};
+pub use method::{StoredMethod, MAX_STORED_CELLS};
 use view::{Gather, Sums};
 
 /// Everything the stored method needs besides the stone.

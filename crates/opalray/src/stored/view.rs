@@ -87,6 +87,16 @@ struct Pending {
     notches: std::ops::Range<usize>,
 }
 
+/// What scatters the stored light towards the eye along a span: the potch, or the haze
+/// within a domain.
+#[derive(Clone, Copy, Debug)]
+struct Medium {
+    /// Scattering density, per mm (the extinction too).
+    scattering_per_mm: f32,
+    /// Share of what is scattered that survives.
+    albedo: f32,
+}
+
 impl<'a> Gather<'a> {
     pub(super) fn new(stone: &'a Stone, light: &'a StoredLight, setup: &'a StoredSetup) -> Self {
         Gather {
@@ -157,13 +167,21 @@ impl<'a> Gather<'a> {
             match span.domain {
                 None => {
                     let sigma = potch.extinction_per_mm;
-                    self.scatter(&ray, span, sigma, potch.albedo, tau, weight, sums);
+                    let medium = Medium {
+                        scattering_per_mm: sigma,
+                        albedo: potch.albedo,
+                    };
+                    self.scatter(&ray, span, medium, tau, weight, sums);
                     tau += sigma * chord;
                 }
                 Some(domain) => {
                     let haze = potch.domain_scattering_per_mm;
                     if haze > 0.0 {
-                        self.scatter(&ray, span, haze, 1.0, tau, weight, sums);
+                        let medium = Medium {
+                            scattering_per_mm: haze,
+                            albedo: 1.0,
+                        };
+                        self.scatter(&ray, span, medium, tau, weight, sums);
                     }
                     self.cross(&ray, span.t0, chord, domain, weight * (-tau).exp());
                     tau += haze * chord;
@@ -193,20 +211,21 @@ impl<'a> Gather<'a> {
         }
     }
 
-    /// Single scattering of the stored light over `span` of `ray` by a medium of scattering
-    /// density `sigma` (per mm, extinction too) and albedo `albedo`, the eye path's optical
-    /// depth `tau` at its start.
-    #[allow(clippy::too_many_arguments)]
+    /// Single scattering of the stored light over `span` of `ray` by `medium`, the eye
+    /// path's optical depth `tau` at its start.
     fn scatter(
         &mut self,
         ray: &Ray,
         span: &Span,
-        sigma: f32,
-        albedo: f32,
+        medium: Medium,
         mut tau: f32,
         weight: f32,
         sums: &mut Sums,
     ) {
+        let Medium {
+            scattering_per_mm: sigma,
+            albedo,
+        } = medium;
         let cell = self.setup.cell_mm as f32;
         let steps = ((span.t1 - span.t0) / cell).ceil().max(1.0);
         let step = (span.t1 - span.t0) / steps;

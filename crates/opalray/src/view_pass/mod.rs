@@ -8,9 +8,13 @@
 //! scatters by the body tone. At the far surface the ray sees the backdrop through the stone
 //! and reflects internally.
 
+mod method;
 mod shading;
 mod walk;
 
+use walk::{RayBuffers, WalkStart};
+
+pub use method::TwoPass;
 pub use shading::{CellTag, ClusterShade, Lobe, Shading, LOBE_CUTOFF};
 
 use glam::Vec3;
@@ -237,16 +241,17 @@ impl View<'_> {
             scratch.shape.fill(1.0);
             scratch.shared.fill(0.0);
             let mut peak = 0;
-            self.walk(
+            let start = WalkStart {
                 origin,
                 direction,
-                s0,
-                &mut peak,
-                REFLECTED,
-                &mut scratch.shared,
-                &mut scratch.shape,
-                &mut scratch.transmission,
-            );
+                scale: s0,
+            };
+            let buffers = RayBuffers {
+                pixel: &mut scratch.shared,
+                shape_thr: &mut scratch.shape,
+                transmission: &mut scratch.transmission,
+            };
+            self.walk(start, &mut peak, REFLECTED, buffers);
             for (k, &(at, d)) in scratch.deferred.iter().enumerate() {
                 let pixel = &mut rows[at * bins..(at + 1) * bins];
                 let shape = &scratch.shapes[k * bins..(k + 1) * bins];
@@ -259,16 +264,17 @@ impl View<'_> {
                     .shape
                     .copy_from_slice(&scratch.shapes[k * bins..(k + 1) * bins]);
                 let mut peak = d.peak;
-                self.walk(
-                    d.origin,
-                    d.direction,
-                    d.scale,
-                    &mut peak,
-                    REFLECTED,
+                let start = WalkStart {
+                    origin: d.origin,
+                    direction: d.direction,
+                    scale: d.scale,
+                };
+                let buffers = RayBuffers {
                     pixel,
-                    &mut scratch.shape,
-                    &mut scratch.transmission,
-                );
+                    shape_thr: &mut scratch.shape,
+                    transmission: &mut scratch.transmission,
+                };
+                self.walk(start, &mut peak, REFLECTED, buffers);
             }
         }
     }
@@ -329,15 +335,16 @@ impl View<'_> {
             first: 0,
             defer: share,
         };
-        self.walk(
-            p,
-            dir,
+        let start = WalkStart {
+            origin: p,
+            direction: dir,
             scale,
-            &mut peak,
-            path,
+        };
+        let buffers = RayBuffers {
             pixel,
             shape_thr,
             transmission,
-        )
+        };
+        self.walk(start, &mut peak, path, buffers)
     }
 }

@@ -203,6 +203,11 @@ impl Shading {
             runs.push(head);
             rest = tail;
         }
+        let stored = ShadeSources {
+            optics,
+            light,
+            body_albedo,
+        };
         runs.into_par_iter()
             .zip(diffuse.par_chunks_mut(RUN * bins))
             .enumerate()
@@ -219,18 +224,12 @@ impl Shading {
                                 let slot = k * RUN + j;
                                 let shade = &clusters[slot];
                                 let cell = cell_of_slot[slot];
-                                shade_slot(
-                                    structure.cells[cell],
-                                    shade,
-                                    cells.normal(cell),
-                                    optics,
-                                    light,
-                                    slot,
-                                    body_albedo,
-                                    glow,
-                                    &mut spec,
-                                    d,
-                                );
+                                let at = Slot {
+                                    index: slot,
+                                    cell: structure.cells[cell],
+                                    normal: cells.normal(cell),
+                                };
+                                shade_slot(at, shade, &stored, glow, &mut spec, d);
                             }
                         },
                     )
@@ -259,24 +258,43 @@ impl Shading {
     }
 }
 
-/// The glow of one slot into `glow` (for a cluster, of (111) normal `normal`), and the
-/// specular spectra of its lobes that have one, each into the next chunk of `spec`; `d` is
-/// scratch space of `bins` values.
-#[allow(clippy::too_many_arguments)]
+/// One stored slot as the shading reads it.
+#[derive(Clone, Copy)]
+struct Slot {
+    /// Its index in the light's slots.
+    index: usize,
+    /// Its cell: a cluster or a void.
+    cell: Cell,
+    /// The cell's (111) normal (a cluster's).
+    normal: Vec3,
+}
+
+/// What every slot is shaded from: the clusters' optics, the stored light and the body's
+/// albedo (voids).
+struct ShadeSources<'a> {
+    optics: &'a ClusterOptics<'a>,
+    light: &'a LightField,
+    body_albedo: f32,
+}
+
+/// The glow of `at` into `glow`, and the specular spectra of its lobes that have one, each
+/// into the next chunk of `spec`; `d` is scratch space of `bins` values.
 #[inline(always)]
 fn shade_slot<'s>(
-    cell: Cell,
+    at: Slot,
     shade: &ClusterShade,
-    normal: Vec3,
-    optics: &ClusterOptics,
-    light: &LightField,
-    slot: usize,
-    body_albedo: f32,
+    stored: &ShadeSources,
     glow: &mut [f32],
     spec: &mut impl Iterator<Item = &'s mut [f32]>,
     d: &mut [f32],
 ) {
-    match cell {
+    let ShadeSources {
+        optics,
+        light,
+        body_albedo,
+    } = *stored;
+    let (slot, normal) = (at.index, at.normal);
+    match at.cell {
         Cell::Cluster => {
             for (lobe, l) in shade.lobes.iter().enumerate() {
                 let w = light.directions[slot * LOBES + lobe];
@@ -347,9 +365,9 @@ mod tests {
         let spectrum = prepared.light_spectrum();
         let (_, source) = prepared.placement(30.0);
         let light = trace_light(
-            &prepared.structure,
+            prepared.structure().unwrap(),
             &cells,
-            &prepared.optics,
+            prepared.optics().unwrap(),
             &LightSetup {
                 source,
                 spectrum: &spectrum,
@@ -360,8 +378,15 @@ mod tests {
                 termination: Termination::DEFAULT,
             },
         );
-        let optics = ClusterOptics::new(&prepared.optics);
-        let shading = Shading::new(&prepared.structure, &cells, &optics, &light, 40.0, 0.5);
+        let optics = ClusterOptics::new(prepared.optics().unwrap());
+        let shading = Shading::new(
+            prepared.structure().unwrap(),
+            &cells,
+            &optics,
+            &light,
+            40.0,
+            0.5,
+        );
         let bins = shading.bins;
         let mut r = vec![0.0f32; bins];
         let (mut packed, mut with_light) = (0usize, 0usize);

@@ -16,22 +16,50 @@ const MAX_VIEW_BOUNCES: u32 = 4;
 /// behind would change the default image by 0.45 % RMS (measured against 10⁻³).
 const MIN_THROUGHPUT: f32 = 4e-3;
 
+/// Where a camera ray's walk inside the stone starts, and its throughput's scale there.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct WalkStart {
+    /// A point on or inside the surface, mm.
+    pub origin: Vec3,
+    /// The ray's direction (unit).
+    pub direction: Vec3,
+    /// The throughput's flat factor (its shape is [`RayBuffers::shape_thr`]).
+    pub scale: f32,
+}
+
+/// The buffers one camera ray writes: the pixel's spectrum it adds to, the shape of its
+/// throughput and the transmittance scratch.
+pub(super) struct RayBuffers<'a> {
+    /// The spectrum seen, per bin.
+    pub pixel: &'a mut [f32],
+    /// The throughput's shape, at most 1 in every bin.
+    pub shape_thr: &'a mut [f32],
+    /// Scratch for a cluster's transmittance.
+    pub transmission: &'a mut Transmission,
+}
+
 impl View<'_> {
-    /// Walk a ray inside the stone from `origin` (on or inside the surface) with throughput
-    /// `scale × shape_thr`, adding what it sees to `pixel`, through internal reflections until
-    /// [`MAX_VIEW_BOUNCES`] segments (counting from `path.first`) are walked or it fades.
-    #[allow(clippy::too_many_arguments)]
+    /// Walk a ray inside the stone from `start` (on or inside the surface) with throughput
+    /// `start.scale × buffers.shape_thr`, adding what it sees to `buffers.pixel`, through
+    /// internal reflections until [`MAX_VIEW_BOUNCES`] segments (counting from `path.first`)
+    /// are walked or it fades; `peak` is the bin of the throughput shape's maximum.
     pub(super) fn walk(
         &self,
-        mut origin: Vec3,
-        mut dir: Vec3,
-        mut scale: f32,
+        start: WalkStart,
         peak: &mut usize,
         path: Path,
-        pixel: &mut [f32],
-        shape_thr: &mut [f32],
-        transmission: &mut Transmission,
+        buffers: RayBuffers<'_>,
     ) -> Option<Deferred> {
+        let WalkStart {
+            mut origin,
+            direction: mut dir,
+            mut scale,
+        } = start;
+        let RayBuffers {
+            pixel,
+            shape_thr,
+            transmission,
+        } = buffers;
         // The whole walk runs in the copy compiled for the processor's vector level.
         crate::simd::widest(
             #[inline(always)]

@@ -1,0 +1,132 @@
+//! The integrator seam: what every renderer answers, and the one table of them.
+//!
+//! Each method lives in its own folder with a `method.rs` that implements [`Integrator`]:
+//! what it refuses of a scene (one line naming the field), the memory of its own data, the
+//! inputs it builds once and its frame for one light angle. `render.rs` and the CLI ask the
+//! table ([`of`]); nothing else matches on the method. A new integrator is its folder, its
+//! `[integrator]` variant (`scene/integrator.rs`) and one line in [`INTEGRATORS`].
+
+use crate::error::Result;
+use crate::path::Passes;
+use crate::render::{Frame, Prepared};
+use crate::scene::{Method, Scene};
+
+/// A renderer of the scene.
+pub trait Integrator: Sync {
+    /// The method it renders (`integrator.method`).
+    fn method(&self) -> Method;
+
+    /// What it refuses of `scene` (already range-checked by [`Scene::validate`]): the first
+    /// problem as one line naming the field and a fix.
+    fn check(&self, scene: &Scene) -> Result<()>;
+
+    /// Peak bytes of its own data for `scene`, beyond the image, the structure, the optics
+    /// and the light rays every render is budgeted for (the CLI's memory model).
+    fn memory_bytes(&self, _scene: &Scene) -> f64 {
+        0.0
+    }
+
+    /// Whether it renders in passes, so that a time limit and a report after each pass mean
+    /// something (`--time-limit`, Python's `time_limit`).
+    fn renders_in_passes(&self) -> bool {
+        false
+    }
+
+    /// Whether it sees the environment light (`[environment]`).
+    fn sees_environment(&self) -> bool {
+        true
+    }
+
+    /// Build, into `prepared`, the inputs it reads that do not depend on the light angle,
+    /// timing them into `prepared.times`.
+    fn prepare(&self, prepared: &mut Prepared) -> Result<()>;
+
+    /// Its frame for light angle `light_angle_deg` (degrees, fig. 10), in passes as `passes`
+    /// says where it renders in passes.
+    fn render(&self, prepared: &Prepared, light_angle_deg: f64, passes: &Passes) -> Frame;
+}
+
+/// Every integrator, one line each.
+pub static INTEGRATORS: [&dyn Integrator; 4] = [
+    &crate::view_pass::TwoPass,
+    &crate::path::PathTracer,
+    &crate::stored::StoredMethod,
+    &crate::lobe::LobeMethod,
+];
+
+/// The integrator of `method`.
+pub fn of(method: Method) -> &'static dyn Integrator {
+    *INTEGRATORS
+        .iter()
+        .find(|i| i.method() == method)
+        .expect("every method is in the table")
+}
+
+/// Check `scene`: its fields' ranges ([`Scene::validate`]), then what its method refuses.
+pub fn check(scene: &Scene) -> Result<()> {
+    scene.validate()?;
+    of(scene.integrator.method()).check(scene)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_method_has_one_integrator() {
+        for method in Method::ALL {
+            let n = INTEGRATORS.iter().filter(|i| i.method() == method).count();
+            assert_eq!(n, 1, "{method:?}");
+        }
+    }
+
+    /// `text` under `check`: refused, naming `field`, on one line.
+    fn refused(text: &str, field: &str) {
+        let scene = Scene::from_toml_str(text, "t").unwrap();
+        let err = check(&scene).unwrap_err().to_string();
+        assert!(err.contains(field), "{text}: {err}");
+        assert!(!err.contains('\n'), "one line: {err}");
+    }
+
+    #[test]
+    fn each_method_refuses_what_it_cannot_render() {
+        for (text, field) in [
+            ("[environment]\nkind = \"studio\"", "environment.kind"),
+            ("[light]\nkind = \"none\"", "light.kind"),
+            ("[light]\nkind = \"sphere\"", "light.kind"),
+            ("[light]\nkind = \"rect\"", "light.kind"),
+            (
+                "[integrator]\nmethod = \"stored\"\n[environment]\nkind = \"studio\"",
+                "environment.kind",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\n[light]\nkind = \"sphere\"",
+                "light.kind",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\n[light]\nkind = \"none\"",
+                "light.kind",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\n[body]\ncut = \"triplet\"",
+                "body.cut",
+            ),
+            (
+                "[integrator]\nmethod = \"stored\"\ncell_mm = 0.02",
+                "integrator.cell_mm",
+            ),
+        ] {
+            refused(text, field);
+        }
+        // What the path tracer and the lobe integrator take passes.
+        for text in [
+            "[light]\nkind = \"sphere\"\nradius_mm = 20.0\n[environment]\nkind = \"studio\"",
+            "[light]\nkind = \"none\"\n[environment]\nkind = \"studio\"",
+        ] {
+            for method in ["path", "lobe"] {
+                let text = format!("[integrator]\nmethod = \"{method}\"\n{text}");
+                check(&Scene::from_toml_str(&text, "t").unwrap()).unwrap();
+            }
+        }
+    }
+}

@@ -1,0 +1,137 @@
+//! The path tracer as an integrator (`integrator.method = "path"`): it takes every light the
+//! scene offers, renders in passes (a time limit, a report after each), and filters its
+//! image with `integrator.denoise`.
+
+use std::time::Instant;
+
+use crate::denoise::{denoise, NlMeans};
+use crate::error::Result;
+use crate::integrator::Integrator;
+use crate::light_pass::EnergyLedger;
+use crate::render::{
+    camera_up, rgb_of_xyz, sample_seed, seconds, DenoiseBias, Frame, PathStats, Prepared,
+};
+use crate::scene::{IntegratorConfig, Method, PathConfig, Scene};
+
+use super::{trace_passes, Passes, PathImage, PathSetup};
+
+/// The spectral path tracer on the stone model (the reference).
+pub struct PathTracer;
+
+/// The path tracer's settings of `scene` (its defaults under another method).
+fn config(scene: &Scene) -> PathConfig {
+    match &scene.integrator {
+        IntegratorConfig::Path(c) => c.clone(),
+        _ => PathConfig::default(),
+    }
+}
+
+impl Integrator for PathTracer {
+    fn method(&self) -> Method {
+        Method::Path
+    }
+
+    /// Every light and environment; what is refused of them is refused for every method
+    /// ([`Scene::validate`]).
+    fn check(&self, _scene: &Scene) -> Result<()> {
+        Ok(())
+    }
+
+    fn renders_in_passes(&self) -> bool {
+        true
+    }
+
+    fn prepare(&self, prepared: &mut Prepared) -> Result<()> {
+        prepared.build_stone()
+    }
+
+    /// Its passes, the filter with `integrator.denoise` (timed as colour), and its samples
+    /// and noise.
+    fn render(&self, prepared: &Prepared, light_angle_deg: f64, passes: &Passes) -> Frame {
+        let s = &prepared.scene;
+        let c = config(s);
+        let mut times = prepared.times;
+        let start = Instant::now();
+        let (image, m) = prepared.trace_path(light_angle_deg, passes);
+        times.view_pass = seconds(start);
+        let (width, height) = (s.render.width as usize, s.render.height as usize);
+        let start = Instant::now();
+        let denoised = c
+            .denoise
+            .then(|| denoise(&image, width, height, &NlMeans::default()))
+            .flatten();
+        let rgb = rgb_of_xyz(
+            denoised.as_ref().map_or(&image.xyz, |d| &d.xyz),
+            m,
+            width,
+            height,
+        );
+        times.color = seconds(start);
+        let time_limit_s = passes.time_limit.map(|t| t.as_secs_f64());
+        let path = PathStats {
+            spp: image.spp,
+            target_spp: c.spp,
+            passes: image.passes,
+            time_limit_s,
+            stopped_by_time_limit: time_limit_s.is_some() && image.spp < c.spp,
+            noise: image.noise(m),
+            denoise_bias: denoised.as_ref().map(|d| DenoiseBias {
+                firefly_cut_xyz: d.cut_share,
+                bias_xyz: d.bias,
+            }),
+            denoised: denoised.map(|d| d.noise(&image.on_stone, image.spp, m)),
+        };
+        Frame {
+            spectral: image.spectral,
+            rgb,
+            light_rays: 0,
+            ledger: EnergyLedger::default(),
+            times,
+            void_ratio: None,
+            path: Some(path),
+            stored: None,
+        }
+    }
+}
+
+impl Prepared {
+    /// The path integrator's image for light angle `light_angle_deg`, in passes as `passes`
+    /// says, with the map from its XYZ to the frame's linear RGB (colour space and exposure);
+    /// `None` for a scene of another method. The per-pixel variance and half differences it
+    /// carries are for statistical comparisons of renders.
+    pub fn render_path_image(
+        &self,
+        light_angle_deg: f64,
+        passes: &Passes,
+    ) -> Option<(PathImage, glam::Mat3)> {
+        matches!(self.scene.integrator, IntegratorConfig::Path(_))
+            .then(|| self.trace_path(light_angle_deg, passes))
+    }
+
+    /// [`Prepared::render_path_image`] of a path-traced scene.
+    fn trace_path(&self, light_angle_deg: f64, passes: &Passes) -> (PathImage, glam::Mat3) {
+        let s = &self.scene;
+        let c = config(s);
+        let (stone, environment) = self.stone_inputs();
+        let (camera, source) = self.placement(light_angle_deg);
+        let sampler = self.spectral_sampler(c.wavelengths);
+        let image = trace_passes(
+            stone,
+            &PathSetup {
+                camera,
+                width: s.render.width as usize,
+                height: s.render.height as usize,
+                spp: c.spp,
+                max_depth: c.max_depth,
+                light: self.scene_light(source),
+                environment: environment.clone(),
+                area_light: self.area_light(source, camera_up(s)),
+                gloss: s.render.gloss as f32,
+                seed: sample_seed(s.structure.seed, c.seed),
+                spectral: &sampler,
+            },
+            passes,
+        );
+        (image, self.display_matrix(sampler.white_xyz))
+    }
+}

@@ -1,0 +1,147 @@
+//! The stored method as an integrator (`integrator.method = "stored"`): what it refuses, the
+//! memory of its light grid, and its frame (the light stored, then gathered from the eye).
+
+use std::time::Instant;
+
+use crate::error::{Error, Result};
+use crate::integrator::Integrator;
+use crate::path::{Passes, PathLight};
+use crate::render::{sample_seed, seconds, Frame, Prepared, LIGHT_DISC_RADIUS_DEG};
+use crate::scene::{
+    Cut, EnvironmentKind, IntegratorConfig, LightKind, Method, Scene, StoredConfig,
+    DEFAULT_WAVELENGTHS,
+};
+
+use super::{gather_view, store_light, StoredSetup, StoredStats};
+
+/// Most grid points the stored method's light pass may store light at.
+pub const MAX_STORED_CELLS: f64 = 16e6;
+
+/// Per grid point of the stored light: its slot, the cell and its notches (measured 44 bytes
+/// on the paper's stone, with room for deeper stones crossing more domains).
+const STORED_POINT_BYTES: f64 = 100.0;
+
+/// The paper's two passes on the stone model.
+pub struct StoredMethod;
+
+/// The stored method's settings of `scene` (its defaults under another method).
+fn config(scene: &Scene) -> StoredConfig {
+    match &scene.integrator {
+        IntegratorConfig::Stored(c) => c.clone(),
+        _ => StoredConfig::default(),
+    }
+}
+
+/// Grid points of the light grid of `scene`'s stone at cells of `cell_mm`.
+fn grid_points(scene: &Scene, cell_mm: f64) -> f64 {
+    let axes = scene.body.box_semi_axes(scene.structure.semi_axes_mm);
+    axes.iter()
+        .map(|a| (2.0 * a / cell_mm).ceil() + 1.0)
+        .product()
+}
+
+impl Integrator for StoredMethod {
+    fn method(&self) -> Method {
+        Method::Stored
+    }
+
+    /// The scene's directional or point light, no environment, no triplet's cap, and a
+    /// light grid that fits.
+    fn check(&self, scene: &Scene) -> Result<()> {
+        let kind = scene.light.kind;
+        if !matches!(kind, LightKind::Directional | LightKind::Point) {
+            let name = match kind {
+                LightKind::Sphere => "sphere",
+                LightKind::Rect => "rect",
+                _ => "none",
+            };
+            return Err(Error::field(
+                "light.kind",
+                format!(
+                    "the stored method stores a directional or point light, not \"{name}\"; set \
+                     light.kind = \"directional\" or \"point\", or integrator.method = \"path\""
+                ),
+            ));
+        }
+        if scene.environment.kind != EnvironmentKind::None {
+            return Err(Error::field(
+                "environment.kind",
+                "the stored method has no environment light; set integrator.method = \"path\" \
+                 or environment.kind = \"none\"",
+            ));
+        }
+        if scene.body.cut == Cut::Triplet {
+            return Err(Error::field(
+                "body.cut",
+                "the stored method has no light under a triplet's cap; set integrator.method = \
+                 \"path\" or another body.cut",
+            ));
+        }
+        let h = config(scene).cell_mm;
+        let cells = grid_points(scene, h);
+        if cells > MAX_STORED_CELLS {
+            let axes = scene.body.box_semi_axes(scene.structure.semi_axes_mm);
+            let volume: f64 = axes.iter().map(|a| 2.0 * a).product();
+            let smallest = (volume / MAX_STORED_CELLS).cbrt() * 1.05;
+            return Err(Error::field(
+                "integrator.cell_mm",
+                format!(
+                    "{h} mm cells would make about {cells:.0} cells in this stone, more than the \
+                     limit of {MAX_STORED_CELLS:.0}; use at least {:.3} mm",
+                    (smallest * 1000.0).ceil() / 1000.0
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The stored light's grid.
+    fn memory_bytes(&self, scene: &Scene) -> f64 {
+        grid_points(scene, config(scene).cell_mm) * STORED_POINT_BYTES
+    }
+
+    fn sees_environment(&self) -> bool {
+        false
+    }
+
+    fn prepare(&self, prepared: &mut Prepared) -> Result<()> {
+        prepared.build_stone()
+    }
+
+    /// The light pass timed as such, the view pass as such.
+    fn render(&self, prepared: &Prepared, light_angle_deg: f64, _passes: &Passes) -> Frame {
+        let s = &prepared.scene;
+        let c = config(s);
+        let (stone, environment) = prepared.stone_inputs();
+        let mut times = prepared.times;
+        let (camera, source) = prepared.placement(light_angle_deg);
+        let sampler = prepared.spectral_sampler(DEFAULT_WAVELENGTHS);
+        let setup = StoredSetup {
+            camera,
+            width: s.render.width as usize,
+            height: s.render.height as usize,
+            spp: c.spp,
+            light: PathLight {
+                source,
+                intensity: s.light.intensity as f32,
+                disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
+            },
+            environment,
+            gloss: s.render.gloss as f32,
+            seed: sample_seed(s.structure.seed, c.seed),
+            cell_mm: c.cell_mm,
+            spectral: &sampler,
+        };
+        let start = Instant::now();
+        let light = store_light(stone, &setup);
+        times.light_pass += seconds(start);
+        let start = Instant::now();
+        let image = gather_view(stone, &light, &setup);
+        times.view_pass = seconds(start);
+        let stats = StoredStats {
+            spp: setup.spp,
+            light: light.stats(),
+        };
+        prepared.deterministic_frame(times, image.spectral, &image.xyz, &sampler, Some(stats))
+    }
+}
