@@ -152,3 +152,37 @@ fn the_time_limit_stops_a_slow_preparation_in_time_and_writes_nothing() {
         assert_eq!(common::files_in(dir.path()), ["keep.png", "slow.toml"]);
     }
 }
+
+#[test]
+fn a_render_of_an_hour_says_so_before_any_work() {
+    use std::io::BufRead;
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_opalray"))
+        .args([
+            "render",
+            "--preset",
+            "black-opal",
+            "--method",
+            "path",
+            "--width",
+            "2048",
+            "--height",
+            "1536",
+        ])
+        .current_dir(dir.path())
+        .env("RAYON_NUM_THREADS", "2")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    std::io::BufReader::new(child.stderr.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    // 2048 × 1536 px × 4 spp at 600 µs a sample on 2 threads: about an hour.
+    assert!(first.starts_with("note: about "), "{first}");
+    assert!(first.contains(" min of work by the estimate"), "{first}");
+    assert!(first.contains("path samples"), "{first}");
+    assert!(common::files_in(dir.path()).is_empty());
+}

@@ -13,3 +13,4 @@ pub mod spectrum;
 pub mod structure;
 pub mod sweep;
 pub mod video;
+pub mod work;

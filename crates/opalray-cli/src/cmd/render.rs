@@ -104,6 +104,9 @@ pub fn run(args: Args) -> Result<()> {
         return Ok(());
     }
     super::memory::check(&scene, super::memory::Extra::default())?;
+    if time_limit.is_none() {
+        super::work::announce(&scene, 1, true);
+    }
     let job = scene.clone();
     let mut frame = super::deadline::within(time_limit, started, TIME_LIMIT_FIX, move |stage| {
         render_frame(

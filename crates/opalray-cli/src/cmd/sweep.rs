@@ -121,6 +121,7 @@ pub fn run(args: Args) -> Result<()> {
             ..Default::default()
         },
     )?;
+    super::work::announce(&scene, args.frames as u64, false);
     let angles: Vec<f64> = (0..args.frames)
         .map(|k| match args.frames {
             1 => from,
