@@ -18,9 +18,13 @@ mod anonymous;
 #[allow(dead_code)]
 #[path = "../../crates/opalray-cli/src/cmd/frames.rs"]
 mod frames;
-#[allow(dead_code)]
-#[path = "../../crates/opalray-cli/src/outputs.rs"]
-mod outputs;
+/// The one item of the CLI's `outputs` that the frames folder uses (the rest needs the
+/// whole command).
+mod outputs {
+    pub fn plain_io(err: &std::io::Error) -> String {
+        err.to_string()
+    }
+}
 
 use std::collections::BTreeMap;
 use std::path::Path;
