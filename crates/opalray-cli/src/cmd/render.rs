@@ -24,7 +24,7 @@ use crate::outputs::Outputs;
 /// the light at 30° to the view direction) and prints the time of each stage.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_long_help = "Examples:\n  opalray render\n  opalray render --preset white --output white.png\n  opalray render --method path --denoise --spp 16 --output reference.png\n  opalray render --preset paper --light-angle -45 --output flash.png\n  opalray render my-opal.toml --width 1280 --height 960 --stats stats.json\n  opalray render --diameter 220 --output linear.exr --spectral cube.exr\n  opalray render --preset harlequin --time-limit 60 --stats stats.json"
+    after_long_help = "Examples:\n  opalray render\n  opalray render --preset white --output white.png\n  opalray render --method path --denoise --spp 16 --output reference.png\n  opalray render --preset paper --light-angle -45 --output flash.png\n  opalray render my-opal.toml --width 1280 --height 960 --stats stats.json\n  opalray render --diameter 220 --output linear.exr --spectral cube.exr\n  opalray render --preset harlequin --time-limit 60 --stats stats.json\n\nLimits:\n  Memory: a run estimated over OPALRAY_MAX_MEMORY_MB MiB (unset: 80 % of this machine's\n  memory) is refused before any work, naming the value to lower and the largest that fits.\n  Time: --time-limit SECONDS bounds every stage, the stone's preparation included."
 )]
 pub struct Args {
     #[command(flatten)]
