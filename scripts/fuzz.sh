@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Fuzz the scene parser and validator, the CSV reader, a tiny render and the environment-map
-# readers (fuzz/, cargo-fuzz).
+# Fuzz the scene parser and validator, the CSV reader, a tiny render, the environment-map
+# readers and the frames folder's resume logic (fuzz/, cargo-fuzz).
 #
 #   scripts/fuzz.sh            each target for 60 s (CI)
 #   scripts/fuzz.sh 3600       each target for an hour (the documented long run)
@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(scene csv render maps)
+[ ${#targets[@]} -eq 0 ] && targets=(scene csv render maps frames)
 command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz --locked
 for target in "${targets[@]}"; do
     work="target/fuzz-corpus/$target"

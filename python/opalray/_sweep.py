@@ -7,6 +7,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import re
 import threading
 import time
 from dataclasses import dataclass, field
@@ -230,6 +231,47 @@ def _check_out(path: str, allowed: tuple[str, ...], what: str) -> None:
         raise ValueError(f"{what} {path}: unsupported file type; use a name ending in {' or '.join(allowed)}")
 
 
+# The names a frames folder holds of its own.
+_FOLDER_NAME = re.compile(r"frame-\d{4}\.png|sweep\.json|scene\.toml")
+
+
+def _check_outputs(
+    out_dir: str | None, sheet: str | None, animation: str | None
+) -> tuple[str | None, str | None]:
+    """Check ``out_dir`` and the outputs before any file is written, as ``opalray sweep``
+    checks ``--frames-dir``, ``--sheet`` and ``--animation``: a ``ValueError`` naming the
+    argument at fault. Returns the sheet's and the animation's paths (relative ones under
+    ``out_dir``)."""
+    if out_dir is not None and os.path.lexists(out_dir) and not os.path.isdir(out_dir):
+        raise ValueError(f"out_dir {out_dir}: exists and is not a folder; use a new or empty folder")
+    paths: list[str | None] = []
+    for given, allowed, what in ((sheet, (".png",), "sheet"), (animation, (".gif", ".png"), "animation")):
+        if given is None:
+            paths.append(None)
+            continue
+        _check_out(given, allowed, what)
+        path = given
+        if out_dir is not None and not os.path.isabs(path):
+            path = os.path.join(out_dir, path)
+        folder = os.path.dirname(os.path.abspath(path))
+        if out_dir is not None and os.path.abspath(path) == os.path.abspath(out_dir):
+            raise ValueError(f"{what} {given}: is out_dir; give the {what} a name of its own")
+        if os.path.isdir(path):
+            raise ValueError(f"{what} {given}: is a folder; give a file name")
+        if out_dir is not None and folder == os.path.abspath(out_dir):
+            if _FOLDER_NAME.fullmatch(os.path.basename(path)):
+                raise ValueError(
+                    f"{what} {given}: would overwrite a file of out_dir's own (frames, "
+                    f"{_MANIFEST}, {_SCENE_FILE}); give another name"
+                )
+        elif not os.path.isdir(folder):
+            raise ValueError(f"{what} {given}: its folder {folder} does not exist; create it first")
+        if path in paths or (paths and paths[0] and os.path.abspath(path) == os.path.abspath(paths[0])):
+            raise ValueError(f"{what} {given}: the same file as sheet; give each output its own name")
+        paths.append(path)
+    return paths[0], paths[1]
+
+
 def sweep(
     scene: Scene | dict | str | os.PathLike | None = None,
     light_angles: Sequence[float] | None = None,
@@ -279,9 +321,15 @@ def sweep(
     frames: list[bytes | None] = [None] * n
     if out_dir is not None:
         out_dir = os.fspath(out_dir)
-        os.makedirs(out_dir, exist_ok=True)
         if sheet is None:
             sheet = "sweep.png"
+    sheet_path, animation_path = _check_outputs(
+        out_dir,
+        None if sheet is None else os.fspath(sheet),
+        None if animation is None else os.fspath(animation),
+    )
+    if out_dir is not None:
+        os.makedirs(out_dir, exist_ok=True)
         manifest = {"moves": moves, "angles_deg": angles, "scene": scene.to_toml()}
         checksums = _read_manifest(out_dir, manifest, n)
         manifest["checksums"] = checksums
@@ -294,16 +342,6 @@ def sweep(
                 w, h, codes = _opalray.read_png_rgb8(path)
                 if (w, h) == (width, height):
                     frames[k] = codes
-    paths = []
-    for target, allowed, what in ((sheet, (".png",), "sheet"), (animation, (".gif", ".png"), "animation")):
-        if target is not None:
-            target = os.fspath(target)
-            _check_out(target, allowed, what)
-            if out_dir is not None and not os.path.isabs(target):
-                target = os.path.join(out_dir, target)
-        paths.append(target)
-    sheet_path, animation_path = paths
-
     missing = [k for k in range(n) if frames[k] is None]
     report, close = _progress_of(progress, n, "sweep")
     done = n - len(missing)

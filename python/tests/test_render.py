@@ -92,6 +92,16 @@ def test_save_refuses_unknown_types(tmp_path, small):
         image.save(tmp_path / "no" / "x.png")
 
 
+def test_save_into_a_missing_folder_speaks_of_the_path_not_a_flag(tmp_path, small):
+    image = opalray.render(small)
+    for name in ["nodir/a.png", "nodir/a.exr"]:
+        with pytest.raises(OSError) as err:
+            image.save(tmp_path / name)
+        message = str(err.value)
+        assert "does not exist" in message and "--output" not in message, message
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_images_pickle_as_their_arrays(small):
     image = opalray.render(small)
     back = pickle.loads(pickle.dumps(image))

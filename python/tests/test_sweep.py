@@ -155,6 +155,40 @@ def test_out_dir_follows_the_frames_folder_rules(tmp_path, small):
     assert opalray.sweep(small, ANGLES, out_dir=out).rendered == list(range(len(ANGLES)))
 
 
+def _listing(root):
+    return sorted(str(p.relative_to(root)) for p in root.rglob("*"))
+
+
+@pytest.mark.parametrize(
+    "kwargs, argument",
+    [
+        ({"out_dir": "{tmp}/afile"}, "out_dir"),
+        ({"out_dir": "{tmp}/out", "sheet": "frame-0000.png"}, "sheet"),
+        ({"out_dir": "{tmp}/out", "animation": "{tmp}/out/frame-0001.png"}, "animation"),
+        ({"out_dir": "{tmp}/out", "sheet": "x.jpg"}, "sheet"),
+        ({"sheet": "{tmp}/a.png", "animation": "{tmp}/a.png"}, "animation"),
+        ({"sheet": "{tmp}/nodir/s.png"}, "sheet"),
+        ({"sheet": "{tmp}/adir.png"}, "sheet"),
+        ({"out_dir": "{tmp}/out.png", "sheet": "{tmp}/out.png"}, "sheet"),
+    ],
+)
+def test_out_dir_and_outputs_are_checked_before_any_work(tmp_path, kwargs, argument):
+    # As the CLI's --frames-dir with --sheet and --animation: every output checked before a
+    # file is written or a frame rendered, the one at fault named by its argument.
+    (tmp_path / "afile").write_bytes(b"mine")
+    (tmp_path / "adir.png").mkdir()
+    before = _listing(tmp_path)
+    kwargs = {k: v.replace("{tmp}", str(tmp_path)) for k, v in kwargs.items()}
+    bad = kwargs[argument]
+    with pytest.raises(ValueError) as err:
+        opalray.sweep(small_scene(), ANGLES[:2], **kwargs)
+    message = str(err.value)
+    assert message.startswith(f"{argument} {bad}"), message
+    assert "\n" not in message and "--" not in message, message
+    assert _listing(tmp_path) == before
+    assert (tmp_path / "afile").read_bytes() == b"mine"
+
+
 def _gem(**changes):
     """The default gem at a size that renders in a moment."""
     return opalray.Scene.preset("black-opal").replace(

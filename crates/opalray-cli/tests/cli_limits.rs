@@ -97,3 +97,92 @@ fn the_documented_largest_image_is_refused_at_once_here() {
     assert!(err.contains("--width"), "{err}");
     assert!(took < Duration::from_secs(5));
 }
+
+/// The black opal with grains near `MAX_GRAINS` (about 240 000 of 0.4 mm): seconds to grow
+/// on any machine.
+fn slow_stone(dir: &std::path::Path) {
+    let out = common::opalray(dir, &["render", "--preset", "black-opal", "--show-scene"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("grain_size_mm = 2.0"), "{text}");
+    let text = text.replace("grain_size_mm = 2.0", "grain_size_mm = 0.4");
+    std::fs::write(dir.join("slow.toml"), text).unwrap();
+}
+
+#[test]
+fn the_time_limit_stops_a_slow_preparation_in_time_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    slow_stone(dir.path());
+    std::fs::write(dir.path().join("keep.png"), b"the user's file").unwrap();
+    for method in ["path", "lobe"] {
+        let start = Instant::now();
+        let out = common::opalray(
+            dir.path(),
+            &[
+                "render",
+                "slow.toml",
+                "--method",
+                method,
+                "--width",
+                "8",
+                "--height",
+                "6",
+                "--time-limit",
+                "0.2",
+                "--output",
+                "keep.png",
+                "--stats",
+                "stats.json",
+            ],
+        );
+        let took = start.elapsed();
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{method}: {err}");
+        let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error:")).collect();
+        assert_eq!(errors.len(), 1, "{method}: {err}");
+        assert!(
+            errors[0].contains("--time-limit 0.2: the limit passed during the stone's preparation"),
+            "{method}: {err}"
+        );
+        assert!(took < Duration::from_secs(5), "{method}: took {took:?}");
+        assert_eq!(
+            std::fs::read(dir.path().join("keep.png")).unwrap(),
+            b"the user's file"
+        );
+        assert_eq!(common::files_in(dir.path()), ["keep.png", "slow.toml"]);
+    }
+}
+
+#[test]
+fn a_render_of_an_hour_says_so_before_any_work() {
+    use std::io::BufRead;
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_opalray"))
+        .args([
+            "render",
+            "--preset",
+            "black-opal",
+            "--method",
+            "path",
+            "--width",
+            "2048",
+            "--height",
+            "1536",
+        ])
+        .current_dir(dir.path())
+        .env("RAYON_NUM_THREADS", "2")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    std::io::BufReader::new(child.stderr.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    // 2048 × 1536 px × 4 spp at 600 µs a sample on 2 threads: about an hour.
+    assert!(first.starts_with("note: about "), "{first}");
+    assert!(first.contains(" min of work by the estimate"), "{first}");
+    assert!(first.contains("path samples"), "{first}");
+    assert!(common::files_in(dir.path()).is_empty());
+}

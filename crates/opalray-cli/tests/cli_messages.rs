@@ -72,10 +72,15 @@ fn an_oversized_scene_file_names_its_first_problem() {
 #[test]
 fn the_memory_limit_is_found_in_the_help() {
     let dir = tempfile::tempdir().unwrap();
-    for args in [vec!["--help"], vec!["-h"]] {
+    for args in [
+        vec!["--help"],
+        vec!["-h"],
+        vec!["render", "--help"],
+        vec!["sweep", "--help"],
+    ] {
         let out = opalray(dir.path(), &args);
         assert!(out.status.success());
-        let text = String::from_utf8_lossy(&out.stdout);
+        let text = String::from_utf8_lossy(&out.stdout).replace("\n  ", " ");
         assert!(text.contains("OPALRAY_MAX_MEMORY_MB"), "{args:?}: {text}");
         assert!(text.contains("80 % of this machine's memory"), "{text}");
     }

@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod color;
 pub mod common;
+pub mod deadline;
 pub mod frames;
 pub mod memory;
 pub mod motion;
@@ -12,3 +13,4 @@ pub mod spectrum;
 pub mod structure;
 pub mod sweep;
 pub mod video;
+pub mod work;

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use serde_json::json;
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use opalray::path::{PassReport, Passes};
 use opalray::scene::{IntegratorConfig, MAX_SPP};
@@ -24,7 +24,7 @@ use crate::outputs::Outputs;
 /// the light at 30° to the view direction) and prints the time of each stage.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_long_help = "Examples:\n  opalray render\n  opalray render --preset white --output white.png\n  opalray render --method path --denoise --spp 16 --output reference.png\n  opalray render --preset paper --light-angle -45 --output flash.png\n  opalray render my-opal.toml --width 1280 --height 960 --stats stats.json\n  opalray render --diameter 220 --output linear.exr --spectral cube.exr\n  opalray render --preset harlequin --time-limit 60 --stats stats.json"
+    after_long_help = "Examples:\n  opalray render\n  opalray render --preset white --output white.png\n  opalray render --method path --denoise --spp 16 --output reference.png\n  opalray render --preset paper --light-angle -45 --output flash.png\n  opalray render my-opal.toml --width 1280 --height 960 --stats stats.json\n  opalray render --diameter 220 --output linear.exr --spectral cube.exr\n  opalray render --preset harlequin --time-limit 60 --stats stats.json\n\nLimits:\n  Memory: a run estimated over OPALRAY_MAX_MEMORY_MB MiB (unset: 80 % of this machine's\n  memory) is refused before any work, naming the value to lower and the largest that fits.\n  Time: --time-limit SECONDS bounds every stage, the stone's preparation included."
 )]
 pub struct Args {
     #[command(flatten)]
@@ -46,8 +46,10 @@ pub struct Args {
     /// rendered and the noise over the stone).
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
-    /// Path integrator: stop after the pass (of doubling samples per pixel) in which this many
-    /// seconds have passed, even short of --spp (default then the most, 65536); the image is
+    /// Bound the whole command to this many seconds, the stone's preparation included: a
+    /// stage not done in time ends the command (exit 2, nothing written). The path integrator
+    /// stops after the pass (of doubling samples per pixel) in which the time has passed, even
+    /// short of --spp (default then the most, 65536), once its first pass is done; the image is
     /// the one `--spp N` gives for the N reached (see --stats).
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub time_limit: Option<f64>,
@@ -58,6 +60,7 @@ const MAX_TIME_LIMIT_S: f64 = 7.0 * 24.0 * 3600.0;
 
 /// Run `opalray render`.
 pub fn run(args: Args) -> Result<()> {
+    let started = Instant::now();
     // Every output checked and staged before any work.
     let mut outputs = Outputs::new();
     let image = outputs.add("--output", &args.output, &["png", "exr"])?;
@@ -89,13 +92,9 @@ pub fn run(args: Args) -> Result<()> {
                      seconds; try 60"
                 );
             }
-            if !opalray::integrator::of(scene.integrator.method()).renders_in_passes() {
-                anyhow::bail!(
-                    "--time-limit: only the path integrator renders in passes; set \
-                     integrator.method = \"path\" (e.g. --preset harlequin) or drop the flag"
-                );
-            }
-            if args.look.spp.is_none() {
+            if opalray::integrator::of(scene.integrator.method()).renders_in_passes()
+                && args.look.spp.is_none()
+            {
                 scene.integrator.set_spp(MAX_SPP);
             }
             Some(Duration::from_secs_f64(limit))
@@ -107,21 +106,21 @@ pub fn run(args: Args) -> Result<()> {
         return Ok(());
     }
     super::memory::check(&scene, super::memory::Extra::default())?;
-    let frame = if opalray::integrator::of(scene.integrator.method()).renders_in_passes() {
-        render_in_passes(&scene, time_limit)?
-    } else {
-        let bar = progress(2, "prepare");
-        let prepared = opalray::render::prepare(&scene)?;
-        progress_line(format_args!(
-            "prepared ({}); rendering",
-            duration_words(prepared.times.total())
-        ));
-        bar.set_message("render");
-        bar.inc(1);
-        let frame = prepared.render(scene.light.angle_deg);
-        bar.finish_and_clear();
-        frame
-    };
+    if time_limit.is_none() {
+        super::work::announce(&scene, 1, true);
+    }
+    let job = scene.clone();
+    let mut frame = super::deadline::within(time_limit, started, TIME_LIMIT_FIX, move |stage| {
+        render_frame(
+            &job,
+            time_limit.map(|t| t.saturating_sub(started.elapsed())),
+            stage,
+        )
+    })?;
+    if let Some(path) = &mut frame.path {
+        // The passes had what the preparation left of it; the limit is the user's.
+        path.time_limit_s = args.time_limit;
+    }
     let is_exr = args
         .output
         .extension()
@@ -218,15 +217,53 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
+/// What to do when a stage overruns `--time-limit`.
+const TIME_LIMIT_FIX: &str = "raise --time-limit, or render a lighter scene: fewer grains \
+     (a larger domains.grain_size_mm), a smaller image (--width, --height), fewer --rays";
+
+/// Prepare and render `scene`, the path integrator's passes within `budget` (the rest of
+/// `--time-limit` when the preparation began), telling `stage` where the work stands.
+fn render_frame(
+    scene: &Scene,
+    budget: Option<Duration>,
+    stage: &super::deadline::Stage,
+) -> Result<opalray::Frame> {
+    let started = Instant::now();
+    if opalray::integrator::of(scene.integrator.method()).renders_in_passes() {
+        return render_in_passes(scene, budget, started, stage);
+    }
+    let bar = progress(2, "structure");
+    let prepared = opalray::render::prepare(scene)?;
+    progress_line(format_args!(
+        "structure and optics ready ({}); light and view passes",
+        duration_words(prepared.times.total())
+    ));
+    stage.enter("the light and view passes");
+    bar.set_message("light, view");
+    bar.inc(1);
+    let frame = prepared.render(scene.light.angle_deg);
+    bar.finish_and_clear();
+    Ok(frame)
+}
+
 /// Prepare and render `scene` with the path integrator in passes, a progress bar showing the
-/// samples per pixel (or, with a time limit, the seconds) and the noise so far.
-fn render_in_passes(scene: &Scene, time_limit: Option<Duration>) -> Result<opalray::Frame> {
+/// samples per pixel (or, with a time limit, the seconds) and the noise so far; `budget`
+/// counts from `started`. The first pass is bounded by the deadline, the rest by the passes'
+/// own fit to the time left.
+fn render_in_passes(
+    scene: &Scene,
+    budget: Option<Duration>,
+    started: Instant,
+    stage: &super::deadline::Stage,
+) -> Result<opalray::Frame> {
     let bar = progress(1, "structure");
     let prepared = opalray::render::prepare(scene)?;
     progress_line(format_args!(
         "stone ready ({}); tracing paths",
         duration_words(prepared.times.total())
     ));
+    stage.enter("the first pass of paths (2 samples per pixel)");
+    let time_limit = budget.map(|t| t.saturating_sub(started.elapsed()));
     let (len, unit) = match time_limit {
         Some(limit) => (limit.as_secs_f64().ceil() as u64, "s"),
         None => (u64::from(scene.integrator.spp().unwrap_or(1)), "spp"),
@@ -235,6 +272,9 @@ fn render_in_passes(scene: &Scene, time_limit: Option<Duration>) -> Result<opalr
     bar.set_position(0);
     bar.set_message(format!("paths ({unit})"));
     let report = |r: &PassReport| {
+        if r.passes == 1 {
+            stage.release();
+        }
         let noise = r
             .noise
             .map_or(String::new(), |n| format!(", noise {:.1} %", 100.0 * n));

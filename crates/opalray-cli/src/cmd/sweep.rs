@@ -23,7 +23,7 @@ use crate::outputs::Outputs;
 /// refused, naming what would move.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_long_help = "Examples:\n  opalray sweep                                  (the black opal rocked, −30° to 30°)\n  opalray sweep --turn-from 0 --turn-to 80 --frames 9 --animation turn.png\n  opalray sweep --preset paper --light-from -60 --light-to 60 --frames 25 --animation play.gif\n  opalray sweep --preset paper --frames 7 --sheet fig11.png --width 480 --height 360\n  opalray sweep --animation play.png          (APNG: full colour)"
+    after_long_help = "Examples:\n  opalray sweep                                  (the black opal rocked, −30° to 30°)\n  opalray sweep --turn-from 0 --turn-to 80 --frames 9 --animation turn.png\n  opalray sweep --preset paper --light-from -60 --light-to 60 --frames 25 --animation play.gif\n  opalray sweep --preset paper --frames 7 --sheet fig11.png --width 480 --height 360\n  opalray sweep --animation play.png          (APNG: full colour)\n\nLimits:\n  Memory: a run estimated over OPALRAY_MAX_MEMORY_MB MiB (unset: 80 % of this machine's\n  memory) is refused before any work, naming the value to lower and the largest that fits."
 )]
 pub struct Args {
     #[command(flatten)]
@@ -121,6 +121,7 @@ pub fn run(args: Args) -> Result<()> {
             ..Default::default()
         },
     )?;
+    super::work::announce(&scene, args.frames as u64, false);
     let angles: Vec<f64> = (0..args.frames)
         .map(|k| match args.frames {
             1 => from,

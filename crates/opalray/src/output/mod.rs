@@ -43,7 +43,7 @@ pub fn write_atomic(
             std::io::Error::new(
                 std::io::ErrorKind::NotFound,
                 format!(
-                    "directory {} does not exist; create it first or choose another --output",
+                    "directory {} does not exist; create it first or choose another path",
                     dir.display()
                 ),
             ),
@@ -51,7 +51,7 @@ pub fn write_atomic(
     }
     if path.file_name().is_none() {
         return Err(Error::argument(
-            "--output",
+            path.display().to_string(),
             "the path names no file; give a file name",
         ));
     }

@@ -190,21 +190,7 @@ impl Scene {
         self.environment.validate()?;
         self.integrator.validate()?;
         if self.domains.pattern == Pattern::Grains {
-            let grains = self
-                .domains
-                .grain_count(self.body.box_semi_axes(self.structure.semi_axes_mm));
-            if grains > MAX_GRAINS as f64 {
-                let smallest = self.domains.grain_size_mm * (grains / MAX_GRAINS as f64).cbrt();
-                return Err(Error::field(
-                    "domains.grain_size_mm",
-                    format!(
-                        "{} mm grains would make about {grains:.0} grains in this stone, more than \
-                         the limit of {MAX_GRAINS}; use at least {:.2} mm",
-                        self.domains.grain_size_mm,
-                        (smallest * 100.0).ceil() / 100.0
-                    ),
-                ));
-            }
+            self.check_grains()?;
             if self.domains.orientation == OrientationLaw::Correlated {
                 self.check_parent_grains()?;
             }
@@ -280,6 +266,37 @@ impl Scene {
 }
 
 impl Scene {
+    /// Refuse more grains than [`MAX_GRAINS`], naming the smallest `domains.grain_size_mm`
+    /// (in hundredths) that fits.
+    fn check_grains(&self) -> Result<()> {
+        let axes = self.body.box_semi_axes(self.structure.semi_axes_mm);
+        let count_at = |size_mm: f64| {
+            DomainsConfig {
+                grain_size_mm: size_mm,
+                ..self.domains.clone()
+            }
+            .grain_count(axes)
+        };
+        let size = self.domains.grain_size_mm;
+        let grains = count_at(size);
+        if grains <= MAX_GRAINS as f64 {
+            return Ok(());
+        }
+        // The count falls about as the size cubed (less near the box's margins): step up to
+        // the first hundredth that fits.
+        let mut smallest = (size * (grains / MAX_GRAINS as f64).cbrt() * 100.0).ceil() / 100.0;
+        while count_at(smallest) > MAX_GRAINS as f64 {
+            smallest += 0.01;
+        }
+        Err(Error::field(
+            "domains.grain_size_mm",
+            format!(
+                "{size} mm grains would make about {grains:.0} grains in this stone, more than \
+                 the limit of {MAX_GRAINS}; use at least {smallest:.2} mm"
+            ),
+        ))
+    }
+
     /// Correlated orientations draw from parent grains of `domains.correlation_mm`: refuse
     /// more of them than [`MAX_GRAINS`] (they take as long to grow as grains do), naming the
     /// smallest length that fits.
@@ -492,6 +509,23 @@ mod tests {
         let with =
             |length: f64| Scene::from_toml_str(&text.replace("0.1", &format!("{length}")), "t");
         assert!(with(fits).is_ok(), "{fits}");
+        assert!(with(fits - 0.01).is_err(), "{fits}");
+    }
+
+    #[test]
+    fn the_grain_size_named_for_too_many_grains_fits() {
+        // 0.05 mm grains in the paper's stone: about 23 million, over `MAX_GRAINS`.
+        let text = "[domains]\npattern = \"grains\"\ngrain_size_mm = 0.05";
+        let err = Scene::from_toml_str(text, "t").unwrap_err().to_string();
+        assert!(err.contains("domains.grain_size_mm"), "{err}");
+        let fits: f64 = err
+            .rsplit("at least ")
+            .next()
+            .and_then(|t| t.strip_suffix(" mm"))
+            .and_then(|t| t.parse().ok())
+            .unwrap_or_else(|| panic!("no size in {err}"));
+        let with = |size: f64| Scene::from_toml_str(&text.replace("0.05", &format!("{size}")), "t");
+        assert!(with(fits).is_ok(), "{fits}: {}", with(fits).unwrap_err());
         assert!(with(fits - 0.01).is_err(), "{fits}");
     }
 
