@@ -252,7 +252,10 @@ mod tests {
     #[test]
     fn machine_memory_is_memtotal_on_linux() {
         let meminfo = std::fs::read_to_string("/proc/meminfo").unwrap();
-        let line = meminfo.lines().find(|l| l.starts_with("MemTotal:")).unwrap();
+        let line = meminfo
+            .lines()
+            .find(|l| l.starts_with("MemTotal:"))
+            .unwrap();
         let kib: u64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
         assert_eq!(machine_memory_bytes(), kib * 1024);
     }
