@@ -159,6 +159,15 @@ class Structure:
     cell_size_mm: tuple[float, float, float]
     stats: dict = field(default_factory=dict)
 
+    def __repr__(self) -> str:
+        nx, ny, nz = self.grid
+        a, b, c = self.semi_axes_mm
+        clusters = int(np.count_nonzero(self.cells == self.CLUSTER))
+        return (
+            f"<opalray.Structure {nx}×{ny}×{nz} cells, semi-axes {a:g} × {b:g} × {c:g} mm, "
+            f"{clusters} cluster cells>"
+        )
+
 
 @dataclass(frozen=True)
 class Optics:
@@ -176,6 +185,17 @@ class Optics:
     n_eff: float
     d111_nm: float
 
+    def __repr__(self) -> str:
+        angles, bins = self.reflectance.shape
+        lo, hi = self.wavelengths_nm[0], self.wavelengths_nm[-1]
+        # The Bragg peak at normal incidence (row 0: cos θ = 1).
+        peak = int(np.argmax(self.reflectance[0]))
+        return (
+            f"<opalray.Optics {angles} angles × {bins} bins ({lo:.0f}–{hi:.0f} nm), "
+            f"n_eff {self.n_eff:.4f}, d111 {self.d111_nm:.1f} nm, "
+            f"R {self.reflectance[0, peak]:.3f} at {self.wavelengths_nm[peak]:.0f} nm at normal incidence>"
+        )
+
 
 class Stages:
     """A prepared scene: the structure and optics computed once (``opalray.prepare``), as
@@ -187,6 +207,14 @@ class Stages:
         self._structure: Structure | None = None
         self._optics: Optics | None = None
         self._stone: Stone | None = None
+
+    def __repr__(self) -> str:
+        times = self.times
+        return (
+            f"<opalray.Stages {self.scene['integrator']['method']}, "
+            f"{self.scene['render']['width']}×{self.scene['render']['height']}, prepared in "
+            f"{times['structure']:.2f} s (structure) + {times['optics']:.2f} s (optics)>"
+        )
 
     @property
     def times(self) -> dict:

@@ -13,6 +13,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from . import _opalray
+from ._notebook import scene_summary
 
 __all__ = ["Scene", "as_scene"]
 
@@ -145,13 +146,9 @@ class Scene:
         return (Scene, (self._data,))
 
     def __repr__(self) -> str:
-        s = self._data
-        return (
-            f"Scene(grid={s['structure']['grid']}, "
-            f"sphere_diameter_nm={s['crystal']['sphere_diameter_nm']}, "
-            f"light_angle_deg={s['light']['angle_deg']}, "
-            f"size={s['render']['width']}x{s['render']['height']}, bins={s['spectrum']['bins']})"
-        )
+        # The fields its method reads (the cell grid of the two passes, the stone model of
+        # the others); ``to_toml()`` has them all.
+        return f"Scene({', '.join(scene_summary(self._data))})"
 
 
 def as_scene(scene: Scene | Mapping | str | os.PathLike | None, **overrides: Any) -> Scene:

@@ -16,6 +16,7 @@ from typing import Any, Callable, Iterable, Sequence
 import numpy as np
 
 from . import _opalray
+from ._notebook import animation_html
 from ._render import Progress, Stages, _progress_of, prepare
 from ._scene import Scene, as_scene
 
@@ -158,13 +159,14 @@ def sweep_angles(frames: int = 9, start_deg: float = -60.0, stop_deg: float = 60
     return [start_deg + (stop_deg - start_deg) * k / (frames - 1) for k in range(frames)]
 
 
-@dataclass
+@dataclass(repr=False)
 class Sweep:
     """The result of :func:`sweep`: ``moves`` (``"light"``, ``"tilt"``, ``"turn"`` or
     ``"environment"``) and ``angles_deg``, its values, degrees; ``frames``, one H × W × 3
     uint8 array per value (display codes); ``rendered``, the indices rendered by this call
     (the others were read back from ``out_dir``); the paths written; ``seconds``, the wall
-    time."""
+    time; ``delay_ms``, each frame's time in its animations. In Jupyter it shows itself as
+    an animation, there and back again, at most 320 pixels wide or high."""
 
     angles_deg: list[float]
     frames: list[np.ndarray]
@@ -174,6 +176,26 @@ class Sweep:
     animation: str | None = None
     frame_paths: list[str] = field(default_factory=list)
     seconds: float = 0.0
+    delay_ms: int = 120
+
+    def _caption(self) -> str:
+        if not self.angles_deg:
+            return "no frames"
+        first, last = self.angles_deg[0], self.angles_deg[-1]
+        what = "light angle" if self.moves == "light" else self.moves
+        return f"{len(self.frames)} frames, {what} {first:g}° … {last:g}°"
+
+    def _repr_html_(self) -> str | None:
+        if not self.frames:
+            return None
+        return animation_html(self.frames, self.delay_ms, self._caption())
+
+    def __repr__(self) -> str:
+        height, width = self.frames[0].shape[:2] if self.frames else (0, 0)
+        return (
+            f"<opalray.Sweep {self._caption()}, {width}×{height}, "
+            f"{len(self.rendered)} rendered in {self.seconds:.1f} s>"
+        )
 
 
 def _read_manifest(out_dir: str, manifest: dict, n: int) -> list[str | None]:
@@ -398,6 +420,7 @@ def sweep(
         animation=animation_path,
         frame_paths=frame_paths,
         seconds=time.perf_counter() - start,
+        delay_ms=delay_ms,
     )
 
 

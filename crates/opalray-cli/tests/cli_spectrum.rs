@@ -8,10 +8,10 @@ use opalray::color::SpectrumColor;
 use opalray::scene::Illuminant;
 
 /// The plot's layout, as documented in `opalray spectrum --help` and `spectrum/plot.rs`:
-/// an 880 × 408 image whose 800 × 360 data area starts at (56, 12), wavelength across and
+/// a 904 × 432 image whose 800 × 360 data area starts at (80, 12), wavelength across and
 /// angle up from 0° (bottom row) to the largest angle (top row).
-const PLOT_SIZE: (u32, u32) = (880, 408);
-const DATA_LEFT: u32 = 56;
+const PLOT_SIZE: (u32, u32) = (904, 432);
+const DATA_LEFT: u32 = 80;
 const DATA_TOP: u32 = 12;
 const DATA_COLUMNS: u32 = 800;
 const DATA_ROWS: u32 = 360;
@@ -279,7 +279,7 @@ fn plot_shows_the_band_bending_to_blue_with_angle() {
         String::from_utf8_lossy(&out.stderr)
     );
     let stdout = String::from_utf8(out.stdout).unwrap();
-    assert!(stdout.contains("880 × 408 px"), "{stdout}");
+    assert!(stdout.contains("904 × 432 px"), "{stdout}");
     let img = image::open(&path).unwrap().to_rgb8();
     assert_eq!(img.dimensions(), PLOT_SIZE);
     // Bragg–Snell in air, λ = 2 d111 √(n_eff² − sin²θ₀) with d111 = 204.12 nm and

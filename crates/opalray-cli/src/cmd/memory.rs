@@ -72,7 +72,7 @@ pub fn map_bytes(scene: &Scene) -> Result<f64> {
 }
 
 /// The most memory a command may plan for, bytes: `OPALRAY_MAX_MEMORY_MB` if set, else
-/// 80 % of the machine's memory (Linux `/proc/meminfo`), else 8 GiB.
+/// 80 % of the machine's memory (on Linux, macOS and Windows alike), else 8 GiB.
 pub fn limit_bytes() -> Result<f64> {
     if let Some(value) = std::env::var_os(LIMIT_ENV) {
         let text = value.to_string_lossy();
@@ -84,12 +84,22 @@ pub fn limit_bytes() -> Result<f64> {
             ),
         };
     }
-    let total_kb = std::fs::read_to_string("/proc/meminfo").ok().and_then(|t| {
-        let line = t.lines().find(|l| l.starts_with("MemTotal:"))?;
-        line.split_whitespace().nth(1)?.parse::<f64>().ok()
-    });
-    Ok(total_kb.map_or(8.0 * 1024.0 * MIB, |kb| 0.8 * kb * 1024.0))
+    Ok(match machine_memory_bytes() {
+        0 => FALLBACK_BYTES,
+        total => 0.8 * total as f64,
+    })
 }
+
+/// The machine's memory, bytes (Linux's `MemTotal`, macOS's `hw.memsize`, Windows'
+/// `ullTotalPhys`, through `sysinfo`); 0 where the system does not say.
+fn machine_memory_bytes() -> u64 {
+    use sysinfo::{MemoryRefreshKind, RefreshKind, System};
+    let memory = RefreshKind::nothing().with_memory(MemoryRefreshKind::nothing().with_ram());
+    System::new_with_specifics(memory).total_memory()
+}
+
+/// The limit where the machine's memory cannot be read: 8 GiB.
+const FALLBACK_BYTES: f64 = 8.0 * 1024.0 * MIB;
 
 /// The environment variable that sets the memory limit, MiB.
 pub const LIMIT_ENV: &str = "OPALRAY_MAX_MEMORY_MB";
@@ -223,6 +233,20 @@ pub fn check_structure(scene: &Scene, map_pixels: u64) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// On Linux the machine's memory is `MemTotal` of `/proc/meminfo`, as before the
+    /// portable reader.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn machine_memory_is_memtotal_on_linux() {
+        let meminfo = std::fs::read_to_string("/proc/meminfo").unwrap();
+        let line = meminfo
+            .lines()
+            .find(|l| l.starts_with("MemTotal:"))
+            .unwrap();
+        let kib: u64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+        assert_eq!(machine_memory_bytes(), kib * 1024);
+    }
 
     #[test]
     fn default_render_is_about_what_was_measured() {

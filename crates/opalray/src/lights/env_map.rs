@@ -11,6 +11,14 @@
 //! `-Y H +X W` orientation): scanlines flat, in the old run-length form (`1 1 1 n` repeats the
 //! last pixel) or the new one (`2 2 hi lo`, then each of the four components run-length coded
 //! on its own). A component decodes as `(c + 0.5) · 2^(e − 136)`, Radiance's `colr_color`.
+//!
+//! Why not the `image` crate's `hdr` decoder (0.25.10): it multiplies the run length of
+//! consecutive old-style repeats without a bound, so eight `1 1 1 0` pixels in a row (a
+//! 76-byte file) overflow, a panic wherever overflow is checked (the tests and the fuzz
+//! targets); it reads header lines of any length, refuses `_xyze`, parses the sizes as 32
+//! bits (a larger one reads as "unparsable", not as "more than the limit") and decodes
+//! `c · 2^(e − 136)`, without Radiance's half step. The reader below is bounded throughout
+//! (`tests::many_zero_repeats_are_an_error_not_a_panic`).
 
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
@@ -550,6 +558,22 @@ mod tests {
         for y in map.luminance {
             assert!((y - 128.5 / 128.0).abs() < 1e-6, "{y}");
         }
+    }
+
+    #[test]
+    fn many_zero_repeats_are_an_error_not_a_panic() {
+        // A pixel, then nine `1 1 1 0` repeats: the count's shift grows by 8 each time.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("repeats.hdr");
+        let mut body = vec![128, 128, 128, 129];
+        for _ in 0..9 {
+            body.extend_from_slice(&[1, 1, 1, 0]);
+        }
+        body.extend_from_slice(&[1, 1, 1, 15]);
+        write_raw(&path, "\n-Y 1 +X 16\n", &body);
+        let err = read_map(&path).unwrap_err();
+        assert!(err.contains("repeat count too large"), "{err}");
+        assert!(!err.contains('\n'));
     }
 
     #[test]

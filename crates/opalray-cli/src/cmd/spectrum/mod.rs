@@ -8,6 +8,7 @@
 //! (point values, not bin averages); with `--plot` an image of R over wavelength × angle
 //! ([`plot`]). Each angle's whole curve is kept, so the peak and the colour read the same data.
 
+mod label;
 mod plot;
 
 use std::fmt::Write as _;
@@ -39,7 +40,7 @@ const MAX_SAMPLES: usize = 5_000_000;
         colour of the reflected light: the curve as a reflectance lit by D65 (a white \
         reflector is #ffffff; a single narrow line reflects little light, so it is dark), \
         integrated over --from-nm..--to-nm only.\n\n\
-        The --plot image (880 × 408 px) shows R over wavelength (across, --from-nm to \
+        The --plot image (904 × 432 px) shows R over wavelength (across, --from-nm to \
         --to-nm) and angle (up, 0° to the largest of --angles, marked on the right), each \
         wavelength in its own colour, brighter where R is larger.\n\n\
         Examples:\n  \
@@ -159,6 +160,11 @@ pub fn run(args: Args) -> Result<()> {
                 cos_of_air
             },
             marked_deg: args.angles.clone(),
+            angle_title: if args.inside {
+                "angle inside the stone (°)"
+            } else {
+                "angle of incidence in air (°)"
+            },
         };
         outputs.write(plot_out, |path| write_plot(path, &stack, &axes))?;
     }

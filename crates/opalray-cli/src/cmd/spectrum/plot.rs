@@ -14,21 +14,23 @@ use std::path::Path;
 
 use opalray::color::{encode_srgb8, wavelength_linear_srgb};
 use opalray::optics::ClusterStack;
-use opalray::output::{draw_text, text_width, write_png_rgb8};
+use opalray::output::write_png_rgb8;
 use rayon::prelude::*;
+
+use super::label::{text_height, text_width, Canvas};
 
 /// Columns of the data area, evenly spaced over `--from-nm`..`--to-nm`.
 pub const DATA_COLUMNS: usize = 800;
 /// Rows of the data area, evenly spaced from the largest angle (top) down to 0° (bottom).
 pub const DATA_ROWS: usize = 360;
-/// Margin left of the data area (angle labels), px.
-pub const LEFT_PX: usize = 56;
+/// Margin left of the data area (the angle axis's title and labels), px.
+pub const LEFT_PX: usize = 80;
 /// Margin above the data area, px.
 pub const TOP_PX: usize = 12;
 /// Margin right of the data area (marks of the requested angles), px.
 const RIGHT_PX: usize = 24;
-/// Margin below the data area (wavelength labels), px.
-const BOTTOM_PX: usize = 36;
+/// Margin below the data area (the wavelength labels and the axis's title), px.
+const BOTTOM_PX: usize = 60;
 /// Width of the PNG, px.
 pub const WIDTH_PX: usize = LEFT_PX + DATA_COLUMNS + RIGHT_PX;
 /// Height of the PNG, px.
@@ -39,15 +41,17 @@ pub const HEIGHT_PX: usize = TOP_PX + DATA_ROWS + BOTTOM_PX;
 const SUB_STEP_NM: f64 = 0.1;
 /// Most wavelengths averaged into one pixel (a 1600 nm wide plot still gets 0.1 nm).
 const MAX_SUB_SAMPLES: usize = 64;
-/// Font scale of the labels (5 × 7 glyphs become 10 × 14 px).
-const TEXT_SCALE: usize = 2;
-/// Height of a glyph at [`TEXT_SCALE`], px.
-const TEXT_HEIGHT_PX: usize = 7 * TEXT_SCALE;
+/// Size of the tick labels (the font's em), px.
+const LABEL_PX: f32 = 14.0;
+/// Size of the axis titles, px.
+const TITLE_PX: f32 = 15.0;
+/// Gap between the titles and the image's edge, px.
+const EDGE_PX: usize = 4;
 /// Length of a tick mark, px.
 const TICK_PX: usize = 6;
 /// Gap between a tick and its label, px.
 const LABEL_GAP_PX: usize = 4;
-/// Closest spacing of wavelength ticks, px (a 3-digit label is 34 px wide).
+/// Closest spacing of wavelength ticks, px (a 3-digit label is 27 px wide).
 const WAVELENGTH_TICK_MIN_PX: f64 = 70.0;
 /// Closest spacing of angle ticks, px.
 const ANGLE_TICK_MIN_PX: f64 = 40.0;
@@ -67,6 +71,8 @@ pub struct PlotAxes {
     pub cos_inside: fn(&ClusterStack, f64) -> f64,
     /// Angles marked on the right edge (the rows of the printed table), degrees.
     pub marked_deg: Vec<f64>,
+    /// The angle axis's title: where the angle is measured.
+    pub angle_title: &'static str,
 }
 
 impl PlotAxes {
@@ -137,8 +143,8 @@ fn data_pixels(stack: &ClusterStack, axes: &PlotAxes) -> Vec<u8> {
     data
 }
 
-/// Frame, ticks and labels: wavelengths along the bottom, angles along the left, marks of
-/// the requested angles on the right.
+/// Frame, ticks, labels and titles: wavelengths along the bottom, angles along the left,
+/// marks of the requested angles on the right.
 fn draw_axes(rgb: &mut [u8], axes: &PlotAxes) {
     let bottom = TOP_PX + DATA_ROWS;
     let right = LEFT_PX + DATA_COLUMNS;
@@ -152,9 +158,9 @@ fn draw_axes(rgb: &mut [u8], axes: &PlotAxes) {
         let x = LEFT_PX + axes.column_of(value);
         fill(rgb, x, bottom + 1, 1, TICK_PX, AXIS_COLOUR);
         let label = format!("{value:.*}", decimals(step_nm));
-        let left = x.saturating_sub(text_width(&label, TEXT_SCALE) / 2);
+        let left = x.saturating_sub(text_width(&label, LABEL_PX) / 2);
         let y = bottom + 1 + TICK_PX + LABEL_GAP_PX;
-        draw_text(rgb, WIDTH_PX, left, y, &label, TEXT_SCALE, LABEL_COLOUR);
+        text(rgb, left, y, &label);
     }
 
     // Angle ticks, labelled in degrees left of the tick.
@@ -167,16 +173,42 @@ fn draw_axes(rgb: &mut [u8], axes: &PlotAxes) {
         let y = TOP_PX + axes.row_of(value);
         fill(rgb, LEFT_PX - 1 - TICK_PX, y, TICK_PX, 1, AXIS_COLOUR);
         let label = format!("{value:.*}°", decimals(step_deg));
-        let x = LEFT_PX - 1 - TICK_PX - LABEL_GAP_PX - text_width(&label, TEXT_SCALE);
-        let top = y.saturating_sub(TEXT_HEIGHT_PX / 2);
-        draw_text(rgb, WIDTH_PX, x, top, &label, TEXT_SCALE, LABEL_COLOUR);
+        let x = LEFT_PX - 1 - TICK_PX - LABEL_GAP_PX - text_width(&label, LABEL_PX);
+        let top = y.saturating_sub(text_height(LABEL_PX) / 2);
+        text(rgb, x, top, &label);
     }
+    draw_titles(rgb, axes);
 
     // The rows of the printed table.
     for &angle in &axes.marked_deg {
         let y = TOP_PX + axes.row_of(angle);
         fill(rgb, right + 1, y, TICK_PX, 1, MARK_COLOUR);
     }
+}
+
+/// The axes' titles: the wavelength's under its labels, the angle's reading upwards along
+/// the left edge, each centred on the data area.
+fn draw_titles(rgb: &mut [u8], axes: &PlotAxes) {
+    let mut canvas = Canvas {
+        rgb,
+        width: WIDTH_PX,
+    };
+    let title = "wavelength (nm)";
+    let x = (LEFT_PX + DATA_COLUMNS / 2).saturating_sub(text_width(title, TITLE_PX) / 2);
+    let y = HEIGHT_PX - EDGE_PX - text_height(TITLE_PX);
+    canvas.text(x, y, title, TITLE_PX, LABEL_COLOUR);
+    let title = axes.angle_title;
+    let y = (TOP_PX + DATA_ROWS / 2).saturating_sub(text_width(title, TITLE_PX) / 2);
+    canvas.text_upwards(EDGE_PX, y, title, TITLE_PX, LABEL_COLOUR);
+}
+
+/// Write a tick label with its top-left corner at `(x, y)`.
+fn text(rgb: &mut [u8], x: usize, y: usize, label: &str) {
+    Canvas {
+        rgb,
+        width: WIDTH_PX,
+    }
+    .text(x, y, label, LABEL_PX, LABEL_COLOUR);
 }
 
 /// The smallest step of 1, 2 or 5 × 10ᵏ that puts ticks at least `min_px` apart when `span`
@@ -246,6 +278,7 @@ mod tests {
             top_deg: 60.0,
             cos_inside: |_, deg| deg.to_radians().cos(),
             marked_deg: vec![],
+            angle_title: "angle",
         };
         assert_eq!(axes.row_of(0.0), DATA_ROWS - 1);
         assert_eq!(axes.row_of(60.0), 0);
