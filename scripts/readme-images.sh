@@ -10,13 +10,6 @@ bin=target/release/opalray
 "$bin" render --preset paper --body-tone 8 --light-angle 45 --output docs/images/white-opal.png --width 320 --height 240
 "$bin" render --preset paper --diameter 215 --light-angle 20 --output docs/images/blue-green.png --width 320 --height 240
 "$bin" spectrum --angles 0,30,60 --plot docs/images/spectrum.png > /dev/null
-# The Python quick start's picture, by the README's own lines (needs `pip install .`).
-if python3 -c "import opalray" 2> /dev/null; then
-    python3 -c '
-import opalray
-scene = opalray.Scene.preset("paper").replace(render={"width": 320, "height": 240})
-opalray.render(scene, light={"angle_deg": -45}).save("docs/images/python-flash.png")'
-fi
 # The gem presets by their method, the lobe integrator (seconds each), and the default stone
 # by the path tracer beside it (the reference: about two minutes at 8 spp, denoised).
 for p in black-opal harlequin broad-flash ribbon white crystal boulder doublet triplet pinfire; do
