@@ -3,7 +3,7 @@
 //!
 //! The two models differ by design: the two passes shade every cluster with the paper's Phong
 //! lobe (n = 40, about 21° wide) and its diffuse glow, the path tracer with each domain a
-//! mirror within its mosaic spread (a degree or two) and the half-vector law. The measured relative RMS difference
+//! mirror within its mosaic spread and the half-vector law. The measured relative RMS difference
 //! over the stone (docs/model.md, "The two passes against the reference") is bounded here so
 //! that a change to either renderer that moves them apart, or together, is seen.
 
@@ -56,8 +56,8 @@ fn the_two_passes_stay_within_their_measured_distance_of_the_path_tracer() {
     );
 }
 
-/// The measured relative RMS, 0.65 at 64 × 48 (docs/model.md), with a margin for the path
+/// The measured relative RMS, 1.53 at 64 × 48 (docs/model.md), with a margin for the path
 /// tracer's noise at 64 spp.
-const RMS_BOUND: f64 = 0.9;
-/// The measured ratio of mean luminances (two-pass over path), 1.31, with a margin.
-const RATIO_RANGE: (f64, f64) = (1.1, 1.6);
+const RMS_BOUND: f64 = 1.8;
+/// The measured ratio of mean luminances (two-pass over path), 2.47, with a margin.
+const RATIO_RANGE: (f64, f64) = (2.0, 3.0);
