@@ -367,6 +367,14 @@ impl<'a> Tracer<'a> {
     /// [`MAX_SEGMENTS`] surface events, no domains on the way): the environment through a
     /// lobe of width `sigma` over normals, in the stone's radiance.
     fn seen_out(&self, pos: Vec3, dir: Vec3, region: Region, sigma: f32) -> f32 {
+        self.escape(pos, dir, region, sigma, false)
+    }
+
+    /// [`Tracer::seen_out`], dimmed by the potch and haze of every segment in the opal when
+    /// `dimmed`.
+    fn escape(&self, pos: Vec3, dir: Vec3, region: Region, sigma: f32, dimmed: bool) -> f32 {
+        let stone = self.stone;
+        let potch = stone.potch;
         let (mut pos, mut dir, mut region) = (pos, dir, region);
         let (mut w, mut seen) = (1.0f32, 0.0f32);
         for _ in 0..MAX_SEGMENTS {
@@ -374,9 +382,24 @@ impl<'a> Tracer<'a> {
                 origin: pos,
                 direction: dir,
             };
-            let Some((t_end, boundary)) = self.stone.exit(&ray, region) else {
+            let Some((t_end, boundary)) = stone.exit(&ray, region) else {
                 break;
             };
+            if dimmed && region == Region::Opal {
+                let mut tau = 0.0f32;
+                stone.walk(pos, dir, 0.0, t_end, Hint::default(), &mut |s| {
+                    let sigma = match s.domain {
+                        None => potch.extinction_per_mm,
+                        Some(_) => potch.domain_scattering_per_mm,
+                    };
+                    tau += sigma * (s.t1 - s.t0);
+                    true
+                });
+                w *= (-tau).exp();
+                if w < MIN_WEIGHT {
+                    break;
+                }
+            }
             let event;
             (event, pos, dir, region, w) =
                 self.boundary_out(ray.at(t_end), dir, region, boundary, w, sigma);
@@ -574,50 +597,9 @@ impl<'a> Tracer<'a> {
             let r = ((k as f32 + 0.5) / count).sqrt();
             let phi = golden * k as f32;
             let dir = Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - r * r).max(0.0).sqrt());
-            sum += self.seen_through_stone(start, dir, sigma);
+            sum += self.escape(start, dir, self.stone.region_at(start), sigma, true);
         }
         sum / count + self.point_light_on(start)
-    }
-
-    /// What a ray from `pos` along `dir` inside the stone sees through it: as
-    /// [`Tracer::seen_out`], dimmed by the potch and haze of every segment in the opal.
-    fn seen_through_stone(&mut self, pos: Vec3, dir: Vec3, sigma: f32) -> f32 {
-        let stone = self.stone;
-        let potch = stone.potch;
-        let (mut pos, mut dir, mut region) = (pos, dir, stone.region_at(pos));
-        let (mut w, mut seen) = (1.0f32, 0.0f32);
-        for _ in 0..MAX_SEGMENTS {
-            let ray = Ray {
-                origin: pos,
-                direction: dir,
-            };
-            let Some((t_end, boundary)) = stone.exit(&ray, region) else {
-                break;
-            };
-            if region == Region::Opal {
-                let mut tau = 0.0f32;
-                stone.walk(pos, dir, 0.0, t_end, Hint::default(), &mut |s| {
-                    let sigma = match s.domain {
-                        None => potch.extinction_per_mm,
-                        Some(_) => potch.domain_scattering_per_mm,
-                    };
-                    tau += sigma * (s.t1 - s.t0);
-                    true
-                });
-                w *= (-tau).exp();
-            }
-            if w < MIN_WEIGHT {
-                break;
-            }
-            let event;
-            (event, pos, dir, region, w) =
-                self.boundary_out(ray.at(t_end), dir, region, boundary, w, sigma);
-            seen += event;
-            if boundary == Boundary::Back || w < MIN_WEIGHT {
-                break;
-            }
-        }
-        seen
     }
 
     /// The point or directional light's irradiance at `x` inside the stone along its
