@@ -121,6 +121,48 @@ fn the_311_line_follows_bragg_snell_for_350_nm_spheres() {
 }
 
 #[test]
+fn a_randomly_stacked_crystal_reflects_only_along_its_stacking_and_in_layer_normals() {
+    // `families = "stacked"`: face on to each normal of a domain, the stone meets a line along
+    // that normal for the stacking (111) and the three {220} normal to it (in-layer), and none
+    // for the three oblique {111} (streaks under random stacking; `optics::families` tests
+    // the phase rule). D = 300 nm puts {220} at 432 nm face-on.
+    let mut scene = grains(3.0);
+    scene.crystal.sphere_diameter_nm = 300.0;
+    scene.domains.sphere_diameter_spread = 0.0;
+    scene.domains.families = FamilyChoice::Stacked;
+    let stone = Stone::new(&scene).unwrap();
+    let all = Stone::new(&Scene {
+        domains: opalray::scene::DomainsConfig {
+            families: FamilyChoice::All,
+            ..scene.domains.clone()
+        },
+        ..scene.clone()
+    })
+    .unwrap();
+    let q = stone.domains[0].orientation;
+    let along = |stone: &Stone, v: [f32; 3]| {
+        let n = (q * Vec3::from_array(v)).normalize();
+        let mut lines: Vec<ActiveLine> = Vec::new();
+        stone.lines(0, -n, 2.0, &mut lines);
+        lines.iter().any(|l| l.normal.dot(n).abs() > 0.9999)
+    };
+    let stacking = [1., 1., 1.];
+    let in_layer = [[1., -1., 0.], [1., 0., -1.], [0., 1., -1.]];
+    let oblique = [[-1., 1., 1.], [1., -1., 1.], [1., 1., -1.]];
+    assert!(along(&stone, stacking));
+    for v in in_layer {
+        assert!(along(&stone, v), "in-layer {v:?}");
+    }
+    for v in oblique {
+        assert!(!along(&stone, v), "oblique {v:?} reflects when stacked");
+        assert!(
+            along(&all, v),
+            "oblique {v:?} must reflect in the FCC crystal"
+        );
+    }
+}
+
+#[test]
 fn a_spread_of_sphere_sizes_spreads_the_hues_of_face_on_domains() {
     // Face-on {111} lines of every domain: one wavelength without spread, tens of nm with 3 %.
     let span = |spread: f64| {

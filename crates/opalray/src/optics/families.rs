@@ -68,7 +68,16 @@ impl FamilyKind {
     /// The families' unit normals in the lattice frame, one per family (`n` and `−n` are the
     /// same planes).
     pub fn normals(self) -> Vec<Vec3> {
-        let raw: &[[f32; 3]] = match self {
+        self.directions()
+            .iter()
+            .map(|v| Vec3::from_array(*v).normalize())
+            .collect()
+    }
+
+    /// The families' normals as the smallest integer vectors along them (the Miller indices
+    /// or half of them), in the order of [`FamilyKind::normals`].
+    pub fn directions(self) -> &'static [[f32; 3]] {
+        match self {
             FamilyKind::F111 => &[[1., 1., 1.], [-1., 1., 1.], [1., -1., 1.], [1., 1., -1.]],
             FamilyKind::F200 => &[[1., 0., 0.], [0., 1., 0.], [0., 0., 1.]],
             FamilyKind::F220 => &[
@@ -93,10 +102,20 @@ impl FamilyKind {
                 [1., -1., 3.],
                 [-1., -1., 3.],
             ],
-        };
-        raw.iter()
-            .map(|v| Vec3::from_array(*v).normalize())
-            .collect()
+        }
+    }
+
+    /// Whether the reflection of the member along `direction` (one of
+    /// [`FamilyKind::directions`]) stays sharp when the close-packed layers normal to [111]
+    /// are stacked at random: its Miller indices (h, k, l) have `h + k + l ≡ 0 (mod 3)`
+    /// (the direction is the indices or half of them, which leaves that unchanged). A stacking fault shifts the layers above it
+    /// within their plane by a third of a row, which multiplies a reflection's amplitude by
+    /// `e^{2πi(h+k+l)/3}`: 1 for these, so faults leave them as sharp as in a perfect
+    /// crystal; the others are smeared into streaks along the stacking axis (Warren,
+    /// *X-ray Diffraction*, 1969, ch. 13: faulting in close-packed structures).
+    pub fn sharp_when_stacked(direction: [f32; 3]) -> bool {
+        let sum = direction.iter().sum::<f32>().round() as i32;
+        sum.rem_euclid(3) == 0
     }
 
     /// Name as in the scene file and the docs.
@@ -161,12 +180,80 @@ impl Families {
             kinds,
         }
     }
+
+    /// These families in a randomly stacked crystal (stacking axis [111]): only the members
+    /// that stay sharp ([`FamilyKind::sharp_when_stacked`]); a kind left with none (the
+    /// {200}) is dropped. The streaks of the others are left out.
+    pub fn stacked(mut self) -> Families {
+        for f in &mut self.kinds {
+            f.normals = f
+                .kind
+                .directions()
+                .iter()
+                .filter(|d| FamilyKind::sharp_when_stacked(**d))
+                .map(|d| Vec3::from_array(*d).normalize())
+                .collect();
+        }
+        self.kinds.retain(|f| !f.normals.is_empty());
+        self
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::optics::ClusterStack;
+
+    #[test]
+    fn random_stacking_keeps_the_reflections_a_layer_shift_leaves_in_phase() {
+        // Independently of the rule h + k + l ≡ 0 (mod 3): a stacking fault moves the layers
+        // above it from A to B sites, by s = a(1, 1, −2)/6 within the (111) plane (A + s plus
+        // one layer spacing along [111] is a(1, 1, 0)/2, a lattice vector of the FCC cell). A
+        // reflection G = (h, k, l)·2π/a is unchanged by it when G·s is a multiple of 2π:
+        // (h + k − 2l)/6 an integer. The Miller indices of each member: {200} and {220} are
+        // twice their directions.
+        let stacked = Families::new(&CrystalConfig::default(), false).stacked();
+        let mut kept = Vec::new();
+        for kind in FamilyKind::ALL {
+            let scale = match kind {
+                FamilyKind::F200 | FamilyKind::F220 => 2,
+                FamilyKind::F111 | FamilyKind::F311 => 1,
+            };
+            for d in kind.directions() {
+                let [h, k, l] = d.map(|c| c as i32 * scale);
+                let in_phase = (h + k - 2 * l).rem_euclid(6) == 0;
+                let n = Vec3::from_array(*d).normalize();
+                let has = stacked
+                    .kinds
+                    .iter()
+                    .any(|f| f.kind == kind && f.normals.contains(&n));
+                assert_eq!(has, in_phase, "{kind:?} {d:?}");
+                if has {
+                    kept.push(kind);
+                }
+            }
+        }
+        // The stacking (111), the three in-layer {220} (normal to [111]) and six {311}; no {200}.
+        let count = |k| kept.iter().filter(|&&x| x == k).count();
+        assert_eq!(
+            [
+                FamilyKind::F111,
+                FamilyKind::F220,
+                FamilyKind::F311,
+                FamilyKind::F200
+            ]
+            .map(count),
+            [1, 3, 6, 0]
+        );
+        let axis = Vec3::ONE.normalize();
+        let f220 = stacked
+            .kinds
+            .iter()
+            .find(|f| f.kind == FamilyKind::F220)
+            .unwrap();
+        assert!(f220.normals.iter().all(|n| n.dot(axis).abs() < 1e-6));
+        assert_eq!(stacked.kinds[0].normals, vec![axis]);
+    }
 
     #[test]
     fn the_111_coupling_is_the_stacks_relative_gap() {

@@ -47,6 +47,11 @@ pub enum FamilyChoice {
     /// The four {111} families only.
     #[serde(rename = "111")]
     Only111,
+    /// Randomly stacked close-packed layers: only the reflections that stacking faults leave
+    /// sharp, `h + k + l ≡ 0 (mod 3)` about the stacking axis [111] — the stacking (111), the
+    /// three in-layer {220} and six of the twelve {311}
+    /// ([`crate::optics::FamilyKind::sharp_when_stacked`]); the oblique families are streaks.
+    Stacked,
 }
 
 /// The domains: where each ordered region of the stone is and how it is made (DESIGN §3–4).
@@ -66,7 +71,7 @@ pub enum FamilyChoice {
 /// | `tilt_correlation_mm`    | mm   | 0.0            | 0, or [0.1, 100]          |
 /// | `tilt_jitter_deg`        | deg  | 5.0            | [0, 180]; with the fields, at most `orientation_spread_deg` |
 /// | `mosaic_spread_deg`      | deg  | 0.5            | [0, 20]                   |
-/// | `families`               | –    | "all"          | "all", "111"              |
+/// | `families`               | –    | "all"          | "all", "111", "stacked"   |
 /// | `boundary_roughness`     | –    | 0.0            | [0, 1]                    |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]

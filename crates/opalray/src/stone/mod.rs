@@ -321,6 +321,9 @@ impl Stone {
 
         // Every family normal of every domain, in the stone frame.
         let mut families = Families::new(&scene.crystal, d.families == FamilyChoice::Only111);
+        if d.families == FamilyChoice::Stacked {
+            families = families.stacked();
+        }
         // Families whose line cannot reach the spectral range in any domain are left out
         // ({311} below D ≈ 250 nm), by the test `Stone::lines` makes of each line first: they
         // would only cost every crossing its test.
