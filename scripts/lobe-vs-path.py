@@ -2,7 +2,7 @@
 """The lobe integrator against the path tracer, preset by preset.
 
     scripts/lobe-vs-path.py [--width 64] [--height 48] [--spp 256] [--bin target/release/opalray]
-                            [--keep DIR] PRESET|SCENE.toml [...]
+                            [--keep DIR [--reuse]] PRESET|SCENE.toml [...]
 
 For each preset (or scene file): the same stone rendered by the lobe integrator (the preset's own method) and
 by the path tracer (`--method path`, raw: not denoised, `--spp` samples per pixel), both as
@@ -114,6 +114,8 @@ def main():
     p.add_argument("--spp", type=int, default=256)
     p.add_argument("--bin", default=os.path.join(here, "..", "target", "release", "opalray"))
     p.add_argument("--keep", help="folder to keep both renders in")
+    p.add_argument("--reuse", action="store_true",
+                   help="take the path tracer's image from --keep where one of this size is there")
     a = p.parse_args()
     size = ["--width", str(a.width), "--height", str(a.height)]
     folder = a.keep or tempfile.mkdtemp()
@@ -123,8 +125,11 @@ def main():
         name = os.path.splitext(os.path.basename(preset))[0]
         lobe8 = render(a.bin, preset, os.path.join(folder, f"{name}-lobe.png"),
                        size + ["--method", "lobe"])
-        path8 = render(a.bin, preset, os.path.join(folder, f"{name}-path.png"),
-                       size + ["--method", "path", "--no-denoise", "--spp", str(a.spp)])
+        kept = os.path.join(folder, f"{name}-path.png")
+        path8 = np.asarray(Image.open(kept).convert("RGB")) if a.reuse and os.path.exists(kept) else None
+        if path8 is None or path8.shape != lobe8.shape:
+            path8 = render(a.bin, preset, kept,
+                           size + ["--method", "path", "--no-denoise", "--spp", str(a.spp)])
         face = look.face_mask(lobe8.astype(np.float64) / 255.0)
         lo, pa = blur(linear(lobe8)), blur(linear(path8))
         y = lambda rgb: (rgb @ M[1])[face].mean()

@@ -14,8 +14,9 @@ use crate::scene::Backing;
 use crate::stone::{ActiveLine, Boundary, Hint, Region, Span, Stone};
 
 /// Most segments of a ray inside the stone between surface events (its refraction in or its
-/// reflection, then up to three internal reflections).
-pub const MAX_SEGMENTS: usize = 4;
+/// reflection, then up to seven internal reflections: light caught by total reflection in a
+/// clear dome after three carries about 1 % of the `crystal` preset's light).
+pub const MAX_SEGMENTS: usize = 8;
 /// Offset of a new ray's origin along its way, mm (0.1 µm).
 const EPSILON_MM: f32 = 1e-4;
 /// An eye ray whose weight falls below this adds nothing more.
