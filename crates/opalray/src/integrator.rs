@@ -4,7 +4,10 @@
 //! what it refuses of a scene (one line naming the field), the memory of its own data, the
 //! inputs it builds once and its frame for one light angle. `render.rs` and the CLI ask the
 //! table ([`of`]); nothing else matches on the method. A new integrator is its folder, its
-//! `[integrator]` variant (`scene/integrator.rs`) and one line in [`INTEGRATORS`].
+//! `[integrator]` variant (`scene/integrator.rs`) and one line in [`INTEGRATORS`]. The methods
+//! that render the stone model start each frame from `Prepared::frame_setup`.
+
+mod frame_setup;
 
 use crate::error::Result;
 use crate::path::Passes;

@@ -16,7 +16,7 @@ use crate::geometry::Camera;
 use crate::light_pass::{EnergyLedger, LightSource, StoneCells};
 use crate::lights::{AreaLight, Environment};
 use crate::optics::{build_optics, OpticsTables};
-use crate::path::{Noise, Passes, PathLight, SpectralSampler};
+use crate::path::{Noise, Passes, SpectralSampler};
 use crate::sampling::mix64;
 use crate::scene::{LightKind, Scene};
 use crate::spectrum::SpectralImage;
@@ -329,15 +329,6 @@ impl Prepared {
         Ok(())
     }
 
-    /// The stone and environment [`Prepared::build_stone`] built (a method that renders the
-    /// stone builds them in its `prepare`).
-    pub(crate) fn stone_inputs(&self) -> (&Stone, &Environment) {
-        match (&self.stone, &self.environment) {
-            (Some(stone), Some(environment)) => (stone, environment),
-            _ => unreachable!("the stone's methods build the stone when prepared"),
-        }
-    }
-
     /// The frame of a method without passes (stored, lobe): its XYZ image `xyz` to the
     /// scene's RGB (timed as colour), and its `spectral` image.
     pub(crate) fn deterministic_frame(
@@ -363,24 +354,6 @@ impl Prepared {
             path: None,
             stored,
         }
-    }
-
-    /// The wavelength sampler and colour matching of this scene's light, `draws` wavelengths
-    /// per contribution.
-    pub(crate) fn spectral_sampler(&self, draws: u32) -> SpectralSampler {
-        let s = &self.scene;
-        SpectralSampler::new(s.light.illuminant, &s.spectrum, draws as usize)
-    }
-
-    /// The scene's directional or point light at `source` for the stone model's methods
-    /// (`None` for other kinds: a sphere or rect light is an [`AreaLight`]).
-    pub(crate) fn scene_light(&self, source: LightSource) -> Option<PathLight> {
-        let s = &self.scene;
-        matches!(s.light.kind, LightKind::Directional | LightKind::Point).then_some(PathLight {
-            source,
-            intensity: s.light.intensity as f32,
-            disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
-        })
     }
 
     /// XYZ (relative to the light's white `white_xyz`) → the scene's linear RGB, adapted to

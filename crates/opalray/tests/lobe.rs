@@ -7,21 +7,8 @@ use opalray::geometry::Camera;
 use opalray::lights::Environment;
 use opalray::lobe::{render_lobes, LobeImage, LobeSetup};
 use opalray::path::SpectralSampler;
-use opalray::scene::{
-    preset, EnvironmentConfig, EnvironmentKind, IntegratorConfig, PathConfig, Scene,
-};
+use opalray::scene::{preset, IntegratorConfig, PathConfig, Scene};
 use opalray::stone::Stone;
-
-fn uniform() -> Environment {
-    Environment::new(
-        &EnvironmentConfig {
-            kind: EnvironmentKind::Uniform,
-            ..EnvironmentConfig::default()
-        },
-        0.0,
-    )
-    .unwrap()
-}
 
 /// An `n × n` face-on image of the central `frac` mm of `stone` by the lobe integrator.
 fn face(stone: &Stone, scene: &Scene, env: &Environment, n: usize, frac: f32) -> LobeImage {
@@ -62,7 +49,7 @@ fn a_lossless_stone_with_domains_in_a_furnace_shows_the_furnace() {
     for name in ["black-opal", "harlequin", "crystal", "white", "pinfire"] {
         let scene = preset(name).unwrap();
         let stone = lossless(&scene);
-        let image = face(&stone, &scene, &uniform(), 16, 5.0);
+        let image = face(&stone, &scene, &Environment::uniform(), 16, 5.0);
         let y = image.xyz.iter().map(|v| f64::from(v[1])).sum::<f64>() / image.xyz.len() as f64;
         eprintln!("{name}: {y:.4}");
         assert!((y - 1.0).abs() < 0.01, "{name}: {y}");

@@ -6,7 +6,7 @@ use glam::Vec3;
 use opalray::geometry::Camera;
 use opalray::lights::Environment;
 use opalray::path::{trace_paths, PathSetup, SpectralSampler};
-use opalray::scene::{Cut, EnvironmentConfig, EnvironmentKind, Pattern, Scene};
+use opalray::scene::{Cut, EnvironmentKind, Pattern, Scene};
 use opalray::stone::body::munsell_y;
 use opalray::stone::Stone;
 
@@ -43,14 +43,7 @@ fn face_y(
             spp,
             max_depth,
             light: None,
-            environment: Environment::new(
-                &EnvironmentConfig {
-                    kind: EnvironmentKind::Uniform,
-                    ..EnvironmentConfig::default()
-                },
-                0.0,
-            )
-            .unwrap(),
+            environment: Environment::uniform(),
             area_light: None,
             gloss: 1.0,
             seed: 5,

@@ -8,9 +8,7 @@ use glam::Vec3;
 use opalray::geometry::Camera;
 use opalray::lights::Environment;
 use opalray::path::{trace_paths, PathSetup, SpectralSampler};
-use opalray::scene::{
-    preset, EnvironmentConfig, EnvironmentKind, FamilyChoice, OrientationLaw, Pattern, Scene,
-};
+use opalray::scene::{preset, EnvironmentKind, FamilyChoice, OrientationLaw, Pattern, Scene};
 use opalray::stone::Stone;
 
 /// Mean Y of an `n × n` face-on image of `scene`'s stone made lossless in the furnace (its
@@ -40,14 +38,7 @@ fn furnace_y(
             spp,
             max_depth: 4096,
             light: None,
-            environment: Environment::new(
-                &EnvironmentConfig {
-                    kind: EnvironmentKind::Uniform,
-                    ..EnvironmentConfig::default()
-                },
-                0.0,
-            )
-            .unwrap(),
+            environment: Environment::uniform(),
             area_light: None,
             gloss: 1.0,
             seed: 7,

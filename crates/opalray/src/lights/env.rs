@@ -101,6 +101,27 @@ impl Environment {
     /// a missing, unreadable or not equirectangular file is an error naming
     /// `environment.path`.
     pub fn new(config: &EnvironmentConfig, background: f32) -> Result<Self> {
+        let map = if config.kind == EnvironmentKind::File {
+            Some(load_map(&config.path)?)
+        } else {
+            None
+        };
+        Ok(Self::of(config, background, map))
+    }
+
+    /// The uniform environment of value 1 in every direction, unturned: a furnace, in which
+    /// a lossless stone shows 1 wherever it is seen.
+    pub fn uniform() -> Self {
+        let config = EnvironmentConfig {
+            kind: EnvironmentKind::Uniform,
+            ..EnvironmentConfig::default()
+        };
+        Self::of(&config, 0.0, None)
+    }
+
+    /// The environment of `config` (its map `map`, read, for a `file` one): its sampling
+    /// raster and distribution built.
+    fn of(config: &EnvironmentConfig, background: f32, map: Option<LuminanceMap>) -> Self {
         let mut env = Environment {
             kind: config.kind,
             intensity: config.intensity as f32,
@@ -111,8 +132,7 @@ impl Environment {
             distribution: Arc::new(Distribution2D::new(&[1.0], 1, 1)),
             peak: 0.0,
         };
-        let (weights, width, height) = if config.kind == EnvironmentKind::File {
-            let map = load_map(&config.path)?;
+        let (weights, width, height) = if let Some(map) = map {
             let weights = map.luminance.clone();
             let (w, h) = (map.width, map.height);
             env.mips = Arc::new(filter::mip_chain(&map));
@@ -129,7 +149,7 @@ impl Environment {
         };
         env.peak = weights.iter().fold(0.0f32, |m, &v| m.max(v)) * scale;
         env.distribution = Arc::new(sampling_distribution(weights, width, height));
-        Ok(env)
+        env
     }
 
     /// The environment turned by `config.rotation_deg` and seen from a stone turned by
@@ -371,6 +391,33 @@ mod tests {
         .unwrap();
         assert_eq!(env.value(SOFTBOX_AXIS), 1.0);
         assert!(env.value(-Vec3::Z) < 0.01);
+    }
+
+    #[test]
+    fn the_uniform_environment_is_one_everywhere_and_its_draws_cover_the_sphere() {
+        let env = Environment::uniform();
+        for dir in [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::X,
+            Vec3::new(0.3, -0.5, 0.8).normalize(),
+        ] {
+            assert_eq!(env.value(dir), 1.0, "{dir}");
+        }
+        assert_eq!(env.peak(), 1.0);
+        // E[value / pdf] over stratified draws is the value's integral over the sphere: 4π.
+        let n = 128;
+        let mut sum = 0.0f64;
+        for i in 0..n * n {
+            let u = [
+                ((i % n) as f32 + 0.5) / n as f32,
+                ((i / n) as f32 + 0.5) / n as f32,
+            ];
+            let draw = env.sample(u);
+            sum += f64::from(draw.value / draw.pdf);
+        }
+        let integral = sum / (n * n) as f64;
+        assert!((integral / (4.0 * PI) - 1.0).abs() < 0.01, "{integral}");
     }
 
     #[test]

@@ -6,7 +6,7 @@ use std::time::Instant;
 use crate::error::Result;
 use crate::integrator::Integrator;
 use crate::path::Passes;
-use crate::render::{camera_up, sample_seed, seconds, Frame, Prepared};
+use crate::render::{seconds, Frame, Prepared};
 use crate::scene::{IntegratorConfig, LobeConfig, Method, Scene, DEFAULT_WAVELENGTHS};
 use crate::stone::body::munsell_y;
 
@@ -35,27 +35,25 @@ impl Integrator for LobeMethod {
             IntegratorConfig::Lobe(c) => c.clone(),
             _ => LobeConfig::default(),
         };
-        let (stone, environment) = prepared.stone_inputs();
         let mut times = prepared.times;
-        let (camera, source) = prepared.placement(light_angle_deg);
-        let sampler = prepared.spectral_sampler(DEFAULT_WAVELENGTHS);
+        let f = prepared.frame_setup(light_angle_deg, DEFAULT_WAVELENGTHS, c.seed);
         let setup = LobeSetup {
-            camera,
-            width: s.render.width as usize,
-            height: s.render.height as usize,
+            camera: f.camera,
+            width: f.width,
+            height: f.height,
             spp: c.spp,
-            light: prepared.scene_light(source),
-            area_light: prepared.area_light(source, camera_up(s)),
+            light: f.light,
+            area_light: f.area_light,
             light_intensity: s.light.intensity as f32,
-            environment,
-            gloss: s.render.gloss as f32,
-            seed: sample_seed(s.structure.seed, c.seed),
+            environment: f.environment,
+            gloss: f.gloss,
+            seed: f.seed,
             body_reflectance: munsell_y(f64::from(s.render.body_tone)) as f32,
-            spectral: &sampler,
+            spectral: &f.sampler,
         };
         let start = Instant::now();
-        let image = render_lobes(stone, &setup);
+        let image = render_lobes(f.stone, &setup);
         times.view_pass = seconds(start);
-        prepared.deterministic_frame(times, image.spectral, &image.xyz, &sampler, None)
+        prepared.deterministic_frame(times, image.spectral, &image.xyz, &f.sampler, None)
     }
 }

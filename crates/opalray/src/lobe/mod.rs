@@ -379,14 +379,7 @@ mod tests {
         let mut stone = Stone::new(&scene).unwrap();
         stone.potch.extinction_per_mm = extinction_per_mm;
         stone.potch.domain_scattering_per_mm = extinction_per_mm;
-        let env = Environment::new(
-            &EnvironmentConfig {
-                kind: EnvironmentKind::Uniform,
-                ..EnvironmentConfig::default()
-            },
-            0.0,
-        )
-        .unwrap();
+        let env = Environment::uniform();
         let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
         let setup = LobeSetup {
             camera: Camera::look_at(Vec3::new(0.0, 0.0, 100.0), Vec3::ZERO, Vec3::Y, 10.0, 8, 8),
@@ -442,14 +435,7 @@ mod tests {
 
     #[test]
     fn irradiance_of_a_uniform_environment_is_its_value_and_of_a_half_space_half() {
-        let uniform = Environment::new(
-            &EnvironmentConfig {
-                kind: EnvironmentKind::Uniform,
-                ..EnvironmentConfig::default()
-            },
-            0.0,
-        )
-        .unwrap();
+        let uniform = Environment::uniform();
         let table = Irradiance::new(&uniform);
         for n in [Vec3::Z, Vec3::X, Vec3::new(0.3, -0.5, 0.8).normalize()] {
             assert!((table.at(n) - 1.0).abs() < 0.01, "{n}: {}", table.at(n));

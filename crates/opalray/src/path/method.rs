@@ -8,9 +8,7 @@ use crate::denoise::{denoise, NlMeans};
 use crate::error::Result;
 use crate::integrator::Integrator;
 use crate::light_pass::EnergyLedger;
-use crate::render::{
-    camera_up, rgb_of_xyz, sample_seed, seconds, DenoiseBias, Frame, PathStats, Prepared,
-};
+use crate::render::{rgb_of_xyz, seconds, DenoiseBias, Frame, PathStats, Prepared};
 use crate::scene::{IntegratorConfig, Method, PathConfig, Scene};
 
 use super::{trace_passes, Passes, PathImage, PathSetup};
@@ -112,26 +110,24 @@ impl Prepared {
     fn trace_path(&self, light_angle_deg: f64, passes: &Passes) -> (PathImage, glam::Mat3) {
         let s = &self.scene;
         let c = config(s);
-        let (stone, environment) = self.stone_inputs();
-        let (camera, source) = self.placement(light_angle_deg);
-        let sampler = self.spectral_sampler(c.wavelengths);
+        let f = self.frame_setup(light_angle_deg, c.wavelengths, c.seed);
         let image = trace_passes(
-            stone,
+            f.stone,
             &PathSetup {
-                camera,
-                width: s.render.width as usize,
-                height: s.render.height as usize,
+                camera: f.camera,
+                width: f.width,
+                height: f.height,
                 spp: c.spp,
                 max_depth: c.max_depth,
-                light: self.scene_light(source),
-                environment: environment.clone(),
-                area_light: self.area_light(source, camera_up(s)),
-                gloss: s.render.gloss as f32,
-                seed: sample_seed(s.structure.seed, c.seed),
-                spectral: &sampler,
+                light: f.light,
+                environment: f.environment.clone(),
+                area_light: f.area_light,
+                gloss: f.gloss,
+                seed: f.seed,
+                spectral: &f.sampler,
             },
             passes,
         );
-        (image, self.display_matrix(sampler.white_xyz))
+        (image, self.display_matrix(f.sampler.white_xyz))
     }
 }

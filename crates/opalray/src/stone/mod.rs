@@ -7,10 +7,17 @@
 //! evaluated exactly, so patch edges are spheres or planes at any resolution, never the cell
 //! grid's staircase. Each domain has a full lattice orientation and its own sphere diameter;
 //! it reflects by every family whose first-order line can fall in the spectral range.
+//!
+//! [`Stone::new`] composes its builders: `layout.rs` (where the domains lie, their
+//! orientations and sphere sizes), `crystal.rs` (the families they reflect by, their normals
+//! and lobes), `cut.rs` (the outline, backing, cap and colour bar) and [`Potch`]'s.
 
 pub mod balls;
 pub mod body;
+mod crystal;
+mod cut;
 pub mod grains;
+mod layout;
 mod light_path;
 pub mod rough;
 pub mod size_field;
@@ -18,18 +25,17 @@ pub mod size_field;
 use glam::{Quat, Vec3};
 
 use crate::error::Result;
-use crate::geometry::{Cabochon, Ellipsoid, Outline, Ray};
-use crate::optics::{BraggLine, Families, FamilyKind};
-use crate::sampling::{stage, Rng};
-use crate::scene::{Backing, Cut, FamilyChoice, OrientationLaw, Pattern, Scene};
-use crate::structure::orientation::jitter;
-use crate::structure::AXIS_111;
+use crate::geometry::{Ellipsoid, Outline, Ray};
+use crate::optics::{BraggLine, Families};
+use crate::scene::{Backing, Pattern, Scene};
 
 use balls::Balls;
-use grains::{normal, Grains};
+use crystal::{domain_normals, Crystal};
+use cut::Surfaces;
+use grains::Grains;
+use layout::lay_out;
 pub use light_path::{angle_between, LOBE_SIGMAS};
 use rough::Outlines;
-use size_field::SizeField;
 
 /// Rows of the rocking-width table over cos θ.
 const WIDTH_ROWS: usize = 64;
@@ -88,6 +94,23 @@ pub struct Potch {
     pub anisotropy: f32,
     /// Scattering coefficient inside the domains (no absorption there), per mm.
     pub domain_scattering_per_mm: f32,
+}
+
+impl Potch {
+    /// The potch of `scene` (`[body]`, `render.body_tone`) in a stone of index `n_eff`: its
+    /// albedo makes a thick slab show the body tone; inside the domains only its haze
+    /// (`body.domain_haze`) scatters.
+    fn of(scene: &Scene, n_eff: f32) -> Potch {
+        let body = &scene.body;
+        let albedo = body::potch_albedo(scene.render.body_tone, body.anisotropy, f64::from(n_eff));
+        let sigma = body.potch_extinction_per_mm as f32;
+        Potch {
+            extinction_per_mm: sigma,
+            albedo,
+            anisotropy: body.anisotropy as f32,
+            domain_scattering_per_mm: body.domain_haze as f32 * sigma * albedo,
+        }
+    }
 }
 
 /// The surface a flat back is glued on.
@@ -206,239 +229,30 @@ pub struct Stone {
 }
 
 impl Stone {
-    /// Build the stone of `scene` (validated by the caller).
+    /// Build the stone of `scene` (validated by the caller): where its domains lie
+    /// (`layout.rs`), what they reflect by (`crystal.rs`), its surfaces (`cut.rs`) and its potch.
     pub fn new(scene: &Scene) -> Result<Stone> {
-        let s = &scene.structure;
-        let d = &scene.domains;
-        let body = &scene.body;
-        let axes = Vec3::from_array(body.box_semi_axes(s.semi_axes_mm).map(|v| v as f32));
-        let seed = s.seed;
-        // A sphere diameter `z` standard deviations from the mean (clipped at ±3).
-        let diameter = |z: f32| {
-            let z = z.clamp(-3.0, 3.0);
-            (scene.crystal.sphere_diameter_nm * (1.0 + d.sphere_diameter_spread * f64::from(z)))
-                as f32
-        };
-        let draw_diameter = |index: u64| {
-            let mut rng = Rng::new(seed, stage::STONE, (1 << 40) + index);
-            diameter(normal(&mut rng))
-        };
-        let (layout, domains) = match d.pattern {
-            Pattern::Paper => {
-                let balls = Balls::grow(s)?;
-                let domains = (0..balls.balls.len())
-                    .map(|k| Domain {
-                        orientation: balls.balls[k].orientation,
-                        sphere_diameter_nm: draw_diameter(k as u64),
-                    })
-                    .collect();
-                (Layout::Balls(balls), domains)
-            }
-            Pattern::Grains => {
-                let stretch = Vec3::from_array(d.stretch.map(|v| v as f32));
-                let mut rng = Rng::new(seed, stage::STONE, 0);
-                let grains = Grains::new(
-                    axes,
-                    d.grain_size_mm as f32,
-                    d.grain_size_spread as f32,
-                    stretch,
-                    &mut rng,
-                );
-                let parents = (d.orientation == OrientationLaw::Correlated).then(|| {
-                    let mut rng = Rng::new(seed, stage::STONE, 1);
-                    Grains::new(axes, d.correlation_mm as f32, 0.0, Vec3::ONE, &mut rng)
-                });
-                let spread = d.orientation_spread_deg.to_radians();
-                // Sphere sizes: a smooth field over the stone, or drawn grain by grain.
-                let sizes = (d.diameter_correlation_mm > 0.0).then(|| {
-                    let mut rng = Rng::new(seed, stage::STONE, 1 << 42);
-                    SizeField::new(d.diameter_correlation_mm, &mut rng)
-                });
-                // Settled tilts: smooth fields over the stone, or drawn grain by grain.
-                let tilts = (d.orientation == OrientationLaw::Settled
-                    && d.tilt_correlation_mm > 0.0)
-                    .then(|| {
-                        let mut rng = Rng::new(seed, stage::STONE, 1 << 44);
-                        TiltField::new(
-                            d.tilt_correlation_mm,
-                            spread,
-                            d.tilt_jitter_deg.to_radians(),
-                            &mut rng,
-                        )
-                    });
-                let diameter_at = |i: usize, seed_q: Vec3| match &sizes {
-                    None => draw_diameter(i as u64),
-                    Some(field) => diameter(field.at(seed_q * stretch)),
-                };
-                let mut domains = Vec::new();
-                let mut domain_of = Vec::with_capacity(grains.seeds.len());
-                for (i, seed_q) in grains.seeds.iter().enumerate() {
-                    let mut rng = Rng::new(seed, stage::STONE, 2 + i as u64);
-                    if rng.uniform() < d.void_fraction {
-                        domain_of.push(None);
-                        continue;
-                    }
-                    let orientation = match &parents {
-                        None if d.orientation == OrientationLaw::Settled => match &tilts {
-                            None => settled(spread, &mut rng),
-                            Some(field) => field.at(*seed_q * stretch, &mut rng),
-                        },
-                        None => rng.rotation(),
-                        Some(p) => {
-                            let parent = p.at(*seed_q * stretch);
-                            let q = Rng::new(seed, stage::STONE, (1 << 41) + u64::from(parent))
-                                .rotation();
-                            jitter(q, spread, &mut rng)
-                        }
-                    };
-                    domain_of.push(Some(domains.len() as u32));
-                    domains.push(Domain {
-                        orientation,
-                        sphere_diameter_nm: diameter_at(i, *seed_q),
-                    });
-                }
-                // Ragged outlines: columns that shift the grains each by its own offset.
-                let outlines = (d.boundary_roughness > 0.0).then(|| {
-                    let mut rng = Rng::new(seed, stage::STONE, 1 << 43);
-                    Box::new(Outlines::new(
-                        axes,
-                        d.grain_size_mm as f32,
-                        stretch,
-                        d.boundary_roughness as f32,
-                        &mut rng,
-                    ))
-                });
-                (
-                    Layout::Grains {
-                        grains,
-                        domain_of,
-                        outlines,
-                    },
-                    domains,
-                )
-            }
-        };
-
-        // Every family normal of every domain, in the stone frame.
-        let mut families = Families::new(&scene.crystal, d.families == FamilyChoice::Only111);
-        if d.families == FamilyChoice::Stacked {
-            families = families.stacked();
-        }
-        // Families whose line cannot reach the spectral range in any domain are left out
-        // ({311} below D ≈ 250 nm), by the test `Stone::lines` makes of each line first: they
-        // would only cost every crossing its test.
-        let largest_nm = scene.crystal.sphere_diameter_nm * (1.0 + 3.0 * d.sphere_diameter_spread);
-        let two_n = 2.0 * families.n_eff;
-        let range_lo = scene.spectrum.min_nm;
-        families.kinds.retain(|f| {
-            f.kind == FamilyKind::F111
-                || two_n * f.spacing_over_diameter * largest_nm >= LINE_REACH * range_lo
-        });
-        let slot_kind: Vec<u8> = families
-            .kinds
-            .iter()
-            .enumerate()
-            .flat_map(|(k, f)| std::iter::repeat(k as u8).take(f.normals.len()))
-            .collect();
-        let lattice: Vec<Vec3> = families
-            .kinds
-            .iter()
-            .flat_map(|f| f.normals.clone())
-            .collect();
-        let normals = domains
-            .iter()
-            .flat_map(|dm: &Domain| {
-                lattice
-                    .iter()
-                    .map(move |&n| (dm.orientation * n).normalize())
-            })
-            .collect();
-
-        // The reflection's spread over directions: the mosaic and the diffraction of the
-        // domain's width (the rocking width is an acceptance in wavelength, kept in R(λ, θ)).
-        let d111 = families.kinds[0].spacing_over_diameter;
-        let layers = f64::from(scene.crystal.layers);
-        let layer_cap: Vec<f64> = families
-            .kinds
-            .iter()
-            .map(|f| layers * d111 / f.spacing_over_diameter)
-            .collect();
-        let mosaic = d.mosaic_spread_deg.to_radians();
-        let width_mm = domain_width_mm(scene);
-        let lobe_sigma = families
-            .kinds
-            .iter()
-            .map(|f| {
-                let spacing_mm = f.spacing_over_diameter * scene.crystal.sphere_diameter_nm * 1e-6;
-                std::array::from_fn(|row| {
-                    let diffraction =
-                        diffraction_sigma_rad(spacing_mm, width_row_cos(row), width_mm);
-                    mosaic.hypot(diffraction) as f32
-                })
-            })
-            .collect();
-        let n_eff = families.n_eff as f32;
-        let girdle = (s.semi_axes_mm[0] as f32, s.semi_axes_mm[1] as f32);
-        let dome = body.dome_height_mm as f32;
-        let (shape, cabochon) = match body.cut {
-            Cut::Ellipsoid => (Outline::Ellipsoid(Ellipsoid::new(axes)), None),
-            Cut::Cabochon | Cut::Doublet | Cut::Triplet => {
-                let back = if body.cut == Cut::Cabochon {
-                    body.back_height_mm as f32
-                } else {
-                    0.0
-                };
-                let c = Cabochon::new(girdle.0, girdle.1, dome, back);
-                (Outline::Cabochon(c), Some(c))
-            }
-        };
-        let back = cabochon
-            .filter(|c| c.flat_back() && body.backing() != Backing::None)
-            .map(|c| BackSurface {
-                z: c.bottom_z(),
-                kind: body.backing(),
-            });
-        let cap = cabochon.filter(|_| body.cut == Cut::Triplet).map(|c| Cap {
-            z: c.bottom_z() + body.slice_mm as f32,
-            n: body.cap_index as f32,
-        });
-        // A colour bar: the inner surface a bar's thickness under the outer one.
-        let t = body.colour_bar_mm as f32;
-        let (bar_inner, bar_centre) = match (t > 0.0 && cap.is_none(), body.cut) {
-            (false, _) => (None, Vec3::ZERO),
-            (true, Cut::Ellipsoid) => {
-                let inner = (axes - Vec3::splat(t)).max(Vec3::splat(1e-3));
-                (Some(Ellipsoid::new(inner)), Vec3::ZERO)
-            }
-            (true, _) => {
-                let c = cabochon.expect("a cabochon cut");
-                let inner = Vec3::new(girdle.0 - t, girdle.1 - t, dome - t).max(Vec3::splat(1e-3));
-                (Some(Ellipsoid::new(inner)), Vec3::Z * c.girdle_z())
-            }
-        };
-        let potch_albedo =
-            body::potch_albedo(scene.render.body_tone, body.anisotropy, f64::from(n_eff));
-        let sigma = body.potch_extinction_per_mm as f32;
+        let semi_axes_mm = scene.body.box_semi_axes(scene.structure.semi_axes_mm);
+        let axes = Vec3::from_array(semi_axes_mm.map(|v| v as f32));
+        let (layout, domains) = lay_out(scene, axes)?;
+        let crystal = Crystal::new(scene, &domains);
+        let surfaces = Surfaces::new(scene, axes);
+        let n_eff = crystal.families.n_eff as f32;
         Ok(Stone {
-            shape,
-            back,
-            cap,
-            bar_inner,
-            bar_centre,
+            shape: surfaces.shape,
+            back: surfaces.back,
+            cap: surfaces.cap,
+            bar_inner: surfaces.bar_inner,
+            bar_centre: surfaces.bar_centre,
             n_eff,
-            potch: Potch {
-                extinction_per_mm: sigma,
-                albedo: potch_albedo,
-                anisotropy: body.anisotropy as f32,
-                domain_scattering_per_mm: body.domain_haze as f32 * sigma * potch_albedo,
-            },
+            potch: Potch::of(scene, n_eff),
             domains,
-            families,
+            families: crystal.families,
             layout,
-            normals,
-            slot_kind,
-            layer_cap,
-            lobe_sigma,
+            normals: crystal.normals,
+            slot_kind: crystal.slot_kind,
+            layer_cap: crystal.layer_cap,
+            lobe_sigma: crystal.lobe_sigma,
             range_nm: (scene.spectrum.min_nm, scene.spectrum.max_nm),
         })
     }
@@ -451,16 +265,7 @@ impl Stone {
             orientation,
             sphere_diameter_nm: scene.crystal.sphere_diameter_nm as f32,
         };
-        let lattice: Vec<Vec3> = stone
-            .families
-            .kinds
-            .iter()
-            .flat_map(|f| f.normals.clone())
-            .collect();
-        stone.normals = lattice
-            .iter()
-            .map(|&n| (orientation * n).normalize())
-            .collect();
+        stone.normals = domain_normals(&stone.families, &[domain]);
         stone.domains = vec![domain];
         stone.layout = Layout::Single;
         Ok(stone)
@@ -792,65 +597,11 @@ fn width_row_cos(row: usize) -> f64 {
     WIDTH_MIN_COS + (1.0 - WIDTH_MIN_COS) * row as f64 / (WIDTH_ROWS - 1) as f64
 }
 
-/// A settled grain's orientation: its layers of spheres (a (111) plane family) lie near the
-/// stone's bedding plane (xy), the layers' normal tilted from z by an angle whose root mean
-/// square is `spread_rad` (a two-dimensional Gaussian tilt, so the tilt's azimuth is
-/// uniform), the lattice turned about that normal by a uniform angle.
-fn settled(spread_rad: f64, rng: &mut Rng) -> Quat {
-    let spin = std::f64::consts::TAU * rng.uniform();
-    let per_axis = spread_rad / std::f64::consts::SQRT_2;
-    let tilt = per_axis * (-2.0 * (1.0 - rng.uniform()).max(1e-300).ln()).sqrt();
-    let azimuth = std::f64::consts::TAU * rng.uniform();
-    settled_at(tilt, azimuth, spin)
-}
-
-/// The orientation whose layers' normal is tilted from z by `tilt` towards the azimuth
-/// `azimuth` (radians), the lattice turned by `spin` about the normal first.
-fn settled_at(tilt: f64, azimuth: f64, spin: f64) -> Quat {
-    let align = Quat::from_rotation_arc(AXIS_111, Vec3::Z);
-    let turn = Quat::from_rotation_z(spin as f32);
-    let axis = Vec3::new(-azimuth.sin() as f32, azimuth.cos() as f32, 0.0);
-    (Quat::from_axis_angle(axis, tilt as f32) * turn * align).normalize()
-}
-
-/// Settled grains that are parts of larger crystals: the layers' tilt and the lattice's turn
-/// vary smoothly over the stone, and each grain departs from them a little.
-///
-/// The tilt vector is `σ_f/√2 (Z₁(p), Z₂(p))` of two smooth fields ([`SizeField`], standard
-/// normal, correlation length L) plus the grain's own Gaussian vector of RMS `jitter`, with
-/// `σ_f² = spread² − jitter²`: the RMS tilt is the spread, as for independent grains. The
-/// turn is the angle of `(Z₃(p), Z₄(p))` (uniform, since an isotropic Gaussian vector's angle
-/// is) plus the grain's normal draw of RMS `jitter`.
-struct TiltField {
-    fields: [SizeField; 4],
-    field_rms: f64,
-    jitter: f64,
-}
-
-impl TiltField {
-    fn new(length_mm: f64, spread: f64, jitter: f64, rng: &mut Rng) -> TiltField {
-        TiltField {
-            fields: std::array::from_fn(|_| SizeField::new(length_mm, rng)),
-            field_rms: (spread * spread - jitter * jitter).max(0.0).sqrt(),
-            jitter,
-        }
-    }
-
-    /// The orientation of the grain whose seed is at `p` (mm), its own part drawn from `rng`.
-    fn at(&self, p: Vec3, rng: &mut Rng) -> Quat {
-        let [z1, z2, z3, z4] = self.fields.each_ref().map(|f| f64::from(f.at(p)));
-        let field = self.field_rms / std::f64::consts::SQRT_2;
-        let own = self.jitter / std::f64::consts::SQRT_2;
-        let tx = field * z1 + own * f64::from(normal(rng));
-        let ty = field * z2 + own * f64::from(normal(rng));
-        let spin = z4.atan2(z3) + self.jitter * f64::from(normal(rng));
-        settled_at(tx.hypot(ty), ty.atan2(tx), spin)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::OrientationLaw;
+    use crate::structure::AXIS_111;
 
     fn grains_scene() -> Scene {
         let mut scene = Scene::default();

@@ -6,7 +6,7 @@ use std::time::Instant;
 use crate::error::{Error, Result};
 use crate::integrator::Integrator;
 use crate::path::{Passes, PathLight};
-use crate::render::{sample_seed, seconds, Frame, Prepared, LIGHT_DISC_RADIUS_DEG};
+use crate::render::{seconds, Frame, Prepared, LIGHT_DISC_RADIUS_DEG};
 use crate::scene::{
     Cut, EnvironmentKind, IntegratorConfig, LightKind, Method, Scene, StoredConfig,
     DEFAULT_WAVELENGTHS,
@@ -112,36 +112,34 @@ impl Integrator for StoredMethod {
     fn render(&self, prepared: &Prepared, light_angle_deg: f64, _passes: &Passes) -> Frame {
         let s = &prepared.scene;
         let c = config(s);
-        let (stone, environment) = prepared.stone_inputs();
         let mut times = prepared.times;
-        let (camera, source) = prepared.placement(light_angle_deg);
-        let sampler = prepared.spectral_sampler(DEFAULT_WAVELENGTHS);
+        let f = prepared.frame_setup(light_angle_deg, DEFAULT_WAVELENGTHS, c.seed);
         let setup = StoredSetup {
-            camera,
-            width: s.render.width as usize,
-            height: s.render.height as usize,
+            camera: f.camera,
+            width: f.width,
+            height: f.height,
             spp: c.spp,
             light: PathLight {
-                source,
+                source: f.source,
                 intensity: s.light.intensity as f32,
                 disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
             },
-            environment,
-            gloss: s.render.gloss as f32,
-            seed: sample_seed(s.structure.seed, c.seed),
+            environment: f.environment,
+            gloss: f.gloss,
+            seed: f.seed,
             cell_mm: c.cell_mm,
-            spectral: &sampler,
+            spectral: &f.sampler,
         };
         let start = Instant::now();
-        let light = store_light(stone, &setup);
+        let light = store_light(f.stone, &setup);
         times.light_pass += seconds(start);
         let start = Instant::now();
-        let image = gather_view(stone, &light, &setup);
+        let image = gather_view(f.stone, &light, &setup);
         times.view_pass = seconds(start);
         let stats = StoredStats {
             spp: setup.spp,
             light: light.stats(),
         };
-        prepared.deterministic_frame(times, image.spectral, &image.xyz, &sampler, Some(stats))
+        prepared.deterministic_frame(times, image.spectral, &image.xyz, &f.sampler, Some(stats))
     }
 }

@@ -1,0 +1,111 @@
+//! What the domains reflect by, the second of [`Stone::new`](super::Stone::new)'s builders:
+//! the crystal's plane families that can reach the spectral range, every domain's family
+//! normals in the stone's frame, the coherent layers of each family and the spread of its
+//! reflection over directions (the mosaic and the diffraction of the domain's width).
+//!
+//! Input: the scene and the domains → output: a [`Crystal`].
+
+use glam::Vec3;
+
+use super::{
+    diffraction_sigma_rad, domain_width_mm, width_row_cos, Domain, LINE_REACH, WIDTH_ROWS,
+};
+use crate::optics::{Families, FamilyKind};
+use crate::scene::{FamilyChoice, Scene};
+
+/// The domains' plane families, as the stone reads them.
+pub(super) struct Crystal {
+    /// The families kept.
+    pub families: Families,
+    /// Per domain, every family normal in the stone frame (`slot_kind.len()` per domain).
+    pub normals: Vec<Vec3>,
+    /// Family kind of each slot.
+    pub slot_kind: Vec<u8>,
+    /// Coherent layers of each kind (the (111) `crystal.layers`, as a thickness).
+    pub layer_cap: Vec<f64>,
+    /// Per kind, the lobe's standard deviation (rad) over cos θ.
+    pub lobe_sigma: Vec<[f32; WIDTH_ROWS]>,
+}
+
+impl Crystal {
+    /// The crystal of `scene` in each of `domains`.
+    pub fn new(scene: &Scene, domains: &[Domain]) -> Crystal {
+        let families = kept_families(scene);
+        let slot_kind = families
+            .kinds
+            .iter()
+            .enumerate()
+            .flat_map(|(k, f)| std::iter::repeat(k as u8).take(f.normals.len()))
+            .collect();
+        let d111 = families.kinds[0].spacing_over_diameter;
+        let layers = f64::from(scene.crystal.layers);
+        let layer_cap = families
+            .kinds
+            .iter()
+            .map(|f| layers * d111 / f.spacing_over_diameter)
+            .collect();
+        Crystal {
+            normals: domain_normals(&families, domains),
+            slot_kind,
+            layer_cap,
+            lobe_sigma: lobe_sigmas(scene, &families),
+            families,
+        }
+    }
+}
+
+/// The crystal's families (`domains.families`), less those whose line cannot reach the
+/// spectral range in any domain ({311} below D ≈ 250 nm), by the test `Stone::lines` makes of
+/// each line first: they would only cost every crossing its test.
+fn kept_families(scene: &Scene) -> Families {
+    let d = &scene.domains;
+    let mut families = Families::new(&scene.crystal, d.families == FamilyChoice::Only111);
+    if d.families == FamilyChoice::Stacked {
+        families = families.stacked();
+    }
+    let largest_nm = scene.crystal.sphere_diameter_nm * (1.0 + 3.0 * d.sphere_diameter_spread);
+    let two_n = 2.0 * families.n_eff;
+    let range_lo = scene.spectrum.min_nm;
+    families.kinds.retain(|f| {
+        f.kind == FamilyKind::F111
+            || two_n * f.spacing_over_diameter * largest_nm >= LINE_REACH * range_lo
+    });
+    families
+}
+
+/// Every family normal of every domain of `domains`, in the stone frame (domain by domain,
+/// each in the order of `families`).
+pub(super) fn domain_normals(families: &Families, domains: &[Domain]) -> Vec<Vec3> {
+    let lattice: Vec<Vec3> = families
+        .kinds
+        .iter()
+        .flat_map(|f| f.normals.clone())
+        .collect();
+    domains
+        .iter()
+        .flat_map(|dm| {
+            lattice
+                .iter()
+                .map(move |&n| (dm.orientation * n).normalize())
+        })
+        .collect()
+}
+
+/// Per family, the reflection's spread over directions (rad) at each row's cos θ: the mosaic
+/// and the diffraction of the domain's width (the rocking width is an acceptance in
+/// wavelength, kept in R(λ, θ)).
+fn lobe_sigmas(scene: &Scene, families: &Families) -> Vec<[f32; WIDTH_ROWS]> {
+    let mosaic = scene.domains.mosaic_spread_deg.to_radians();
+    let width_mm = domain_width_mm(scene);
+    families
+        .kinds
+        .iter()
+        .map(|f| {
+            let spacing_mm = f.spacing_over_diameter * scene.crystal.sphere_diameter_nm * 1e-6;
+            std::array::from_fn(|row| {
+                let diffraction = diffraction_sigma_rad(spacing_mm, width_row_cos(row), width_mm);
+                mosaic.hypot(diffraction) as f32
+            })
+        })
+        .collect()
+}
