@@ -2,9 +2,7 @@
 //! of it at any light angle. The render runs on its own thread while the calling thread waits
 //! without the GIL, so other Python threads run and Ctrl-C returns at once.
 
-use std::sync::mpsc::{channel, RecvTimeoutError};
 use std::sync::{Arc, OnceLock};
-use std::time::Duration;
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2};
@@ -15,39 +13,11 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
+use crate::deadline::{run_detached, run_within, TimeLimit};
 use crate::frame::Frame;
 use crate::light::StoredLight;
 use crate::scene::{dict_of, scene_of, to_py_err};
 use crate::stone::StoneModel;
-
-/// How often a waiting call looks for Ctrl-C (and other signals).
-const SIGNAL_POLL: Duration = Duration::from_millis(50);
-
-/// Run `job` on a new thread and wait for it without the GIL, checking for signals: a
-/// `KeyboardInterrupt` returns at once (the job finishes in the background and is dropped).
-pub(crate) fn run_detached<T: Send + 'static>(
-    py: Python<'_>,
-    job: impl FnOnce() -> T + Send + 'static,
-) -> PyResult<T> {
-    let (tx, rx) = channel();
-    std::thread::spawn(move || {
-        // The receiver is gone only if the caller was interrupted: nothing to report to.
-        let _ = tx.send(job());
-    });
-    let mut rx = rx;
-    loop {
-        // The receiver moves into the GIL-free closure and back (it is `Send`, not `Sync`).
-        let (received, back) = py.detach(move || (rx.recv_timeout(SIGNAL_POLL), rx));
-        rx = back;
-        match received {
-            Ok(value) => return Ok(value),
-            Err(RecvTimeoutError::Timeout) => py.check_signals()?,
-            Err(RecvTimeoutError::Disconnected) => {
-                return Err(PyRuntimeError::new_err("the render thread panicked"))
-            }
-        }
-    }
-}
 
 /// A prepared scene: the grown structure and the optics tables, computed once; renders at
 /// any light angle reuse them (and the stone's cell layout).
@@ -126,42 +96,58 @@ pub fn prepare(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Stages> {
     })
 }
 
-/// `render(scene, time_limit_s=None, on_pass=None) -> Frame`: the whole chain for a scene
-/// dict, as `opalray render` runs it. The path integrator stops after the pass in which
-/// `time_limit_s` seconds have passed, and calls `on_pass(passes, spp, target_spp,
-/// elapsed_s, noise)` after every pass (noise `None` before two samples per pixel); the
-/// other methods ignore both.
+/// `render(scene, time_limit_s=None, on_pass=None, on_stage=None) -> Frame`: the whole chain
+/// for a scene dict, as `opalray render` runs it. `time_limit_s` bounds every stage, counted
+/// from the call, the stone's preparation included: a stage not done in time raises
+/// `TimeoutError` naming it, except the path tracer's passes after the first, which stop after
+/// the pass in which the time has passed. `on_pass(passes, spp, target_spp, elapsed_s,
+/// noise)` is called after every pass of the path tracer (noise `None` before two samples per
+/// pixel), `on_stage(stage)` as the stone is ready and the passes begin.
 #[pyfunction]
-#[pyo3(signature = (scene, time_limit_s=None, on_pass=None))]
+#[pyo3(signature = (scene, time_limit_s=None, on_pass=None, on_stage=None))]
 pub fn render(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     time_limit_s: Option<f64>,
     on_pass: Option<Py<PyAny>>,
+    on_stage: Option<Py<PyAny>>,
 ) -> PyResult<Frame> {
+    let limit = TimeLimit::checked(time_limit_s)?;
     let scene = scene_of(scene)?;
-    let time_limit = match time_limit_s {
-        Some(t) if !(t.is_finite() && t > 0.0) => {
-            return Err(PyValueError::new_err(format!(
-                "time_limit {t}: must be a number of seconds above 0; try 60"
-            )))
-        }
-        t => t.map(Duration::from_secs_f64),
-    };
-    let result = run_detached(py, move || {
+    let result = run_within(py, limit, move |stage| {
         let prepared = opalray::prepare(&scene)?;
+        let in_passes = opalray::integrator::of(scene.integrator.method()).renders_in_passes();
+        let passes_stage = if in_passes {
+            "the first pass of paths (2 samples per pixel)"
+        } else {
+            "the light and view passes"
+        };
+        stage.enter(passes_stage);
+        if let (Some(callback), false) = (&on_stage, stage.abandoned()) {
+            Python::attach(|py| {
+                if let Err(err) = callback.call1(py, (passes_stage,)) {
+                    err.print(py);
+                }
+            });
+        }
         let report = |r: &opalray::path::PassReport| {
-            if let Some(callback) = &on_pass {
-                Python::attach(|py| {
-                    let args = (r.passes, r.spp, r.target_spp, r.elapsed_s, r.noise);
-                    if let Err(err) = callback.call1(py, args) {
-                        err.print(py);
-                    }
-                });
+            if r.passes == 1 {
+                stage.release();
             }
+            let Some(callback) = &on_pass else { return };
+            if stage.abandoned() {
+                return;
+            }
+            Python::attach(|py| {
+                let args = (r.passes, r.spp, r.target_spp, r.elapsed_s, r.noise);
+                if let Err(err) = callback.call1(py, args) {
+                    err.print(py);
+                }
+            });
         };
         let passes = opalray::path::Passes {
-            time_limit,
+            // The passes get what the preparation left of the limit.
+            time_limit: limit.map(|l| l.left()),
             on_pass: Some(&report),
             ..Default::default()
         };

@@ -21,7 +21,8 @@ const GRAIN_CPU_S: f64 = 60e-6;
 /// Processor seconds of one path-traced sample of one pixel of a gem (the black opal).
 const PATH_SAMPLE_CPU_S: f64 = 600e-6;
 /// Processor seconds of the lobe integrator's ray through a pixel's centre, in a gem's frame
-/// (the black opal 22 µs; the ribbon, the most of the opaque presets, 27 µs at 4 rays).
+/// (the black opal 22 µs; with [`LOBE_RAY_CPU_S`] 96 µs a pixel at 4 rays, where the ribbon,
+/// the dearest opaque preset, takes about 105 µs).
 const LOBE_PIXEL_CPU_S: f64 = 30e-6;
 /// Processor seconds of each further lobe ray, `integrator.spp − 1` a pixel, averaged over
 /// the frame (they are cast only where a pixel differs from its neighbours: the black opal
