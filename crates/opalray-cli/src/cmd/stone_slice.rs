@@ -10,9 +10,9 @@ use opalray::stone::Stone;
 use rayon::prelude::*;
 
 /// Id of a point in potch (inside the stone, in no domain).
-const POTCH: i64 = -1;
+const POTCH: i32 = -1;
 /// Id of a point outside the stone.
-const OUTSIDE: i64 = -2;
+const OUTSIDE: i32 = -2;
 /// Colour of potch: the paper's void colour (`structure::map::VOID_RGBA`).
 const POTCH_RGBA: [u8; 4] = opalray::structure::map::VOID_RGBA;
 /// Colour of an outline between two domains.
@@ -42,7 +42,7 @@ pub fn level_mm(stone: &Stone, k: usize, levels: usize) -> f32 {
 
 /// The domain id at every pixel centre of the plane z = `z_mm`, `width` × `height` pixels over
 /// the stone's box, rows from +y down: the domain's index, [`POTCH`] or [`OUTSIDE`].
-fn ids(stone: &Stone, z_mm: f32, width: usize, height: usize) -> Vec<i64> {
+fn ids(stone: &Stone, z_mm: f32, width: usize, height: usize) -> Vec<i32> {
     let half = stone.shape.semi_axes();
     (0..height)
         .into_par_iter()
@@ -52,7 +52,8 @@ fn ids(stone: &Stone, z_mm: f32, width: usize, height: usize) -> Vec<i64> {
                 let x = -half.x + (col as f32 + 0.5) * 2.0 * half.x / width as f32;
                 let p = Vec3::new(x, y, z_mm);
                 match stone.domain_at(p) {
-                    Some(d) => i64::from(d),
+                    // Fewer than 2³¹ domains: `MAX_GRAINS` is 250 000.
+                    Some(d) => d as i32,
                     None if stone.shape.contains(p) => POTCH,
                     None => OUTSIDE,
                 }
@@ -82,7 +83,7 @@ pub fn busiest_level(stone: &Stone, levels: usize) -> usize {
 pub fn draw(stone: &Stone, z_mm: f32, width: usize, height: usize) -> StoneSlice {
     let ids = ids(stone, z_mm, width, height);
     let n111 = FamilyKind::F111.normals()[0].normalize();
-    let colour = |id: i64| -> [u8; 4] {
+    let colour = |id: i32| -> [u8; 4] {
         match id {
             OUTSIDE => [0, 0, 0, 0],
             POTCH => POTCH_RGBA,
@@ -109,7 +110,7 @@ pub fn draw(stone: &Stone, z_mm: f32, width: usize, height: usize) -> StoneSlice
             colour(ids[i])
         });
     }
-    let mut cut: Vec<i64> = ids.iter().copied().filter(|&id| id >= 0).collect();
+    let mut cut: Vec<i32> = ids.iter().copied().filter(|&id| id >= 0).collect();
     let in_domains = cut.len();
     cut.sort_unstable();
     cut.dedup();

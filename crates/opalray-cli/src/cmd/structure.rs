@@ -85,6 +85,10 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     if scene.integrator.method() != Method::TwoPass {
+        // The map's pixels: a domain id, the colour and the encoder's row (16 bytes), and
+        // the stone as a render builds it.
+        super::memory::check_structure(&scene, 2 * pixels)?;
+        super::memory::check(&scene, super::memory::Extra::default())?;
         return run_stone(&args, &scene);
     }
     let slice_z = args.slice_z.unwrap_or(nz / 2);
@@ -159,7 +163,6 @@ pub fn run(args: Args) -> Result<()> {
 /// Draw the slice of the stone the renderers read (`scene`'s method is not the two passes).
 fn run_stone(args: &Args, scene: &Scene) -> Result<()> {
     let [nx, ny, nz] = scene.structure.grid;
-    super::memory::check(scene, super::memory::Extra::default())?;
     let mut outputs = Outputs::new();
     let image = outputs.add("--output", &args.output, &["png"])?;
     let stats_out = match &args.stats {
