@@ -103,12 +103,8 @@ pub fn draw(stone: &Stone, z_mm: f32, width: usize, height: usize) -> StoneSlice
         ids[i] >= 0 && ((col + 1 < width && other(i + 1)) || (row + 1 < height && other(i + width)))
     };
     let mut rgba = Vec::with_capacity(width * height * 4);
-    for i in 0..ids.len() {
-        rgba.extend_from_slice(&if outline(i) {
-            OUTLINE_RGBA
-        } else {
-            colour(ids[i])
-        });
+    for (i, &id) in ids.iter().enumerate() {
+        rgba.extend_from_slice(&if outline(i) { OUTLINE_RGBA } else { colour(id) });
     }
     let mut cut: Vec<i32> = ids.iter().copied().filter(|&id| id >= 0).collect();
     let in_domains = cut.len();
