@@ -322,7 +322,10 @@ fn a_sweep_past_its_time_limit_keeps_finished_frames_for_resume_and_writes_no_sh
     let (out, took) = sweep(&["--time-limit", "1.5"]);
     let error = refused_in_time(&out, took, 5);
     assert!(
-        error.contains("--time-limit 1.5: the limit passed during frame "),
+        error.contains("--time-limit 1.5: the limit passed during frame ")
+            // A machine so busy that the stone (0.4 s of processor time) takes the limit:
+            // no frame finished, and the resume below renders them all.
+            || error.contains("--time-limit 1.5: the limit passed during the stone's"),
         "{error}"
     );
     assert!(error.contains("--resume renders only the rest"), "{error}");
