@@ -52,6 +52,7 @@ def test_a_time_limit_stops_after_the_pass_it_falls_in():
     image = opalray.render(gem, time_limit=2.0)
     path = image.stats["path"]
     assert path["stopped_by_time_limit"] and path["spp"] < path["target_spp"] == 65536
+    assert path["time_limit_s"] == 2.0
     # The image is the one of the samples reached.
     again = opalray.render(gem, integrator={"spp": path["spp"]})
     np.testing.assert_array_equal(image.srgb8, again.srgb8)

@@ -151,7 +151,11 @@ pub fn render(
             on_pass: Some(&report),
             ..Default::default()
         };
-        let frame = prepared.render_progressive(scene.light.angle_deg, &passes);
+        let mut frame = prepared.render_progressive(scene.light.angle_deg, &passes);
+        if let Some(path) = &mut frame.path {
+            // The passes had what the preparation left of it; the limit is the caller's.
+            path.time_limit_s = time_limit_s;
+        }
         Ok(Frame::new(&scene, frame, scene.light.angle_deg))
     })?;
     result.map_err(to_py_err)
