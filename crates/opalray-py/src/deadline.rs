@@ -24,7 +24,9 @@ const SIGNAL_POLL: Duration = Duration::from_millis(50);
 const MAX_TIME_LIMIT_S: f64 = 7.0 * 24.0 * 3600.0;
 
 /// The first stage of every render.
-const PREPARATION: &str = "the stone's preparation";
+pub(crate) const PREPARATION: &str = "the stone's preparation";
+/// The stage of a prepared scene's render.
+pub(crate) const FRAME: &str = "the frame's render";
 
 /// What to do when a stage overruns `time_limit`.
 const FIX: &str = "raise time_limit, or render a lighter scene: fewer grains (a larger \
@@ -104,18 +106,20 @@ pub(crate) fn run_detached<T: Send + 'static>(
     py: Python<'_>,
     job: impl FnOnce() -> T + Send + 'static,
 ) -> PyResult<T> {
-    run_within(py, None, move |_| job())
+    run_within(py, None, PREPARATION, move |_| job())
 }
 
 /// Run `job` as [`run_detached`] does, and, under `limit`, raise `TimeoutError` naming the
-/// stage `job` is in when the limit passes (unless it has [released](Stage::release) it).
+/// stage `job` is in when the limit passes (unless it has [released](Stage::release) it);
+/// it begins in stage `first`.
 pub(crate) fn run_within<T: Send + 'static>(
     py: Python<'_>,
     limit: Option<TimeLimit>,
+    first: &'static str,
     job: impl FnOnce(&Stage) -> T + Send + 'static,
 ) -> PyResult<T> {
     let stage = Stage(Arc::new(Shared {
-        stage: Mutex::new(PREPARATION),
+        stage: Mutex::new(first),
         released: AtomicBool::new(false),
         abandoned: AtomicBool::new(false),
     }));

@@ -13,7 +13,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use crate::deadline::{run_detached, run_within, TimeLimit};
+use crate::deadline::{run_detached, run_within, TimeLimit, FRAME, PREPARATION};
 use crate::frame::Frame;
 use crate::light::StoredLight;
 use crate::scene::{dict_of, scene_of, to_py_err};
@@ -32,20 +32,21 @@ pub struct Stages {
 }
 
 /// Run `job` detached (as [`run_detached`]) on a pool of `threads` threads, or on rayon's
-/// global pool (every core) when `None`.
+/// global pool (every core) when `None`, within `limit` (the frame's render).
 fn run_on<T: Send + 'static>(
     py: Python<'_>,
     threads: Option<usize>,
+    limit: Option<TimeLimit>,
     job: impl FnOnce() -> T + Send + 'static,
 ) -> PyResult<T> {
     match threads {
-        None => run_detached(py, job),
+        None => run_within(py, limit, FRAME, move |_| job()),
         Some(n) => {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(n.max(1))
                 .build()
                 .map_err(|e| PyRuntimeError::new_err(format!("threads {n}: {e}")))?;
-            run_detached(py, move || pool.install(job))
+            run_within(py, limit, FRAME, move |_| pool.install(job))
         }
     }
 }
@@ -63,12 +64,13 @@ impl Stages {
     }
 
     /// Render at `light_angle_deg` (default: the scene's), on `threads` threads (default:
-    /// rayon's global pool, every core).
+    /// rayon's global pool, every core), within `limit`.
     fn frame(
         &self,
         py: Python<'_>,
         light_angle_deg: Option<f64>,
         threads: Option<usize>,
+        limit: Option<TimeLimit>,
     ) -> PyResult<Frame> {
         let angle = self.angle(light_angle_deg)?;
         let prepared = self.prepared.clone();
@@ -80,15 +82,23 @@ impl Stages {
             Frame::new(&scene, frame, angle)
         };
         // The same bytes on any number of threads (the core's determinism).
-        run_on(py, threads, job)
+        run_on(py, threads, limit, job)
     }
 }
 
-/// `prepare(scene) -> Stages`: grow the structure and build the optics of a scene dict.
+/// `prepare(scene, time_limit_s=None) -> Stages`: grow the structure and build the optics of
+/// a scene dict, raising `TimeoutError` if that takes more than `time_limit_s` seconds.
 #[pyfunction]
-pub fn prepare(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Stages> {
+#[pyo3(signature = (scene, time_limit_s=None))]
+pub fn prepare(
+    py: Python<'_>,
+    scene: &Bound<'_, PyAny>,
+    time_limit_s: Option<f64>,
+) -> PyResult<Stages> {
+    let limit = TimeLimit::checked(time_limit_s)?;
     let scene = scene_of(scene)?;
-    let prepared = run_detached(py, move || opalray::prepare(&scene))?.map_err(to_py_err)?;
+    let prepared = run_within(py, limit, PREPARATION, move |_| opalray::prepare(&scene))?
+        .map_err(to_py_err)?;
     Ok(Stages {
         prepared: Arc::new(prepared),
         cells: Arc::new(OnceLock::new()),
@@ -114,7 +124,7 @@ pub fn render(
 ) -> PyResult<Frame> {
     let limit = TimeLimit::checked(time_limit_s)?;
     let scene = scene_of(scene)?;
-    let result = run_within(py, limit, move |stage| {
+    let result = run_within(py, limit, PREPARATION, move |stage| {
         let prepared = opalray::prepare(&scene)?;
         let in_passes = opalray::integrator::of(scene.integrator.method()).renders_in_passes();
         let passes_stage = if in_passes {
@@ -177,19 +187,21 @@ impl Stages {
         light_angle_deg: Option<f64>,
         threads: Option<usize>,
     ) -> PyResult<Frame> {
-        self.frame(py, light_angle_deg, threads)
+        self.frame(py, light_angle_deg, threads, None)
     }
 
     /// Render one frame and return only its display codes (H × W × 3 bytes, row-major), as
-    /// a sweep's frames are.
-    #[pyo3(signature = (light_angle_deg, threads=None))]
+    /// a sweep's frames are; `TimeoutError` past `time_limit_s` seconds.
+    #[pyo3(signature = (light_angle_deg, threads=None, time_limit_s=None))]
     fn render_rgb8<'py>(
         &self,
         py: Python<'py>,
         light_angle_deg: f64,
         threads: Option<usize>,
+        time_limit_s: Option<f64>,
     ) -> PyResult<Bound<'py, PyBytes>> {
-        let frame = self.frame(py, Some(light_angle_deg), threads)?;
+        let limit = TimeLimit::checked(time_limit_s)?;
+        let frame = self.frame(py, Some(light_angle_deg), threads, limit)?;
         let codes = opalray::to_display_rgb8(&frame.rgb, &frame.color);
         Ok(PyBytes::new(py, &codes))
     }
@@ -197,8 +209,9 @@ impl Stages {
     /// One sweep frame of the stone in another pose: tilted by `tilt_deg`, turned by
     /// `turn_deg` and the environment rotated by `rotation_deg` (`camera.tilt_deg`,
     /// `camera.turn_deg`, `environment.rotation_deg`), at the scene's light angle; its
-    /// display codes, the bytes `opalray sweep --tilt-from …` gives.
-    #[pyo3(signature = (tilt_deg, turn_deg, rotation_deg, threads=None))]
+    /// display codes, the bytes `opalray sweep --tilt-from …` gives; `TimeoutError` past
+    /// `time_limit_s` seconds.
+    #[pyo3(signature = (tilt_deg, turn_deg, rotation_deg, threads=None, time_limit_s=None))]
     fn render_posed_rgb8<'py>(
         &self,
         py: Python<'py>,
@@ -206,7 +219,9 @@ impl Stages {
         turn_deg: f64,
         rotation_deg: f64,
         threads: Option<usize>,
+        time_limit_s: Option<f64>,
     ) -> PyResult<Bound<'py, PyBytes>> {
+        let limit = TimeLimit::checked(time_limit_s)?;
         let mut camera = self.prepared.scene.camera.clone();
         camera.tilt_deg = tilt_deg;
         camera.turn_deg = turn_deg;
@@ -218,7 +233,7 @@ impl Stages {
             let frame = posed.render(posed.scene.light.angle_deg);
             opalray::to_display_rgb8(&frame.rgb, &posed.scene.color)
         };
-        let codes = run_on(py, threads, job)?;
+        let codes = run_on(py, threads, limit, job)?;
         Ok(PyBytes::new(py, &codes))
     }
 
@@ -233,7 +248,7 @@ impl Stages {
     ) -> PyResult<StoredLight> {
         let angle = self.angle(light_angle_deg)?;
         let (prepared, cells) = (self.prepared.clone(), self.cells.clone());
-        let light = run_on(py, threads, move || {
+        let light = run_on(py, threads, None, move || {
             // Grown when prepared for the two passes, here for another method.
             let structure = prepared.structure()?;
             let cells = cells.get_or_init(|| StoneCells::new(structure));
