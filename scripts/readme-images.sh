@@ -6,7 +6,8 @@ cargo build --release --quiet
 bin=target/release/opalray
 "$bin" render --preset paper --output docs/images/paper.png
 "$bin" sweep --preset paper --frames 7 --width 240 --height 180 --sheet docs/images/paper-sweep.png
-"$bin" structure --output docs/images/structure.png --scale 4
+"$bin" structure --preset paper --output docs/images/structure.png --scale 4
+"$bin" structure --output docs/images/black-opal-structure.png --scale 4
 "$bin" render --preset paper --body-tone 8 --light-angle 45 --output docs/images/white-opal.png --width 320 --height 240
 "$bin" render --preset paper --diameter 215 --light-angle 20 --output docs/images/blue-green.png --width 320 --height 240
 "$bin" spectrum --angles 0,30,60 --plot docs/images/spectrum.png > /dev/null

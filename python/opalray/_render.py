@@ -319,22 +319,19 @@ def render(
     ``progress``: a callable ``(stage, done, total)``, or ``True`` for a tqdm bar; the path
     integrator calls it after every pass (``stage`` says the samples per pixel and the noise
     so far, ``done``/``total`` count samples per pixel), the other methods as their stages
-    finish. ``time_limit``: seconds; the path integrator stops after the pass in which they
-    have passed, and renders up to 65536 samples per pixel unless ``overrides`` set
-    ``integrator={"spp": N}`` (as ``opalray render --time-limit``); ``image.stats["path"]``
-    says how many it reached. The GIL is released while the core works; Ctrl-C interrupts
-    the wait.
+    finish. ``time_limit``: seconds, counted from the call, bounding every stage, the stone's
+    preparation included (as ``opalray render --time-limit``): a stage not done in time raises
+    ``TimeoutError`` naming it, except the path integrator's passes after the first, which stop
+    after the pass in which the time has passed; the path integrator then renders up to 65536
+    samples per pixel unless ``overrides`` set ``integrator={"spp": N}``, and
+    ``image.stats["path"]`` says how many it reached. An overrun stage cannot be stopped: it
+    finishes in the background, on the cores, and is dropped. The GIL is released while the
+    core works; Ctrl-C interrupts the wait.
     """
     scene = as_scene(scene, **overrides)
     path = scene["integrator"]["method"] == "path"
-    if time_limit is not None:
-        if not path:
-            raise ValueError(
-                'time_limit: only the path integrator renders in passes; set integrator.method = "path" '
-                '(e.g. the preset "harlequin") or drop it'
-            )
-        if "spp" not in overrides.get("integrator", {}):
-            scene = scene.replace(integrator={"spp": _MAX_SPP})
+    if time_limit is not None and path and "spp" not in overrides.get("integrator", {}):
+        scene = scene.replace(integrator={"spp": _MAX_SPP})
     if path:
         total = scene["integrator"]["spp"]
         report, close = _progress_of(progress, total, "render")
@@ -351,11 +348,12 @@ def render(
     report, close = _progress_of(progress, 2, "render")
     try:
         if report is None:
-            return Image(_opalray.render(scene.to_dict()), scene)
+            return Image(_opalray.render(scene.to_dict(), time_limit), scene)
         report("structure, optics", 0, 2)
-        stages = prepare(scene)
-        report("light, view, colour", 1, 2)
-        image = stages.render()
+        image = Image(
+            _opalray.render(scene.to_dict(), time_limit, None, lambda _: report("light, view, colour", 1, 2)),
+            scene,
+        )
         report("done", 2, 2)
         return image
     finally:

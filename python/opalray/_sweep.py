@@ -106,14 +106,65 @@ def _choose_moves(scene: Scene, given: dict[str, Sequence[float] | None]) -> tup
     return moves, values
 
 
-def _render_posed(stages: Stages, moves: str, value: float, threads: int | None = None) -> bytes:
-    """One sweep frame's display codes: ``value`` degrees of what ``moves`` moves."""
+def _render_posed(
+    stages: Stages, moves: str, value: float, threads: int | None = None, time_limit: float | None = None
+) -> bytes:
+    """One sweep frame's display codes: ``value`` degrees of what ``moves`` moves;
+    ``TimeoutError`` past ``time_limit`` seconds."""
     if moves == "light":
-        return stages.render_rgb8(value, threads=threads)
+        return stages._stages.render_rgb8(float(value), threads, time_limit)
     scene = stages.scene
     pose = [scene["camera"]["tilt_deg"], scene["camera"]["turn_deg"], scene["environment"]["rotation_deg"]]
     pose[["tilt", "turn", "environment"].index(moves)] = value
-    return stages._stages.render_posed_rgb8(*pose, threads)
+    return stages._stages.render_posed_rgb8(*pose, threads, time_limit)
+
+
+# Longest ``time_limit``, seconds (a week, as the command's ``--time-limit``).
+_MAX_TIME_LIMIT_S = 7 * 24 * 3600.0
+
+
+class _Deadline:
+    """``sweep``'s ``time_limit``: the time left for each stage, counted from the call, and
+    the error naming the stage it passed in."""
+
+    def __init__(self, time_limit: float | None, start: float, out_dir: str | None):
+        if time_limit is not None:
+            ok = isinstance(time_limit, (int, float)) and not isinstance(time_limit, bool)
+            if not (ok and 0 < time_limit <= _MAX_TIME_LIMIT_S):
+                raise ValueError(
+                    f"time_limit {time_limit!r}: must be a number of seconds above 0 and at most "
+                    f"{_MAX_TIME_LIMIT_S}; try 60"
+                )
+        self.time_limit, self.start, self.out_dir = time_limit, start, out_dir
+
+    def left(self, stage: str) -> float | None:
+        """Seconds left for ``stage`` (None without a limit); raises if none are."""
+        if self.time_limit is None:
+            return None
+        left = self.start + self.time_limit - time.perf_counter()
+        if left <= 0:
+            raise self.passed(stage)
+        return left
+
+    def passed(self, stage: str) -> TimeoutError:
+        kept = (
+            "no sheet or animation was written (the frames finished in out_dir stay: the same "
+            "call renders only the rest)"
+            if self.out_dir is not None
+            else "nothing was written"
+        )
+        return TimeoutError(
+            f"time_limit {self.time_limit}: the limit passed during {stage} (it counts from the "
+            f"call, the stone's preparation included); {kept}; raise time_limit, or sweep fewer "
+            "angles or a smaller image (render.width, render.height)"
+        )
+
+    def run(self, stage: str, work: Callable[[float | None], Any]) -> Any:
+        """``work(seconds_left)``, its ``TimeoutError`` named as the sweep's ``stage``."""
+        try:
+            return work(self.left(stage))
+        except TimeoutError:
+            raise self.passed(stage) from None
 
 
 def _render_frame(scene: Scene, moves: str, value: float, threads: int | None = None) -> bytes:
@@ -308,6 +359,7 @@ def sweep(
     columns: int | None = None,
     delay_ms: int = 120,
     progress: Progress | bool | None = None,
+    time_limit: float | None = None,
     **overrides: Any,
 ) -> Sweep:
     """Render ``scene`` (default: the preset of ``opalray render``) at every light angle of
@@ -328,6 +380,10 @@ def sweep(
     ``sheet``/``animation`` (relative paths go under ``out_dir``): the contact sheet (PNG) and
     an animation (``.gif``, or ``.png`` for APNG), byte for byte those of ``opalray sweep``.
     ``progress``: a callable ``(stage, done, total)`` per frame, or ``True`` for a tqdm bar.
+    ``time_limit``: seconds, counted from the call, bounding the stone's preparation and every
+    frame (as ``opalray sweep --time-limit``; not with ``client``): past it ``TimeoutError``
+    names the stage, no sheet or animation is written, and the frames finished in ``out_dir``
+    stay there for the same call to reuse.
     """
     start = time.perf_counter()
     scene = as_scene(scene, **overrides)
@@ -337,6 +393,9 @@ def sweep(
     )
     width, height = scene["render"]["width"], scene["render"]["height"]
     n = len(angles)
+    deadline = _Deadline(time_limit, start, None if out_dir is None else os.fspath(out_dir))
+    if time_limit is not None and client is not None:
+        raise ValueError("time_limit: not with client= (the cluster schedules the frames); drop one of them")
 
     # Where the files go, and which frames are already there.
     frame_paths: list[str] = []
@@ -382,9 +441,14 @@ def sweep(
     try:
         if client is None:
             if missing:
-                stages = prepare(scene)
+                stages = deadline.run(
+                    "the stone's preparation", lambda left: Stages(_opalray.prepare(scene.to_dict(), left), scene)
+                )
                 for k in missing:
-                    finish(k, _render_posed(stages, moves, angles[k]))
+                    codes = deadline.run(
+                        f"frame {k + 1} of {n}", lambda left: _render_posed(stages, moves, angles[k], None, left)
+                    )
+                    finish(k, codes)
         elif missing:
             from dask.distributed import as_completed
 

@@ -2,6 +2,7 @@
 presets, progress per pass and a time limit."""
 
 import subprocess
+import time
 
 import numpy as np
 import pytest
@@ -45,16 +46,38 @@ def test_a_path_traced_render_reports_every_pass():
 
 def test_a_time_limit_stops_after_the_pass_it_falls_in():
     gem = opalray.Scene.preset("black-opal").replace(
-        render={"width": 16, "height": 12}, integrator={"method": "path"}
+        render={"width": 8, "height": 6}, integrator={"method": "path"}
     )
-    image = opalray.render(gem, time_limit=1e-3)
+    # Long enough for the stone (a few hundred grains) and the first pass, on a busy machine.
+    image = opalray.render(gem, time_limit=2.0)
     path = image.stats["path"]
-    assert path["stopped_by_time_limit"] and path["passes"] == 1
-    assert path["spp"] < path["target_spp"] == 65536
+    assert path["stopped_by_time_limit"] and path["spp"] < path["target_spp"] == 65536
+    assert path["time_limit_s"] == 2.0
     # The image is the one of the samples reached.
     again = opalray.render(gem, integrator={"spp": path["spp"]})
     np.testing.assert_array_equal(image.srgb8, again.srgb8)
     with pytest.raises(ValueError, match="time_limit"):
-        opalray.render(opalray.Scene.preset("paper"), time_limit=10)
-    with pytest.raises(ValueError, match="time_limit"):
         opalray.render(gem, time_limit=-1)
+    with pytest.raises(ValueError, match="time_limit"):
+        opalray.render(gem, time_limit=1e9)
+
+
+def test_a_time_limit_bounds_every_method_and_the_stones_preparation():
+    # Orientations correlated over 0.35 mm: some 50 000 parent grains, seconds to grow.
+    slow = opalray.Scene.preset("black-opal").replace(
+        render={"width": 8, "height": 6},
+        domains={"orientation": "correlated", "correlation_mm": 0.35},
+    )
+    for method in ("path", "lobe"):
+        start = time.monotonic()
+        with pytest.raises(TimeoutError) as err:
+            opalray.render(slow, integrator={"method": method}, time_limit=0.2)
+        took = time.monotonic() - start
+        message = str(err.value)
+        assert message.startswith("time_limit 0.2: the limit passed during the stone's preparation"), message
+        assert "\n" not in message and "--" not in message, message
+        assert took < 1.5, f"{method}: {took:.2f} s"
+    # A method that does not render in passes takes the limit too, and renders in time the
+    # bytes it renders without it.
+    paper = opalray.Scene.preset("paper").replace(render={"width": 16, "height": 12})
+    np.testing.assert_array_equal(opalray.render(paper, time_limit=60).srgb8, opalray.render(paper).srgb8)

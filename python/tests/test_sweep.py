@@ -227,3 +227,41 @@ def test_a_sweep_that_moves_nothing_is_refused_naming_what_would():
         opalray.sweep(_gem(), tilt_deg=[0.0], turn_deg=[0.0])
     with pytest.raises(ValueError, match="tilt_deg 100.0"):
         opalray.sweep(_gem(), tilt_deg=[100.0])
+
+
+def test_a_time_limit_bounds_the_sweep_and_keeps_the_finished_frames(tmp_path, small):
+    import os
+    import time
+
+    # Orientations correlated over 0.35 mm: some 50 000 parent grains, seconds to grow.
+    slow = opalray.Scene.preset("black-opal").replace(
+        render={"width": 8, "height": 6}, domains={"orientation": "correlated", "correlation_mm": 0.35}
+    )
+    start = time.monotonic()
+    with pytest.raises(TimeoutError) as err:
+        opalray.sweep(slow, tilt_deg=[-10.0, 10.0], time_limit=0.2, out_dir=tmp_path / "slow")
+    message = str(err.value)
+    assert message.startswith("time_limit 0.2: the limit passed during the stone's preparation"), message
+    assert "\n" not in message and "--" not in message, message
+    assert time.monotonic() - start < 1.5
+    assert sorted(os.listdir(tmp_path / "slow")) == ["scene.toml", "sweep.json"]
+    # Path-traced frames of a fraction of a second each: the limit passes during one of them
+    # (or, on a machine too busy to prepare the stone in time, before the first).
+    gem = opalray.Scene.preset("black-opal").replace(
+        render={"width": 8, "height": 6}, integrator={"method": "path", "spp": 16}
+    )
+    tilts = [-30.0, -10.0, 10.0, 30.0]
+    with pytest.raises(TimeoutError, match=r"^time_limit 1\.0: the limit passed during (frame|the stone)"):
+        opalray.sweep(gem, tilt_deg=tilts, time_limit=1.0, out_dir=tmp_path / "gem")
+    kept = sorted(os.listdir(tmp_path / "gem"))
+    assert "sweep.png" not in kept and len(kept) < 2 + len(tilts), kept
+    # The same call again renders only the rest, and the frames of a sweep never stopped.
+    resumed = opalray.sweep(gem, tilt_deg=tilts, out_dir=tmp_path / "gem")
+    assert len(resumed.rendered) == 2 + len(tilts) - len(kept)
+    whole = opalray.sweep(gem, tilt_deg=tilts)
+    for a, b in zip(resumed.frames, whole.frames):
+        np.testing.assert_array_equal(a, b)
+    for bad in (0, -1, float("nan"), 1e9, True):
+        with pytest.raises(ValueError, match="time_limit"):
+            opalray.sweep(small, ANGLES, time_limit=bad, out_dir=tmp_path / "never")
+    assert not (tmp_path / "never").exists()

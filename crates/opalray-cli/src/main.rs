@@ -33,7 +33,7 @@ const ENVIRONMENT_HELP: &str = "Environment:
 
 #[derive(Subcommand)]
 enum Command {
-    /// Grow the opal's cluster/void structure and draw the orientation map (paper fig. 9).
+    /// Draw a slice of the stone that is rendered, coloured by orientation (paper fig. 9).
     Structure(cmd::structure::Args),
     /// Print a complete scene as TOML, to start a scene file from.
     Scene(cmd::scene::Args),

@@ -153,22 +153,13 @@ fn the_time_limit_stops_a_slow_preparation_in_time_and_writes_nothing() {
     }
 }
 
-#[test]
-fn a_render_of_an_hour_says_so_before_any_work() {
+/// The first line the command run with `args` (on 2 threads) writes to stderr, the command
+/// killed then; and the files it left.
+fn first_line(args: &[&str]) -> (String, Vec<String>) {
     use std::io::BufRead;
     let dir = tempfile::tempdir().unwrap();
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_opalray"))
-        .args([
-            "render",
-            "--preset",
-            "black-opal",
-            "--method",
-            "path",
-            "--width",
-            "2048",
-            "--height",
-            "1536",
-        ])
+        .args(args)
         .current_dir(dir.path())
         .env("RAYON_NUM_THREADS", "2")
         .stderr(std::process::Stdio::piped())
@@ -180,9 +171,177 @@ fn a_render_of_an_hour_says_so_before_any_work() {
         .unwrap();
     child.kill().unwrap();
     child.wait().unwrap();
+    (first, common::files_in(dir.path()))
+}
+
+#[test]
+fn a_render_of_an_hour_says_so_before_any_work() {
+    let (first, files) = first_line(&[
+        "render",
+        "--preset",
+        "black-opal",
+        "--method",
+        "path",
+        "--width",
+        "2048",
+        "--height",
+        "1536",
+    ]);
     // 2048 × 1536 px × 4 spp at 600 µs a sample on 2 threads: about an hour.
     assert!(first.starts_with("note: about "), "{first}");
     assert!(first.contains(" min of work by the estimate"), "{first}");
     assert!(first.contains("path samples"), "{first}");
-    assert!(common::files_in(dir.path()).is_empty());
+    assert!(files.is_empty());
+}
+
+#[test]
+fn long_renders_of_the_other_methods_say_so_before_any_work() {
+    // The lobe integrator: 3.1e6 px at 30 + 3 × 22 µs on 2 threads, about 2.5 min; the
+    // stored method: 1.2e7 px at 4 + 63 × 0.5 µs, about 3.7 min; a sweep of 20 such frames
+    // of the paper's two passes: 1.3e6 light rays a frame at 2 µs and 1.2e7 px at 0.5 µs,
+    // about 1.5 min.
+    for (args, rays) in [
+        (
+            &["render", "--width", "2048", "--height", "1536"][..],
+            "camera rays of the lobe",
+        ),
+        (
+            &[
+                "render",
+                "--preset",
+                "paper-stone",
+                "--width",
+                "4096",
+                "--height",
+                "3072",
+                "--spp",
+                "64",
+            ],
+            "camera rays of the stored",
+        ),
+        (
+            &[
+                "sweep", "--preset", "paper", "--frames", "20", "--width", "4096", "--height",
+                "3072", "--rays", "1310720",
+            ],
+            "light rays",
+        ),
+    ] {
+        let (first, files) = first_line(args);
+        assert!(first.starts_with("note: about "), "{args:?}: {first}");
+        assert!(
+            first.contains(" of work by the estimate"),
+            "{args:?}: {first}"
+        );
+        assert!(first.contains(rays), "{args:?}: {first}");
+        assert!(
+            first.contains("--time-limit SECONDS bounds it"),
+            "{args:?}: {first}"
+        );
+        assert!(files.is_empty(), "{args:?}: {files:?}");
+    }
+}
+
+/// One `error:` line on stderr, the command's exit 2, within `seconds`.
+fn refused_in_time(out: &std::process::Output, took: Duration, seconds: u64) -> String {
+    let err = stderr(out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(errors.len(), 1, "{err}");
+    assert!(took < Duration::from_secs(seconds), "took {took:?}: {err}");
+    errors[0].to_string()
+}
+
+#[test]
+fn a_sweeps_time_limit_stops_its_preparation_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    slow_stone(dir.path());
+    std::fs::write(dir.path().join("keep.png"), b"the user's file").unwrap();
+    let start = Instant::now();
+    let out = common::opalray(
+        dir.path(),
+        &[
+            "sweep",
+            "slow.toml",
+            "--frames",
+            "3",
+            "--width",
+            "8",
+            "--height",
+            "6",
+            "--time-limit",
+            "0.2",
+            "--sheet",
+            "keep.png",
+            "--animation",
+            "a.gif",
+            "--stats",
+            "stats.json",
+        ],
+    );
+    let error = refused_in_time(&out, start.elapsed(), 5);
+    assert!(
+        error.contains("--time-limit 0.2: the limit passed during the stone's preparation"),
+        "{error}"
+    );
+    assert!(error.contains("nothing was written"), "{error}");
+    assert_eq!(
+        std::fs::read(dir.path().join("keep.png")).unwrap(),
+        b"the user's file"
+    );
+    assert_eq!(common::files_in(dir.path()), ["keep.png", "slow.toml"]);
+}
+
+#[test]
+fn a_sweep_past_its_time_limit_keeps_finished_frames_for_resume_and_writes_no_sheet() {
+    // Path-traced frames of about half a second each: the limit passes during one of them.
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = |extra: &[&str]| {
+        let mut args = vec![
+            "sweep",
+            "--method",
+            "path",
+            "--spp",
+            "16",
+            "--frames",
+            "4",
+            "--width",
+            "8",
+            "--height",
+            "6",
+            "--frames-dir",
+            "frames",
+            "--stats",
+            "stats.json",
+        ];
+        args.extend_from_slice(extra);
+        let start = Instant::now();
+        let out = common::opalray(dir.path(), &args);
+        (out, start.elapsed())
+    };
+    let (out, took) = sweep(&["--time-limit", "1.5"]);
+    let error = refused_in_time(&out, took, 5);
+    assert!(
+        error.contains("--time-limit 1.5: the limit passed during frame ")
+            // A machine so busy that the stone (0.4 s of processor time) takes the limit:
+            // no frame finished, and the resume below renders them all.
+            || error.contains("--time-limit 1.5: the limit passed during the stone's"),
+        "{error}"
+    );
+    assert!(error.contains("--resume renders only the rest"), "{error}");
+    // No sheet or stats; the frames folder holds whole frames of this sweep only.
+    assert_eq!(common::files_in(dir.path()), ["frames"]);
+    let kept = common::files_in(&dir.path().join("frames"));
+    assert!(
+        kept.len() < 5 && kept.contains(&"sweep.json".to_string()),
+        "{kept:?}"
+    );
+    // Resumed, the sweep gives the bytes of one never stopped.
+    let (out, _) = sweep(&["--resume", "--sheet", "resumed.png"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    std::fs::remove_dir_all(dir.path().join("frames")).unwrap();
+    let (out, _) = sweep(&["--sheet", "whole.png"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert_eq!(read("resumed.png"), read("whole.png"));
 }

@@ -23,6 +23,8 @@ fn structure_writes_the_map_and_the_stats() {
         dir.path(),
         &[
             "structure",
+            "--preset",
+            "paper",
             "--scale",
             "2",
             "--output",
@@ -55,6 +57,81 @@ fn structure_writes_the_map_and_the_stats() {
     assert!(stats["mean_radius_cells"].as_f64().unwrap() > 0.0);
     assert!(stats["time_s"]["structure"].as_f64().unwrap() >= 0.0);
     assert_eq!(files_in(dir.path()), ["map.png", "stats.json"]);
+}
+
+/// The RGBA pixels of a PNG of 8-bit RGBA.
+fn rgba(path: &Path) -> Vec<[u8; 4]> {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    buf[..info.buffer_size()]
+        .chunks_exact(4)
+        .map(|p| [p[0], p[1], p[2], p[3]])
+        .collect()
+}
+
+#[test]
+fn structure_draws_the_gems_stone_that_is_rendered_not_the_papers_cells() {
+    let dir = tempfile::tempdir().unwrap();
+    for (preset, name) in [
+        ("black-opal", "gem"),
+        ("paper", "paper"),
+        ("pinfire", "pinfire"),
+    ] {
+        let out = opalray(
+            dir.path(),
+            &[
+                "structure",
+                "--preset",
+                preset,
+                "--scale",
+                "2",
+                "--output",
+                &format!("{name}.png"),
+                "--stats",
+                &format!("{name}.json"),
+            ],
+        );
+        assert!(out.status.success(), "{preset}: {}", stderr(&out));
+    }
+    let stats = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join(name)).unwrap()).unwrap()
+    };
+    let gem = stats("gem.json");
+    assert_eq!(gem["method"], "lobe", "{gem}");
+    assert!(gem["domains_cut"].as_u64().unwrap() > 1, "{gem}");
+    assert!(
+        gem["domains"].as_u64().unwrap() > gem["domains_cut"].as_u64().unwrap(),
+        "{gem}"
+    );
+    assert!(stats("paper.json")["void_ratio"].as_f64().is_some());
+    // The black opal's plates settle within an RMS 20° of the face (scenes/black-opal.toml,
+    // `orientation = "settled"`): a (111) normal coloured (|nx|, |ny|, |nz|) is bluest in
+    // nearly every domain pixel (black outlines and grey potch left out). The pinfire's
+    // grains, oriented at random, are bluest in about a third (|nz| the largest of three).
+    let bluest = |name: &str| {
+        let pixels = rgba(&dir.path().join(name));
+        let domain: Vec<_> = pixels
+            .iter()
+            .filter(|p| p[3] == 255 && *p != &[0, 0, 0, 255] && !(p[0] == p[1] && p[1] == p[2]))
+            .collect();
+        // A unit normal: R² + G² + B² = 255² within the rounding.
+        for p in &domain {
+            let norm = p[..3]
+                .iter()
+                .map(|&c| f64::from(c).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            assert!((norm - 255.0).abs() < 1.5, "{name}: {p:?}");
+        }
+        let blue = domain.iter().filter(|p| p[2] > p[0].max(p[1])).count();
+        blue as f64 / domain.len() as f64
+    };
+    let (settled, random) = (bluest("gem.png"), bluest("pinfire.png"));
+    assert!(settled > 0.95, "{settled}");
+    assert!((0.2..0.5).contains(&random), "{random}");
 }
 
 #[test]

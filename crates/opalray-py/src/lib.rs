@@ -6,6 +6,7 @@
 //!
 //! - [`scene`]: dict ↔ `Scene`, errors as `ValueError`.
 //! - [`stages`]: `prepare` and `render`, the structure and optics as arrays.
+//! - [`deadline`]: waiting for the core without the GIL, within `time_limit`.
 //! - [`frame`]: a rendered frame's arrays and files.
 //! - [`light`]: the light pass's stored light as arrays.
 //! - [`stone`]: the stone model's domains as arrays.
@@ -14,6 +15,7 @@
 // registration, argument extraction); this crate itself writes no `unsafe` block.
 #![allow(unsafe_code)]
 
+pub mod deadline;
 pub mod frame;
 pub mod light;
 pub mod scene;

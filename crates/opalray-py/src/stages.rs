@@ -2,9 +2,7 @@
 //! of it at any light angle. The render runs on its own thread while the calling thread waits
 //! without the GIL, so other Python threads run and Ctrl-C returns at once.
 
-use std::sync::mpsc::{channel, RecvTimeoutError};
 use std::sync::{Arc, OnceLock};
-use std::time::Duration;
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2};
@@ -15,39 +13,11 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
+use crate::deadline::{run_detached, run_within, TimeLimit, FRAME, PREPARATION};
 use crate::frame::Frame;
 use crate::light::StoredLight;
 use crate::scene::{dict_of, scene_of, to_py_err};
 use crate::stone::StoneModel;
-
-/// How often a waiting call looks for Ctrl-C (and other signals).
-const SIGNAL_POLL: Duration = Duration::from_millis(50);
-
-/// Run `job` on a new thread and wait for it without the GIL, checking for signals: a
-/// `KeyboardInterrupt` returns at once (the job finishes in the background and is dropped).
-pub(crate) fn run_detached<T: Send + 'static>(
-    py: Python<'_>,
-    job: impl FnOnce() -> T + Send + 'static,
-) -> PyResult<T> {
-    let (tx, rx) = channel();
-    std::thread::spawn(move || {
-        // The receiver is gone only if the caller was interrupted: nothing to report to.
-        let _ = tx.send(job());
-    });
-    let mut rx = rx;
-    loop {
-        // The receiver moves into the GIL-free closure and back (it is `Send`, not `Sync`).
-        let (received, back) = py.detach(move || (rx.recv_timeout(SIGNAL_POLL), rx));
-        rx = back;
-        match received {
-            Ok(value) => return Ok(value),
-            Err(RecvTimeoutError::Timeout) => py.check_signals()?,
-            Err(RecvTimeoutError::Disconnected) => {
-                return Err(PyRuntimeError::new_err("the render thread panicked"))
-            }
-        }
-    }
-}
 
 /// A prepared scene: the grown structure and the optics tables, computed once; renders at
 /// any light angle reuse them (and the stone's cell layout).
@@ -62,20 +32,21 @@ pub struct Stages {
 }
 
 /// Run `job` detached (as [`run_detached`]) on a pool of `threads` threads, or on rayon's
-/// global pool (every core) when `None`.
+/// global pool (every core) when `None`, within `limit` (the frame's render).
 fn run_on<T: Send + 'static>(
     py: Python<'_>,
     threads: Option<usize>,
+    limit: Option<TimeLimit>,
     job: impl FnOnce() -> T + Send + 'static,
 ) -> PyResult<T> {
     match threads {
-        None => run_detached(py, job),
+        None => run_within(py, limit, FRAME, move |_| job()),
         Some(n) => {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(n.max(1))
                 .build()
                 .map_err(|e| PyRuntimeError::new_err(format!("threads {n}: {e}")))?;
-            run_detached(py, move || pool.install(job))
+            run_within(py, limit, FRAME, move |_| pool.install(job))
         }
     }
 }
@@ -93,12 +64,13 @@ impl Stages {
     }
 
     /// Render at `light_angle_deg` (default: the scene's), on `threads` threads (default:
-    /// rayon's global pool, every core).
+    /// rayon's global pool, every core), within `limit`.
     fn frame(
         &self,
         py: Python<'_>,
         light_angle_deg: Option<f64>,
         threads: Option<usize>,
+        limit: Option<TimeLimit>,
     ) -> PyResult<Frame> {
         let angle = self.angle(light_angle_deg)?;
         let prepared = self.prepared.clone();
@@ -110,15 +82,23 @@ impl Stages {
             Frame::new(&scene, frame, angle)
         };
         // The same bytes on any number of threads (the core's determinism).
-        run_on(py, threads, job)
+        run_on(py, threads, limit, job)
     }
 }
 
-/// `prepare(scene) -> Stages`: grow the structure and build the optics of a scene dict.
+/// `prepare(scene, time_limit_s=None) -> Stages`: grow the structure and build the optics of
+/// a scene dict, raising `TimeoutError` if that takes more than `time_limit_s` seconds.
 #[pyfunction]
-pub fn prepare(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Stages> {
+#[pyo3(signature = (scene, time_limit_s=None))]
+pub fn prepare(
+    py: Python<'_>,
+    scene: &Bound<'_, PyAny>,
+    time_limit_s: Option<f64>,
+) -> PyResult<Stages> {
+    let limit = TimeLimit::checked(time_limit_s)?;
     let scene = scene_of(scene)?;
-    let prepared = run_detached(py, move || opalray::prepare(&scene))?.map_err(to_py_err)?;
+    let prepared = run_within(py, limit, PREPARATION, move |_| opalray::prepare(&scene))?
+        .map_err(to_py_err)?;
     Ok(Stages {
         prepared: Arc::new(prepared),
         cells: Arc::new(OnceLock::new()),
@@ -126,46 +106,66 @@ pub fn prepare(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Stages> {
     })
 }
 
-/// `render(scene, time_limit_s=None, on_pass=None) -> Frame`: the whole chain for a scene
-/// dict, as `opalray render` runs it. The path integrator stops after the pass in which
-/// `time_limit_s` seconds have passed, and calls `on_pass(passes, spp, target_spp,
-/// elapsed_s, noise)` after every pass (noise `None` before two samples per pixel); the
-/// other methods ignore both.
+/// `render(scene, time_limit_s=None, on_pass=None, on_stage=None) -> Frame`: the whole chain
+/// for a scene dict, as `opalray render` runs it. `time_limit_s` bounds every stage, counted
+/// from the call, the stone's preparation included: a stage not done in time raises
+/// `TimeoutError` naming it, except the path tracer's passes after the first, which stop after
+/// the pass in which the time has passed. `on_pass(passes, spp, target_spp, elapsed_s,
+/// noise)` is called after every pass of the path tracer (noise `None` before two samples per
+/// pixel), `on_stage(stage)` as the stone is ready and the passes begin.
 #[pyfunction]
-#[pyo3(signature = (scene, time_limit_s=None, on_pass=None))]
+#[pyo3(signature = (scene, time_limit_s=None, on_pass=None, on_stage=None))]
 pub fn render(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     time_limit_s: Option<f64>,
     on_pass: Option<Py<PyAny>>,
+    on_stage: Option<Py<PyAny>>,
 ) -> PyResult<Frame> {
+    let limit = TimeLimit::checked(time_limit_s)?;
     let scene = scene_of(scene)?;
-    let time_limit = match time_limit_s {
-        Some(t) if !(t.is_finite() && t > 0.0) => {
-            return Err(PyValueError::new_err(format!(
-                "time_limit {t}: must be a number of seconds above 0; try 60"
-            )))
-        }
-        t => t.map(Duration::from_secs_f64),
-    };
-    let result = run_detached(py, move || {
+    let result = run_within(py, limit, PREPARATION, move |stage| {
         let prepared = opalray::prepare(&scene)?;
+        let in_passes = opalray::integrator::of(scene.integrator.method()).renders_in_passes();
+        let passes_stage = if in_passes {
+            "the first pass of paths (2 samples per pixel)"
+        } else {
+            "the light and view passes"
+        };
+        stage.enter(passes_stage);
+        if let (Some(callback), false) = (&on_stage, stage.abandoned()) {
+            Python::attach(|py| {
+                if let Err(err) = callback.call1(py, (passes_stage,)) {
+                    err.print(py);
+                }
+            });
+        }
         let report = |r: &opalray::path::PassReport| {
-            if let Some(callback) = &on_pass {
-                Python::attach(|py| {
-                    let args = (r.passes, r.spp, r.target_spp, r.elapsed_s, r.noise);
-                    if let Err(err) = callback.call1(py, args) {
-                        err.print(py);
-                    }
-                });
+            if r.passes == 1 {
+                stage.release();
             }
+            let Some(callback) = &on_pass else { return };
+            if stage.abandoned() {
+                return;
+            }
+            Python::attach(|py| {
+                let args = (r.passes, r.spp, r.target_spp, r.elapsed_s, r.noise);
+                if let Err(err) = callback.call1(py, args) {
+                    err.print(py);
+                }
+            });
         };
         let passes = opalray::path::Passes {
-            time_limit,
+            // The passes get what the preparation left of the limit.
+            time_limit: limit.map(|l| l.left()),
             on_pass: Some(&report),
             ..Default::default()
         };
-        let frame = prepared.render_progressive(scene.light.angle_deg, &passes);
+        let mut frame = prepared.render_progressive(scene.light.angle_deg, &passes);
+        if let Some(path) = &mut frame.path {
+            // The passes had what the preparation left of it; the limit is the caller's.
+            path.time_limit_s = time_limit_s;
+        }
         Ok(Frame::new(&scene, frame, scene.light.angle_deg))
     })?;
     result.map_err(to_py_err)
@@ -187,19 +187,21 @@ impl Stages {
         light_angle_deg: Option<f64>,
         threads: Option<usize>,
     ) -> PyResult<Frame> {
-        self.frame(py, light_angle_deg, threads)
+        self.frame(py, light_angle_deg, threads, None)
     }
 
     /// Render one frame and return only its display codes (H × W × 3 bytes, row-major), as
-    /// a sweep's frames are.
-    #[pyo3(signature = (light_angle_deg, threads=None))]
+    /// a sweep's frames are; `TimeoutError` past `time_limit_s` seconds.
+    #[pyo3(signature = (light_angle_deg, threads=None, time_limit_s=None))]
     fn render_rgb8<'py>(
         &self,
         py: Python<'py>,
         light_angle_deg: f64,
         threads: Option<usize>,
+        time_limit_s: Option<f64>,
     ) -> PyResult<Bound<'py, PyBytes>> {
-        let frame = self.frame(py, Some(light_angle_deg), threads)?;
+        let limit = TimeLimit::checked(time_limit_s)?;
+        let frame = self.frame(py, Some(light_angle_deg), threads, limit)?;
         let codes = opalray::to_display_rgb8(&frame.rgb, &frame.color);
         Ok(PyBytes::new(py, &codes))
     }
@@ -207,8 +209,9 @@ impl Stages {
     /// One sweep frame of the stone in another pose: tilted by `tilt_deg`, turned by
     /// `turn_deg` and the environment rotated by `rotation_deg` (`camera.tilt_deg`,
     /// `camera.turn_deg`, `environment.rotation_deg`), at the scene's light angle; its
-    /// display codes, the bytes `opalray sweep --tilt-from …` gives.
-    #[pyo3(signature = (tilt_deg, turn_deg, rotation_deg, threads=None))]
+    /// display codes, the bytes `opalray sweep --tilt-from …` gives; `TimeoutError` past
+    /// `time_limit_s` seconds.
+    #[pyo3(signature = (tilt_deg, turn_deg, rotation_deg, threads=None, time_limit_s=None))]
     fn render_posed_rgb8<'py>(
         &self,
         py: Python<'py>,
@@ -216,7 +219,9 @@ impl Stages {
         turn_deg: f64,
         rotation_deg: f64,
         threads: Option<usize>,
+        time_limit_s: Option<f64>,
     ) -> PyResult<Bound<'py, PyBytes>> {
+        let limit = TimeLimit::checked(time_limit_s)?;
         let mut camera = self.prepared.scene.camera.clone();
         camera.tilt_deg = tilt_deg;
         camera.turn_deg = turn_deg;
@@ -228,7 +233,7 @@ impl Stages {
             let frame = posed.render(posed.scene.light.angle_deg);
             opalray::to_display_rgb8(&frame.rgb, &posed.scene.color)
         };
-        let codes = run_on(py, threads, job)?;
+        let codes = run_on(py, threads, limit, job)?;
         Ok(PyBytes::new(py, &codes))
     }
 
@@ -243,7 +248,7 @@ impl Stages {
     ) -> PyResult<StoredLight> {
         let angle = self.angle(light_angle_deg)?;
         let (prepared, cells) = (self.prepared.clone(), self.cells.clone());
-        let light = run_on(py, threads, move || {
+        let light = run_on(py, threads, None, move || {
             // Grown when prepared for the two passes, here for another method.
             let structure = prepared.structure()?;
             let cells = cells.get_or_init(|| StoneCells::new(structure));

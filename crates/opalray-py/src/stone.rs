@@ -11,7 +11,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
 
-use crate::stages::run_detached;
+use crate::deadline::run_detached;
 
 /// The id `domain_ids` gives a point in potch (inside the stone, in no domain).
 pub const POTCH: i32 = -1;

@@ -12,10 +12,30 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Result};
 
+/// Longest `--time-limit`, seconds (a week).
+const MAX_TIME_LIMIT_S: f64 = 7.0 * 24.0 * 3600.0;
+
+/// The stage every command's work begins with.
+const PREPARATION: &str = "the stone's preparation";
+
+/// `--time-limit SECONDS` checked: more than 0 and at most a week.
+pub fn checked(limit: Option<f64>) -> Result<Option<Duration>> {
+    match limit {
+        None => Ok(None),
+        Some(s) if s.is_finite() && s > 0.0 && s <= MAX_TIME_LIMIT_S => {
+            Ok(Some(Duration::from_secs_f64(s)))
+        }
+        Some(s) => bail!(
+            "--time-limit {s}: must be more than 0 and at most {MAX_TIME_LIMIT_S} seconds; \
+             try 60"
+        ),
+    }
+}
+
 /// What the worker tells the waiting thread.
 enum Event {
     /// A stage begins (its name as the error would say it).
-    Enter(&'static str),
+    Enter(String),
     /// The rest bounds itself: wait without a deadline.
     Release,
     /// The work is over (its result is the worker's return value).
@@ -32,8 +52,8 @@ impl Stage {
     }
 
     /// The work enters `stage` (e.g. "the first pass of paths").
-    pub fn enter(&self, stage: &'static str) {
-        self.send(Event::Enter(stage));
+    pub fn enter(&self, stage: impl Into<String>) {
+        self.send(Event::Enter(stage.into()));
     }
 
     /// From here the work keeps to the limit itself (a time-limited path tracer after its
@@ -58,6 +78,22 @@ where
     T: Send + 'static,
     F: FnOnce(&Stage) -> Result<T> + Send + 'static,
 {
+    within_stage(limit, started, PREPARATION, fix, work)
+}
+
+/// [`within`], the work beginning in stage `first` (e.g. "frame 3 of 9") rather than the
+/// stone's preparation.
+pub fn within_stage<T, F>(
+    limit: Option<Duration>,
+    started: Instant,
+    first: &str,
+    fix: &str,
+    work: F,
+) -> Result<T>
+where
+    T: Send + 'static,
+    F: FnOnce(&Stage) -> Result<T> + Send + 'static,
+{
     let Some(limit) = limit else {
         return work(&Stage::unbounded());
     };
@@ -71,7 +107,7 @@ where
             result
         })?;
     let deadline = started + limit;
-    let mut stage = "the stone's preparation";
+    let mut stage = first.to_string();
     let mut bounded = true;
     loop {
         let event = if bounded {
@@ -80,7 +116,7 @@ where
                 Ok(event) => event,
                 Err(mpsc::RecvTimeoutError::Timeout) => bail!(
                     "--time-limit {}: the limit passed during {stage} (it counts from the \
-                     start, the stone's preparation included); nothing was written; {fix}",
+                     start, the stone's preparation included); {fix}",
                     limit.as_secs_f64()
                 ),
                 Err(mpsc::RecvTimeoutError::Disconnected) => Event::Done,
@@ -110,7 +146,7 @@ mod tests {
         let err = within(
             Some(Duration::from_millis(100)),
             started,
-            "raise it",
+            "nothing was written; raise it",
             |stage| {
                 stage.enter("the slow stage");
                 std::thread::sleep(Duration::from_secs(5));
@@ -124,7 +160,7 @@ mod tests {
             err.contains("--time-limit 0.1: the limit passed during the slow stage"),
             "{err}"
         );
-        assert!(err.ends_with("raise it"), "{err}");
+        assert!(err.ends_with("; nothing was written; raise it"), "{err}");
     }
 
     #[test]

@@ -10,6 +10,7 @@ pub mod motion;
 pub mod render;
 pub mod scene;
 pub mod spectrum;
+pub mod stone_slice;
 pub mod structure;
 pub mod sweep;
 pub mod video;

@@ -55,9 +55,6 @@ pub struct Args {
     pub time_limit: Option<f64>,
 }
 
-/// Longest `--time-limit`, seconds (a week).
-const MAX_TIME_LIMIT_S: f64 = 7.0 * 24.0 * 3600.0;
-
 /// Run `opalray render`.
 pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
@@ -84,30 +81,20 @@ pub fn run(args: Args) -> Result<()> {
     }
     // The renderer first: what --time-limit may do depends on it.
     args.look.apply_method(&mut scene)?;
-    let time_limit = match args.time_limit {
-        Some(limit) => {
-            if !(limit.is_finite() && limit > 0.0 && limit <= MAX_TIME_LIMIT_S) {
-                anyhow::bail!(
-                    "--time-limit {limit}: must be more than 0 and at most {MAX_TIME_LIMIT_S} \
-                     seconds; try 60"
-                );
-            }
-            if opalray::integrator::of(scene.integrator.method()).renders_in_passes()
-                && args.look.spp.is_none()
-            {
-                scene.integrator.set_spp(MAX_SPP);
-            }
-            Some(Duration::from_secs_f64(limit))
-        }
-        None => None,
-    };
+    let time_limit = super::deadline::checked(args.time_limit)?;
+    if time_limit.is_some()
+        && opalray::integrator::of(scene.integrator.method()).renders_in_passes()
+        && args.look.spp.is_none()
+    {
+        scene.integrator.set_spp(MAX_SPP);
+    }
     args.look.apply(&mut scene)?;
     if args.scene.shown(&scene)? {
         return Ok(());
     }
     super::memory::check(&scene, super::memory::Extra::default())?;
     if time_limit.is_none() {
-        super::work::announce(&scene, 1, true);
+        super::work::announce(&scene, 1);
     }
     let job = scene.clone();
     let mut frame = super::deadline::within(time_limit, started, TIME_LIMIT_FIX, move |stage| {
@@ -218,7 +205,8 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 /// What to do when a stage overruns `--time-limit`.
-const TIME_LIMIT_FIX: &str = "raise --time-limit, or render a lighter scene: fewer grains \
+const TIME_LIMIT_FIX: &str =
+    "nothing was written; raise --time-limit, or render a lighter scene: fewer grains \
      (a larger domains.grain_size_mm), a smaller image (--width, --height), fewer --rays";
 
 /// Prepare and render `scene`, the path integrator's passes within `budget` (the rest of

@@ -1,11 +1,16 @@
-//! `opalray structure`: grow the cluster/void structure (paper §2.4) and write the
-//! orientation map of one z slice (paper fig. 9), with optional statistics as JSON.
+//! `opalray structure`: draw one z slice of the stone that is rendered, coloured by
+//! orientation (paper fig. 9), with optional statistics as JSON: the paper's grown
+//! cluster/void cells (§2.4) for its two passes, the stone's domains (grains or plates,
+//! [`super::stone_slice`]) for the other methods.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Result};
+use opalray::scene::Method;
+use opalray::stone::Stone;
 use opalray::structure::{self, map::MAX_SCALE};
+use opalray::Scene;
 
 use super::common::{write_json, SceneArgs};
 use crate::outputs::Outputs;
@@ -13,33 +18,37 @@ use crate::outputs::Outputs;
 const EXAMPLES: &str = "\
 Examples:
   opalray structure
-      the default scene's grid (black-opal, as `opalray render`: 100 × 75 × 25 cells,
-      R = 6, void ratio 0.2), slice z = 0, written to structure.png
+      the default scene's stone (black-opal, as `opalray render`: its settled plates),
+      the slice through its colour bar, written to structure.png
   opalray structure --preset paper
-      the paper's opal
+      the paper's opal: its grown cells (100 × 75 × 25, R = 6, void ratio 0.2), z = 0
   opalray structure --seed 7 --slice-z 3 --output slice3.png --stats stats.json
   opalray structure my-opal.toml --scale 2
       a scene file (start one with `opalray scene > my-opal.toml`)";
 
-/// Grow the opal's cluster/void structure and draw one slice coloured by orientation.
+/// Draw one slice of the stone that is rendered, coloured by orientation.
 ///
-/// Each cluster cell is coloured by its (111) plane normal n as (|nx|, |ny|, |nz|) → (R, G,
-/// B), as in the paper's fig. 9; voids are dark grey, cells outside the stone transparent.
-/// The image shows the stone from +z with +y up, each cell a block of --scale pixels.
+/// The paper's two passes (`--preset paper`) read grown cells: each cluster cell is coloured
+/// by its (111) plane normal n as (|nx|, |ny|, |nz|) → (R, G, B), as in the paper's fig. 9,
+/// voids dark grey. The other methods (every gem preset) read the stone's domains, grains or
+/// settled plates: each coloured the same way by its normal, outlined in black where it meets
+/// another, potch dark grey. Outside the stone is transparent. The image shows the stone from
+/// +z with +y up over the scene's structure.grid, each cell a block of --scale pixels.
 #[derive(clap::Args, Debug)]
 #[command(after_long_help = EXAMPLES)]
 pub struct Args {
     #[command(flatten)]
     scene: SceneArgs,
     /// Slice to draw, as a cell index along z from 0 (bottom) to nz − 1 [default: nz / 2,
-    /// the paper's plane z = 0]
+    /// the paper's plane z = 0; for a stone's domains, the level cutting the most of them]
     #[arg(long, value_name = "K")]
     slice_z: Option<usize>,
     /// PNG file to write the orientation map to
     #[arg(long, short, value_name = "FILE.png", default_value = "structure.png")]
     output: PathBuf,
-    /// Also write the growth statistics (grid, cell counts, void ratio, steps, mean radius,
-    /// time) as JSON to this file
+    /// Also write the statistics as JSON to this file (the paper's cells: grid, cell counts,
+    /// void ratio, steps, mean radius, time; a stone: its domains, those cut, the share of the
+    /// slice in domains, time)
     #[arg(long, value_name = "FILE.json")]
     stats: Option<PathBuf>,
     /// Pixels per cell edge in the image (nearest neighbour), 1 to 64
@@ -57,8 +66,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let config = &scene.structure;
     let [nx, ny, nz] = config.grid;
-    let slice_z = args.slice_z.unwrap_or(nz / 2);
-    if slice_z >= nz {
+    if let Some(slice_z) = args.slice_z.filter(|&k| k >= nz) {
         bail!(
             "--slice-z {slice_z}: the grid has {nz} cells along z; give a value in 0..={}",
             nz - 1
@@ -76,6 +84,14 @@ pub fn run(args: Args) -> Result<()> {
             largest.max(1)
         );
     }
+    if scene.integrator.method() != Method::TwoPass {
+        // The map's pixels: a domain id, the colour and the encoder's row (16 bytes), and
+        // the stone as a render builds it.
+        super::memory::check_structure(&scene, 2 * pixels)?;
+        super::memory::check(&scene, super::memory::Extra::default())?;
+        return run_stone(&args, &scene);
+    }
+    let slice_z = args.slice_z.unwrap_or(nz / 2);
     super::memory::check_structure(&scene, pixels)?;
     let mut outputs = Outputs::new();
     let image = outputs.add("--output", &args.output, &["png"])?;
@@ -140,6 +156,65 @@ pub fn run(args: Args) -> Result<()> {
         s.seeds_placed,
         s.mean_radius_cells,
         structure_s * 1e3
+    ))?;
+    Ok(())
+}
+
+/// Draw the slice of the stone the renderers read (`scene`'s method is not the two passes).
+fn run_stone(args: &Args, scene: &Scene) -> Result<()> {
+    let [nx, ny, nz] = scene.structure.grid;
+    let mut outputs = Outputs::new();
+    let image = outputs.add("--output", &args.output, &["png"])?;
+    let stats_out = match &args.stats {
+        Some(path) => Some(outputs.add("--stats", path, &["json"])?),
+        None => None,
+    };
+
+    // Build the stone, find the level, draw.
+    let start = Instant::now();
+    let stone = Stone::new(scene)?;
+    let slice_z = args
+        .slice_z
+        .unwrap_or_else(|| super::stone_slice::busiest_level(&stone, nz));
+    let z_mm = super::stone_slice::level_mm(&stone, slice_z, nz);
+    let scale = args.scale as usize;
+    let slice = super::stone_slice::draw(&stone, z_mm, nx * scale, ny * scale);
+    let time_s = start.elapsed().as_secs_f64();
+    outputs.write(image, |path| {
+        opalray::output::write_png_rgba8(path, slice.width as u32, slice.height as u32, &slice.rgba)
+    })?;
+    if let Some(stats_out) = stats_out {
+        let value = serde_json::json!({
+            "method": scene.integrator.method().name(),
+            "domains": stone.domains.len(),
+            "domains_cut": slice.domains_cut,
+            "domain_share": slice.domain_share,
+            "grid": scene.structure.grid,
+            "slice_z": slice_z,
+            "slice_z_mm": z_mm,
+            "time_s": { "structure": time_s },
+        });
+        outputs.write(stats_out, |path| write_json(path, &value))?;
+    }
+    outputs.commit()?;
+    crate::stdio::out(format_args!(
+        "wrote {} ({} × {} px, slice z = {slice_z} of 0..={}, {z_mm:.2} mm)",
+        args.output.display(),
+        slice.width,
+        slice.height,
+        nz - 1
+    ))?;
+    if let Some(path) = &args.stats {
+        crate::stdio::out(format_args!("wrote {}", path.display()))?;
+    }
+    crate::stdio::out(format_args!(
+        "stone of the {} method: {} domains, {} cut by the slice, {:.0} % of it in domains \
+         (the rest potch), {:.1} ms",
+        scene.integrator.method().name(),
+        stone.domains.len(),
+        slice.domains_cut,
+        100.0 * slice.domain_share,
+        time_s * 1e3
     ))?;
     Ok(())
 }

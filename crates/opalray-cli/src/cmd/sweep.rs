@@ -2,7 +2,8 @@
 //! (the paper's fig. 11), or the stone rocked or turned, or the environment turned.
 
 use std::path::PathBuf;
-use std::time::Instant;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use anyhow::Result;
 use serde_json::json;
@@ -23,7 +24,7 @@ use crate::outputs::Outputs;
 /// refused, naming what would move.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_long_help = "Examples:\n  opalray sweep                                  (the black opal rocked, −30° to 30°)\n  opalray sweep --turn-from 0 --turn-to 80 --frames 9 --animation turn.png\n  opalray sweep --preset paper --light-from -60 --light-to 60 --frames 25 --animation play.gif\n  opalray sweep --preset paper --frames 7 --sheet fig11.png --width 480 --height 360\n  opalray sweep --animation play.png          (APNG: full colour)\n\nLimits:\n  Memory: a run estimated over OPALRAY_MAX_MEMORY_MB MiB (unset: 80 % of this machine's\n  memory) is refused before any work, naming the value to lower and the largest that fits."
+    after_long_help = "Examples:\n  opalray sweep                                  (the black opal rocked, −30° to 30°)\n  opalray sweep --turn-from 0 --turn-to 80 --frames 9 --animation turn.png\n  opalray sweep --preset paper --light-from -60 --light-to 60 --frames 25 --animation play.gif\n  opalray sweep --preset paper --frames 7 --sheet fig11.png --width 480 --height 360\n  opalray sweep --animation play.png          (APNG: full colour)\n\nLimits:\n  Memory: a run estimated over OPALRAY_MAX_MEMORY_MB MiB (unset: 80 % of this machine's\n  memory) is refused before any work, naming the value to lower and the largest that fits.\n  Time: --time-limit SECONDS bounds the whole sweep, the stone's preparation included."
 )]
 pub struct Args {
     #[command(flatten)]
@@ -63,10 +64,16 @@ pub struct Args {
     /// to start when the folder holds no frames of this sweep.
     #[arg(long, requires = "frames_dir")]
     pub resume: bool,
+    /// Bound the whole sweep to this many seconds, the stone's preparation and every frame
+    /// included: past it the command stops (exit 2) and writes no sheet, animation, video or
+    /// stats; frames already finished in --frames-dir stay there for --resume.
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+    pub time_limit: Option<f64>,
 }
 
 /// Run `opalray sweep`.
 pub fn run(args: Args) -> Result<()> {
+    let started = Instant::now();
     if !(1..=1000).contains(&args.frames) {
         anyhow::bail!("--frames {}: must be 1 to 1000; try 9", args.frames);
     }
@@ -85,6 +92,7 @@ pub fn run(args: Args) -> Result<()> {
             args.delay_ms
         );
     }
+    let time_limit = super::deadline::checked(args.time_limit)?;
     let mut outputs = Outputs::new();
     let sheet_out = outputs.add("--sheet", &args.sheet, &["png"])?;
     let animation_out = match &args.animation {
@@ -121,7 +129,9 @@ pub fn run(args: Args) -> Result<()> {
             ..Default::default()
         },
     )?;
-    super::work::announce(&scene, args.frames as u64, false);
+    if time_limit.is_none() {
+        super::work::announce(&scene, args.frames as u64);
+    }
     let angles: Vec<f64> = (0..args.frames)
         .map(|k| match args.frames {
             1 => from,
@@ -144,7 +154,16 @@ pub fn run(args: Args) -> Result<()> {
     };
 
     let start = Instant::now();
-    let prepared = opalray::render::prepare(&scene)?;
+    let fix = time_limit_fix(args.frames_dir.is_some());
+    let job = scene.clone();
+    let prepared = super::deadline::within(time_limit, started, &fix, move |_| {
+        Ok(Arc::new(opalray::render::prepare(&job)?))
+    })?;
+    let limit = Limit {
+        time_limit,
+        started,
+        fix: &fix,
+    };
     let bar = progress(angles.len() as u64, "sweep");
     // Each frame goes into the sheet as it completes; none is kept.
     let mut sheet = opalray::output::ContactSheet::blank(angles.len(), w, h, columns);
@@ -184,15 +203,8 @@ pub fn run(args: Args) -> Result<()> {
         let rgb8 = match done {
             Some(rgb8) => rgb8,
             None => {
-                let frame = match moves {
-                    Moves::Light => prepared.render(angle),
-                    _ => {
-                        let posed = pose(&scene, moves, angle);
-                        prepared
-                            .posed(&posed.camera, posed.environment.rotation_deg)?
-                            .render(scene.light.angle_deg)
-                    }
-                };
+                let stage = format!("frame {} of {}", k + 1, angles.len());
+                let frame = render_frame(&prepared, &scene, moves, angle, &limit, &stage)?;
                 per_frame.push(frame.times);
                 let rgb8 = opalray::color::to_display_rgb8(&frame.rgb, &scene.color);
                 if let Some(dir) = &mut frames_dir {
@@ -263,6 +275,56 @@ pub fn run(args: Args) -> Result<()> {
         crate::stdio::out(format_args!("wrote {}", path.display()))?;
     }
     Ok(())
+}
+
+/// `--time-limit` as the frames see it: the limit, when the command began, and what to do
+/// when a stage overruns it.
+struct Limit<'a> {
+    time_limit: Option<Duration>,
+    started: Instant,
+    fix: &'a str,
+}
+
+/// What to do when the sweep overruns `--time-limit`, and what is kept: the frames folder's
+/// finished frames (each written whole when it completes), which a resumed sweep reuses.
+fn time_limit_fix(frames_dir: bool) -> String {
+    let (kept, tip) = if frames_dir {
+        (
+            "no sheet, animation, video or stats was written (the frames finished in \
+             --frames-dir stay: --resume renders only the rest)",
+            "",
+        )
+    } else {
+        (
+            "nothing was written",
+            "; --frames-dir DIR keeps each frame as it completes",
+        )
+    };
+    format!(
+        "{kept}; raise --time-limit, or sweep fewer --frames or a smaller image (--width, \
+         --height){tip}"
+    )
+}
+
+/// Render the sweep frame that poses `scene` at `angle` of `moves` from `prepared`, within
+/// `limit` (the stage named `stage` in the error).
+fn render_frame(
+    prepared: &Arc<opalray::Prepared>,
+    scene: &opalray::Scene,
+    moves: Moves,
+    angle: f64,
+    limit: &Limit,
+    stage: &str,
+) -> Result<opalray::Frame> {
+    let prepared = Arc::clone(prepared);
+    let posed = pose(scene, moves, angle);
+    let work = move |_: &super::deadline::Stage| match moves {
+        Moves::Light => Ok(prepared.render(angle)),
+        _ => Ok(prepared
+            .posed(&posed.camera, posed.environment.rotation_deg)?
+            .render(posed.light.angle_deg)),
+    };
+    super::deadline::within_stage(limit.time_limit, limit.started, stage, limit.fix, work)
 }
 
 /// The key of the sweep of `scene` moving `moves` over `angles`: a hash of the scene, the angles and the

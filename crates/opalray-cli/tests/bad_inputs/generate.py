@@ -37,13 +37,16 @@ for sub in ["render", "sweep", "bench"]:
 for v in ["90", "-90", "nan", "1e308", "abc"]:
     case(f"render --light-angle {v}", "--light-angle")
 
-for v in ["0", "-1", "nan", "inf", "1e9", "abc"]:
-    case(f"render --preset harlequin --time-limit {v} {TINY}", "--time-limit")
+for sub in ["render", "sweep"]:
+    for v in ["0", "-1", "nan", "inf", "1e9", "abc"]:
+        case(f"{sub} --preset harlequin --time-limit {v} {TINY}", "--time-limit")
 # --time-limit bounds every stage, the stone's preparation included: a stone of about
 # 240 000 grains takes seconds to grow whatever the method.
 SLOW = 'slow.toml:[domains]\\npattern = "grains"\\ngrain_size_mm = 0.24\\n'
 for method in ["lobe", "path", "stored"]:
     case(f"render slow.toml --method {method} --time-limit 0.05 {TINY}",
+         "--time-limit 0.05: the limit passed during the stone's preparation", file=SLOW)
+    case(f"sweep slow.toml --method {method} --frames 2 --time-limit 0.05 {TINY}",
          "--time-limit 0.05: the limit passed during the stone's preparation", file=SLOW)
 
 for flag, v in [("--from", "90"), ("--from", "nan"), ("--to", "-90"), ("--to", "inf"),
