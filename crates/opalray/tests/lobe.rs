@@ -79,10 +79,12 @@ fn the_lobe_integrator_gives_the_same_bytes_at_any_thread_count() {
 #[test]
 fn the_lobe_integrator_matches_the_path_tracers_mean_over_the_stone() {
     // The same stone by the path tracer, raw at 96 samples per pixel (its own error over the
-    // stone about 1.5 %): the stone's mean luminance measured 0.947 × the path tracer's since
-    // the backing is lit through the stone (0.98 before, when the black backing, lit by the
-    // room, showed as a grey ring at the rim). The lobe integrator misses some of the dim
-    // light of the body and the rim (docs/model.md): the bound is 5 % above and 7 % below.
+    // stone about 1.5 %): the stone's mean luminance measured 0.956 × the path tracer's since
+    // the potch under the colour bar is lit through the bar (0.947 when it was lit by the
+    // room's irradiance at the dome; 0.98 before the backing was lit through the stone, when
+    // the black backing, lit by the room, showed as a grey ring at the rim). The lobe
+    // integrator misses some of the dim light of the body and the rim (docs/model.md): the
+    // bound is 5 % above and 6 % below.
     let mut scene = preset("black-opal").unwrap();
     scene.render.width = 40;
     scene.render.height = 30;
@@ -101,5 +103,5 @@ fn the_lobe_integrator_matches_the_path_tracers_mean_over_the_stone() {
     };
     let ratio = y(&lobe.rgb) / y(&path.rgb);
     eprintln!("lobe / path: {ratio:.4}");
-    assert!((0.93..1.05).contains(&ratio), "{ratio}");
+    assert!((0.94..1.05).contains(&ratio), "{ratio}");
 }

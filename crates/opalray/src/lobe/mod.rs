@@ -33,6 +33,7 @@
 
 pub mod colour;
 mod method;
+mod potch;
 mod trace;
 
 use std::f32::consts::PI;
@@ -97,6 +98,11 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
     let colours = LineColours::new(setup.spectral);
     let irradiance = Irradiance::new(setup.environment);
     let backing_light = BackingLight::new(stone, setup, &colours, &irradiance);
+    let potch_light = potch::PotchLight::new(stone, setup, &colours, &irradiance);
+    let lit = trace::Lit {
+        backing: backing_light.as_ref(),
+        potch: potch_light.as_ref(),
+    };
     let mut xyz = vec![[0.0f32; 3]; w * h];
     let mut spectral = SpectralImage::new(w, h, grid);
     let spp = setup.spp.max(1) as usize;
@@ -105,8 +111,7 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
         .zip(spectral.data.par_chunks_mut(w * bins))
         .enumerate()
         .for_each(|(y, (xyz_row, bins_row))| {
-            let mut tracer =
-                trace::Tracer::new(stone, setup, &colours, &irradiance, backing_light.as_ref());
+            let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance, lit);
             for (x, (out, out_bins)) in xyz_row
                 .iter_mut()
                 .zip(bins_row.chunks_mut(bins))
@@ -126,8 +131,7 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
         .zip(edges.par_chunks(w))
         .enumerate()
         .for_each(|(y, ((xyz_row, bins_row), edge_row))| {
-            let mut tracer =
-                trace::Tracer::new(stone, setup, &colours, &irradiance, backing_light.as_ref());
+            let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance, lit);
             // The centre's ray counts as one of the pixel's `spp`.
             let mut positions = vec![(0.0f32, 0.0f32); spp - 1];
             let mut centre_bins = vec![0.0f32; bins];
@@ -319,7 +323,8 @@ impl BackingLight {
         let (nx, ny) = BACKING_GRID;
         let mut values = vec![0.0f32; nx * ny];
         values.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
-            let mut tracer = trace::Tracer::new(stone, setup, colours, irradiance, None);
+            let mut tracer =
+                trace::Tracer::new(stone, setup, colours, irradiance, trace::Lit::default());
             for (i, v) in row.iter_mut().enumerate() {
                 let (x, y) = grid_point(half, i, j);
                 // Inside the girdle (a point outside it is moved in: the edge's cells are

@@ -6,6 +6,7 @@ use std::f32::consts::PI;
 
 use glam::Vec3;
 
+use super::potch::PotchLight;
 use super::{BackingLight, Irradiance, LineColours, LobeSetup};
 use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
 use crate::lights::emitters::seen;
@@ -45,8 +46,8 @@ pub(super) struct Tracer<'a> {
     setup: &'a LobeSetup<'a>,
     colours: &'a LineColours,
     irradiance: &'a Irradiance,
-    /// The light reaching the backing through the stone (`None` while it is being made).
-    backing_light: Option<&'a BackingLight>,
+    /// The light reaching the backing and the potch under a bar (none while they are made).
+    lit: Lit<'a>,
     spans: Vec<Span>,
     lines: Vec<ActiveLine>,
     out_spans: Vec<Span>,
@@ -74,14 +75,14 @@ impl<'a> Tracer<'a> {
         setup: &'a LobeSetup<'a>,
         colours: &'a LineColours,
         irradiance: &'a Irradiance,
-        backing_light: Option<&'a BackingLight>,
+        lit: Lit<'a>,
     ) -> Self {
         Tracer {
             stone,
             setup,
             colours,
             irradiance,
-            backing_light,
+            lit,
             spans: Vec::with_capacity(64),
             lines: Vec::with_capacity(16),
             out_spans: Vec::with_capacity(64),
@@ -185,7 +186,8 @@ impl<'a> Tracer<'a> {
                         let tau = sigma * (span.t1 - span.t0);
                         let kept = (-tau).exp();
                         let r = layer_reflectance(self.setup.body_reflectance, layer, ground);
-                        self.body(w * (1.0 - kept), r, &entry, sums);
+                        let lit = self.light_on_body(ray.at(span.t0), span, &entry);
+                        self.body(w * (1.0 - kept), r, lit, &entry, sums);
                         w *= kept;
                     }
                     if w < MIN_WEIGHT {
@@ -368,12 +370,11 @@ impl<'a> Tracer<'a> {
     /// [`MAX_SEGMENTS`] surface events, no domains on the way): the environment through a
     /// lobe of width `sigma` over normals, in the stone's radiance.
     fn seen_out(&self, pos: Vec3, dir: Vec3, region: Region, sigma: f32) -> f32 {
-        self.escape(pos, dir, region, sigma, false)
+        self.escape(pos, dir, region, sigma, Dim::None)
     }
 
-    /// [`Tracer::seen_out`], dimmed by the potch and haze of every segment in the opal when
-    /// `dimmed`.
-    fn escape(&self, pos: Vec3, dir: Vec3, region: Region, sigma: f32, dimmed: bool) -> f32 {
+    /// [`Tracer::seen_out`], dimmed on every segment in the opal as `dim` says.
+    fn escape(&self, pos: Vec3, dir: Vec3, region: Region, sigma: f32, dim: Dim) -> f32 {
         let stone = self.stone;
         let potch = stone.potch;
         let (mut pos, mut dir, mut region) = (pos, dir, region);
@@ -386,12 +387,13 @@ impl<'a> Tracer<'a> {
             let Some((t_end, boundary)) = stone.exit(&ray, region) else {
                 break;
             };
-            if dimmed && region == Region::Opal {
+            if dim != Dim::None && region == Region::Opal {
                 let mut tau = 0.0f32;
                 stone.walk(pos, dir, 0.0, t_end, Hint::default(), &mut |s| {
-                    let sigma = match s.domain {
-                        None => potch.extinction_per_mm,
-                        Some(_) => potch.domain_scattering_per_mm,
+                    let sigma = match (s.domain, dim) {
+                        (None, _) => potch.extinction_per_mm,
+                        (Some(_), Dim::PotchAndHaze) => potch.domain_scattering_per_mm,
+                        (Some(_), _) => 0.0,
                     };
                     tau += sigma * (s.t1 - s.t0);
                     true
@@ -545,11 +547,21 @@ impl<'a> Tracer<'a> {
     /// environment's irradiance at the surface the eye ray entered (the chip's reflectance
     /// includes the surface's `1 − F₀` on the way in, which the eye ray's weight holds
     /// already).
-    fn body(&mut self, w: f32, reflectance: f32, entry: &Entry, sums: &mut Sums) {
+    fn body(&mut self, w: f32, reflectance: f32, e: f32, entry: &Entry, sums: &mut Sums) {
         let n = self.stone.n_eff;
-        let e = self.irradiance_on(entry.normal);
         let v = w * n * n * reflectance * e / (1.0 - entry.fresnel_normal);
         self.add_notched_white(f64::from(v), sums);
+    }
+
+    /// The irradiance (outside, `Ē`) that lights the body where the eye ray meets it at `at`
+    /// over `span`: under a colour bar the light reaching the potch's top through the bar
+    /// ([`PotchLight`]), elsewhere the room's and the lamp's at the surface the eye ray
+    /// entered.
+    fn light_on_body(&self, at: Vec3, span: Span, entry: &Entry) -> f32 {
+        match self.lit.potch {
+            Some(potch) if span.domain.is_none() && potch.holds(at) => potch.at(at),
+            _ => self.irradiance_on(entry.normal),
+        }
     }
 
     /// The backing seen at `at` by the eye ray with weight `w`: its reflectance under the
@@ -559,7 +571,7 @@ impl<'a> Tracer<'a> {
         let Some(back) = stone.back else {
             return;
         };
-        let light = self.backing_light.map_or(0.0, |b| b.at(at));
+        let light = self.lit.backing.map_or(0.0, |b| b.at(at));
         let v = w * light;
         match back.kind {
             Backing::None => {}
@@ -588,25 +600,37 @@ impl<'a> Tracer<'a> {
     /// The lines' notches on the way are left out, and so is the light the backing sends
     /// up that the dome reflects back to it.
     pub(super) fn light_on_backing(&mut self, at: Vec3) -> f32 {
-        let count = BACK_DIRECTIONS as f32;
+        self.light_on(
+            at + Vec3::Z * EPSILON_MM,
+            Vec3::Z,
+            BACK_DIRECTIONS,
+            Dim::PotchAndHaze,
+        )
+    }
+
+    /// [`Tracer::light_on_backing`] at `at`, inside the stone, on a surface of unit normal
+    /// `normal` (`directions` of them, cosine-distributed about it), dimmed as `dim` says.
+    pub(super) fn light_on(&mut self, at: Vec3, normal: Vec3, directions: usize, dim: Dim) -> f32 {
+        let count = directions as f32;
         // Half the spacing of the directions, over normals (`boundary_out` doubles it).
         let sigma = 0.25 * (PI / count).sqrt();
         let golden = PI * (3.0 - 5f32.sqrt());
-        let start = at + Vec3::Z * EPSILON_MM;
+        let (t, b) = normal.any_orthonormal_pair();
         let mut sum = 0.0;
-        for k in 0..BACK_DIRECTIONS {
+        for k in 0..directions {
             let r = ((k as f32 + 0.5) / count).sqrt();
             let phi = golden * k as f32;
-            let dir = Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - r * r).max(0.0).sqrt());
-            sum += self.escape(start, dir, self.stone.region_at(start), sigma, true);
+            let dir = (t * (r * phi.cos()) + b * (r * phi.sin()))
+                + normal * (1.0 - r * r).max(0.0).sqrt();
+            sum += self.escape(at, dir, self.stone.region_at(at), sigma, dim);
         }
-        sum / count + self.point_light_on(start)
+        sum / count + self.point_light_on(at, normal)
     }
 
     /// The point or directional light's irradiance at `x` inside the stone along its
     /// refracted path, dimmed by the potch and haze on the way (its lines' notches left
-    /// out), as the radiance a white Lambertian surface facing up sends back.
-    fn point_light_on(&mut self, x: Vec3) -> f32 {
+    /// out), as the radiance a white Lambertian surface of unit normal `normal` sends back.
+    fn point_light_on(&mut self, x: Vec3, normal: Vec3) -> f32 {
         let Some(light) = self.setup.light else {
             return 0.0;
         };
@@ -624,7 +648,7 @@ impl<'a> Tracer<'a> {
             &mut self.out_lines,
             &mut |_, _| {},
         );
-        light.intensity * irradiance * kept * to_light.z.max(0.0)
+        light.intensity * irradiance * kept * to_light.dot(normal).max(0.0)
     }
 
     /// Add `v` of the light's white less the eye ray's notches.
@@ -725,6 +749,27 @@ fn layer_reflectance(thick: f32, sx: f32, ground: f32) -> f32 {
     let coth = 1.0 / x.tanh();
     let g = f64::from(ground);
     ((1.0 - g * (a - b * coth)) / (a - g + b * coth)) as f32
+}
+
+/// What dims a ray on its way out ([`Tracer::escape`]).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Dim {
+    /// Nothing: the surface alone.
+    None,
+    /// The potch, whose light is the body's own (a milky domain's haze sends on most of
+    /// what it scatters, down to the potch under a colour bar).
+    Potch,
+    /// The potch and the domains' haze.
+    PotchAndHaze,
+}
+
+/// The tables of light inside the stone a tracer reads (none while they are being made).
+#[derive(Clone, Copy, Default)]
+pub(super) struct Lit<'a> {
+    /// The light reaching the backing.
+    pub backing: Option<&'a BackingLight>,
+    /// The light reaching the potch under a colour bar.
+    pub potch: Option<&'a PotchLight>,
 }
 
 /// A reflection leaving a domain: its face, its direction, the domain (the reflected ray

@@ -436,6 +436,12 @@ impl Stone {
         (-sigma * self.shape.depth_bound(p)).exp()
     }
 
+    /// The colour bar's inner surface (the top of the potch under it) as an ellipsoid about
+    /// the returned centre, if the stone has a bar.
+    pub fn bar_surface(&self) -> Option<(Ellipsoid, Vec3)> {
+        self.bar_inner.map(|e| (e, self.bar_centre))
+    }
+
     /// The region `p` (inside the stone) lies in.
     #[inline]
     pub fn region_at(&self, p: Vec3) -> Region {

@@ -1,0 +1,125 @@
+//! The light reaching the top of the potch under a colour bar ([`PotchLight`]): the potch
+//! there is a chip lit through the bar and the dome, not by the room's irradiance at the
+//! point the eye ray entered.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::{trace, Irradiance, LineColours, LobeSetup};
+use crate::geometry::{fresnel_dielectric, Ellipsoid};
+use crate::stone::Stone;
+
+/// Points across and along the bar's footprint at which the light is computed.
+const GRID: (usize, usize) = (48, 36);
+/// Directions of the quadrature at each point.
+const DIRECTIONS: usize = 96;
+/// Rows of the quadrature of [`hemispherical_fresnel`].
+const FRESNEL_ROWS: usize = 256;
+
+/// The light reaching the top of the potch under a colour bar, as the irradiance outside
+/// that would light a chip at the surface as much (`Ē` of [`Irradiance`]): the mean, over
+/// cosine-distributed directions about the bar's inner surface's normal, of what each sees
+/// through the bar and the dome ([`trace::Tracer::light_on`]: the lamp, the environment, the
+/// dome's internal reflections followed; dimmed by the potch, not by the domains' haze, which
+/// sends most of what it scatters on), over `1 − F̄`, the share of a diffuse irradiance
+/// that the surface lets in ([`hemispherical_fresnel`]); for potch at a flat surface this is
+/// `Ē` again. Tabulated over the footprint and read bilinearly.
+pub(crate) struct PotchLight {
+    inner: Ellipsoid,
+    centre: Vec3,
+    values: Vec<f32>,
+}
+
+impl PotchLight {
+    /// The table of `stone` lit as `setup` says; `None` without a colour bar.
+    pub(super) fn new(
+        stone: &Stone,
+        setup: &LobeSetup,
+        colours: &LineColours,
+        irradiance: &Irradiance,
+    ) -> Option<Self> {
+        let (inner, centre) = stone.bar_surface()?;
+        let (nx, ny) = GRID;
+        let entering = 1.0 - hemispherical_fresnel(stone.n_eff);
+        let mut values = vec![0.0f32; nx * ny];
+        values.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+            let mut tracer =
+                trace::Tracer::new(stone, setup, colours, irradiance, trace::Lit::default());
+            for (i, v) in row.iter_mut().enumerate() {
+                let (p, normal) = point(&inner, centre, i, j);
+                *v = tracer.light_on(p + normal * 1e-3, normal, DIRECTIONS, trace::Dim::Potch)
+                    / entering;
+            }
+        });
+        Some(PotchLight {
+            inner,
+            centre,
+            values,
+        })
+    }
+
+    /// The light at `p`, a point of the potch under the bar (on or just under its top).
+    pub(super) fn at(&self, p: Vec3) -> f32 {
+        let (nx, ny) = GRID;
+        let a = self.inner.semi_axes();
+        let q = p - self.centre;
+        let fx = ((q.x / a.x + 1.0) * 0.5 * (nx - 1) as f32).clamp(0.0, (nx - 1) as f32);
+        let fy = ((q.y / a.y + 1.0) * 0.5 * (ny - 1) as f32).clamp(0.0, (ny - 1) as f32);
+        let (i, j) = ((fx as usize).min(nx - 2), (fy as usize).min(ny - 2));
+        let (tx, ty) = (fx - i as f32, fy - j as f32);
+        let v = |i: usize, j: usize| self.values[j * nx + i];
+        let low = v(i, j) * (1.0 - tx) + v(i + 1, j) * tx;
+        let high = v(i, j + 1) * (1.0 - tx) + v(i + 1, j + 1) * tx;
+        low * (1.0 - ty) + high * ty
+    }
+
+    /// Whether `p` lies under the bar (inside its inner surface).
+    pub(super) fn holds(&self, p: Vec3) -> bool {
+        let q = (p - self.centre) / self.inner.semi_axes();
+        q.length_squared() <= 1.0 + 1e-3
+    }
+}
+
+/// The grid point `(i, j)` on the upper half of the bar's inner surface, and the surface's
+/// normal there (a point beyond the footprint's edge is pulled in).
+fn point(inner: &Ellipsoid, centre: Vec3, i: usize, j: usize) -> (Vec3, Vec3) {
+    let (nx, ny) = GRID;
+    let a = inner.semi_axes();
+    let u = 2.0 * i as f32 / (nx - 1) as f32 - 1.0;
+    let v = 2.0 * j as f32 / (ny - 1) as f32 - 1.0;
+    let r = (u * u + v * v).sqrt();
+    let pull = if r > 0.98 { 0.98 / r } else { 1.0 };
+    let (u, v) = (u * pull, v * pull);
+    let w = (1.0 - u * u - v * v).max(0.0).sqrt();
+    let q = Vec3::new(u * a.x, v * a.y, w * a.z);
+    (centre + q, inner.normal(q))
+}
+
+/// The share of a uniform diffuse light outside that the surface of index `n` reflects,
+/// `F̄ = ∫ F(θ) 2 cos θ sin θ dθ` over the hemisphere (midpoint rule).
+pub(super) fn hemispherical_fresnel(n: f32) -> f32 {
+    let step = std::f32::consts::FRAC_PI_2 / FRESNEL_ROWS as f32;
+    (0..FRESNEL_ROWS)
+        .map(|k| {
+            let theta = (k as f32 + 0.5) * step;
+            fresnel_dielectric(theta.cos(), 1.0, n) * 2.0 * theta.cos() * theta.sin() * step
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::hemispherical_fresnel;
+
+    #[test]
+    fn the_hemispherical_fresnel_of_glass_is_about_nine_percent() {
+        // Diffuse reflectance of a smooth dielectric lit from outside: 0.092 for n = 1.5
+        // (Judd 1942; Kubelka-Munk's surface correction, r_e), 0.0 for n = 1.
+        assert!(
+            (hemispherical_fresnel(1.5) - 0.092).abs() < 0.002,
+            "{}",
+            hemispherical_fresnel(1.5)
+        );
+        assert!(hemispherical_fresnel(1.0).abs() < 1e-6);
+    }
+}
