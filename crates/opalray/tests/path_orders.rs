@@ -17,6 +17,7 @@ const BRAGG_0: usize = 2;
 const BRAGG_1: usize = 3;
 const BRAGG_2: usize = 4;
 const BRAGG_3: usize = 5;
+const AFTER_REFLECTION: usize = 6;
 const BODY: usize = 7;
 
 /// An `n × n` face-on view from 100 mm, `fov_deg` wide, under the environment `kind`.
@@ -182,6 +183,45 @@ fn a_single_crystals_flash_is_one_bragg_reflection() {
 }
 
 #[test]
+fn a_crystal_lit_from_below_shows_its_flash_after_an_internal_reflection_on_one_side() {
+    // The crystal above without a backing, the ball now below it. The eye ray (straight
+    // down) reaches the base in two ways with one reflection off the planes (normal n, 5°
+    // towards +x) and one at the flat top or base: reflected by the planes at once (up, 10°
+    // towards +x), then at the top, it leaves the base 10° from straight down towards +x
+    // inside; reflected at the base first, then by the planes on its way up, it leaves 10°
+    // towards −x (the mirror of +z about n). A ball on the −x side sees only a Bragg event
+    // after an internal reflection; on the +x side, only one before it.
+    let mut scene = Scene::default();
+    scene.domains.mosaic_spread_deg = 0.0;
+    scene.domains.sphere_diameter_spread = 0.0;
+    scene.domains.families = FamilyChoice::Only111;
+    scene.body.domain_haze = 0.0;
+    let tilt = 5f32.to_radians();
+    let planes = Vec3::new(tilt.sin(), 0.0, tilt.cos());
+    let q = Quat::from_rotation_arc(Vec3::splat(1.0).normalize(), planes);
+    let mut stone = Stone::single_crystal(&scene, q).unwrap();
+    stone.back = None;
+    let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
+    let mirror = (stone.n_eff * (2.0 * tilt).sin()).asin();
+    for (side, lo, hi) in [(-1.0, 0.95, 1.0), (1.0, 0.0, 0.05)] {
+        let center = Vec3::new(side * mirror.sin(), 0.0, -mirror.cos()) * 1000.0;
+        let mut s = setup(&sampler, EnvironmentKind::None, 4, 0.02, 64);
+        s.area_light = Some(AreaLight::sphere(center, 1000.0 * 1f32.to_radians(), 1.0));
+        s.gloss = 0.0;
+        let image = trace_paths(&stone, &s);
+        let orders = assert_holds_the_image(&image);
+        let (after, se) = orders.summary[AFTER_REFLECTION];
+        eprintln!("ball at {side:+} x: after an internal reflection {after:.4} ± {se:?}");
+        assert!(orders.mean_luminance > 0.0, "no flash at {side:+} x");
+        assert!(orders.summary[BRAGG_1].0 > 0.95, "{:?}", orders.summary);
+        assert!(
+            (lo..=hi).contains(&after),
+            "ball at {side:+} x: {after} after an internal reflection, expected [{lo}, {hi}]"
+        );
+    }
+}
+
+#[test]
 fn the_light_that_met_no_body_is_the_image_of_a_body_that_keeps_none() {
     // A path's light added before its first scattering does not depend on the body's albedo:
     // over the same stone, the tally's light without the body flag must equal (in
@@ -214,11 +254,11 @@ fn the_light_that_met_no_body_is_the_image_of_a_body_that_keeps_none() {
         / pixels;
     let se = (kept_se * kept_se + black_se * black_se).sqrt();
     eprintln!("without the body {kept:.5} ± {kept_se:.5}, black body {y_black:.5} ± {black_se:.5} (body share {body:.3})");
-    assert!(body > 0.1, "the test needs a large body share: {body}");
     assert!(
         (kept - y_black).abs() <= 4.0 * se,
         "{kept} vs {y_black} ± {se}"
     );
+    assert!(body > 0.1, "the test needs a large body share: {body}");
 }
 
 #[test]
