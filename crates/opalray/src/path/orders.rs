@@ -196,8 +196,11 @@ fn bragg_of(c: usize) -> usize {
     c & 3
 }
 
-/// The summary's shares: a name and the classes it sums.
-const SUMMARY: [(&str, fn(usize) -> bool); 11] = [
+/// A share of the summary: its name and which classes it sums.
+type SummaryShare = (&'static str, fn(usize) -> bool);
+
+/// The summary's shares.
+const SUMMARY: [SummaryShare; 11] = [
     ("background", |c| c == BACKGROUND),
     ("gloss", |c| c == GLOSS),
     ("bragg_0", |c| on_path(c) && bragg_of(c) == 0),
