@@ -49,7 +49,8 @@
 //!
 //! Spectra: see [`spectral`]. Every sample of every pixel draws from its own stream; rows are
 //! rendered in parallel into pre-sized buffers, so the image does not depend on the number of
-//! threads nor on how the passes fall ([`passes`]). Its noise: [`noise`].
+//! threads nor on how the passes fall ([`passes`]). Its noise: [`noise`]; its light
+//! by class of path (Bragg events, the body, a backing): [`orders`].
 
 mod method;
 mod nee;
