@@ -166,6 +166,21 @@ fn time_limited_render_is_the_render_with_the_spp_it_reached() {
     assert!(noise["pixels"].as_u64().unwrap() > 100, "{noise}");
     assert!(noise["relative_rms"].as_f64().unwrap() > 0.0, "{noise}");
     assert_eq!(noise["relative_rms_rgb"].as_array().unwrap().len(), 3);
+    // The light by Bragg order too (integer sums: the same whatever the passes and threads);
+    // its classes, the gloss and the background hold all of it.
+    let orders = &b["path"]["bragg_orders"];
+    assert_eq!(a["path"]["bragg_orders"], *orders);
+    let share = |v: &serde_json::Value| v["share"].as_f64().unwrap();
+    let classes: f64 = orders["classes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(share)
+        .sum();
+    let summary = &orders["summary"];
+    let sum = classes + share(&summary["gloss"]) + share(&summary["background"]);
+    assert!((sum - 1.0).abs() < 1e-9, "{orders}");
+    assert!(share(&summary["bragg_1"]) > 0.0, "{orders}");
     assert!(
         stderr(&limited).contains(&format!("{spp} samples per pixel")),
         "{}",

@@ -16,7 +16,7 @@ use crate::geometry::Camera;
 use crate::light_pass::{EnergyLedger, LightSource, StoneCells};
 use crate::lights::{AreaLight, Environment};
 use crate::optics::{build_optics, OpticsTables};
-use crate::path::{Noise, Passes, SpectralSampler};
+use crate::path::{BraggOrders, Noise, Passes, SpectralSampler};
 use crate::sampling::mix64;
 use crate::scene::{LightKind, Scene};
 use crate::spectrum::SpectralImage;
@@ -125,6 +125,9 @@ pub struct PathStats {
     /// about the fireflies), and its bias in the image's mean X, Y, Z (filtered over raw,
     /// less 1).
     pub denoise_bias: Option<DenoiseBias>,
+    /// The share of the stone's luminance per class of path: its Bragg events, whether one
+    /// came after an internal reflection, the body, a backing ([`crate::path::orders`]).
+    pub bragg_orders: Option<BraggOrders>,
 }
 
 /// What the denoiser did to the image's energy and colour ([`crate::denoise::Denoised`]).
@@ -156,6 +159,7 @@ impl PathStats {
                 "bias_xyz": self.denoise_bias.map(|b| b.bias_xyz),
                 "bias_is": "filtered over raw mean X, Y, Z, less 1, on the same samples (the firefly cut's light returned about the fireflies)",
             })),
+            "bragg_orders": self.bragg_orders.map(|b| b.to_json()),
         })
     }
 }

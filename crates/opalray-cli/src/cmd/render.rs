@@ -43,7 +43,7 @@ pub struct Args {
     pub spectral: Option<PathBuf>,
     /// Write stage timings and statistics as JSON (the stored method's: rays per pixel and the
     /// stored light's cells; the path integrator's: samples per pixel
-    /// rendered and the noise over the stone).
+    /// rendered, the noise over the stone and its light by Bragg order).
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
     /// Bound the whole command to this many seconds, the stone's preparation included: a

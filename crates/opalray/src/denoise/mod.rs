@@ -303,6 +303,7 @@ mod tests {
             half_difference,
             variance,
             on_stone: vec![true; W * H],
+            bragg_orders: None,
         }
     }
 

@@ -78,6 +78,7 @@ impl Integrator for PathTracer {
                 bias_xyz: d.bias,
             }),
             denoised: denoised.map(|d| d.noise(&image.on_stone, image.spp, m)),
+            bragg_orders: image.bragg_orders,
         };
         Frame {
             spectral: image.spectral,

@@ -49,12 +49,14 @@
 //!
 //! Spectra: see [`spectral`]. Every sample of every pixel draws from its own stream; rows are
 //! rendered in parallel into pre-sized buffers, so the image does not depend on the number of
-//! threads nor on how the passes fall ([`passes`]). Its noise: [`noise`].
+//! threads nor on how the passes fall ([`passes`]). Its noise: [`noise`]; its light
+//! by class of path (Bragg events, the body, a backing): [`orders`].
 
 mod method;
 mod nee;
 pub mod noise;
 mod notches;
+pub mod orders;
 pub mod passes;
 pub mod spectral;
 
@@ -75,10 +77,12 @@ use glam::Vec3;
 
 pub use method::PathTracer;
 pub use noise::Noise;
+pub use orders::BraggOrders;
 pub use passes::{trace_passes, PassReport, Passes};
 pub use spectral::{Lines, PathSpectrum, SpectralSampler, MAX_DRAWS};
 
 use nee::Drawn;
+use orders::{SampleTally, BACKGROUND, CLASSES, GLOSS};
 
 /// Paths whose weight falls below this play Russian roulette.
 const ROULETTE_BELOW: f32 = 0.02;
@@ -212,6 +216,9 @@ pub struct PathImage {
     pub variance: Vec<[f32; 3]>,
     /// Per pixel, whether its centre sees the stone.
     pub on_stone: Vec<bool>,
+    /// The share of the stone's luminance per class of path ([`orders`]); `None` where the
+    /// image was not traced.
+    pub bragg_orders: Option<BraggOrders>,
 }
 
 /// Render `stone` as `setup` says: all `setup.spp` samples per pixel, no report
@@ -261,6 +268,8 @@ struct Tracer<'a> {
     /// The value seen from which a reflection of the camera ray's first segment is always
     /// followed ([`Tracer::follow_probability`]); 0: every one is.
     follow_from: f32,
+    /// The current camera sample's luminance per class of path ([`orders`]).
+    tally: SampleTally,
 }
 
 impl<'a> Tracer<'a> {
@@ -281,23 +290,40 @@ impl<'a> Tracer<'a> {
             } else {
                 0.0
             },
+            tally: [0.0; CLASSES],
         }
     }
 
-    fn add(&self, lines: &PathSpectrum, weight: f32, acc: &mut [f64; 3], bins: &mut [f32]) {
+    /// Add `weight` of the path's spectrum `lines` to the sample, tallied in the path's class.
+    fn add(&mut self, lines: &PathSpectrum, weight: f32, acc: &mut [f64; 3], bins: &mut [f32]) {
+        self.add_as(lines.history.class(), lines, weight, acc, bins);
+    }
+
+    /// [`Tracer::add`], tallied in `class` ([`orders`]): the luminance it adds.
+    fn add_as(
+        &mut self,
+        class: usize,
+        lines: &PathSpectrum,
+        weight: f32,
+        acc: &mut [f64; 3],
+        bins: &mut [f32],
+    ) {
+        let y = acc[1];
         self.setup
             .spectral
             .add_path(lines, f64::from(weight), acc, bins);
+        self.tally[class] += acc[1] - y;
     }
 
     /// One camera ray's path.
     fn sample(&mut self, ray: Ray, rng: &mut Rng, acc: &mut [f64; 3], bins: &mut [f32]) {
+        self.tally = [0.0; CLASSES];
         let plain = PathSpectrum::default();
         let stone = self.stone;
         let shape = stone.shape;
         let Some((t0, _)) = shape.intersect(&ray).filter(|&(t0, _)| t0 > 0.0) else {
             let v = self.escaped(ray.origin, ray.direction);
-            self.add(&plain, v, acc, bins);
+            self.add_as(BACKGROUND, &plain, v, acc, bins);
             return;
         };
         // The surface: gloss to the environment and the light's disc, the rest refracts in.
@@ -309,7 +335,7 @@ impl<'a> Tracer<'a> {
         let fresnel = fresnel_dielectric(cos_i, 1.0, n);
         let mirror = reflect(ray.direction, normal);
         let gloss = fresnel * self.setup.gloss * (self.escaped(p, mirror) + self.disc(mirror));
-        self.add(&plain, gloss, acc, bins);
+        self.add_as(GLOSS, &plain, gloss, acc, bins);
         let Some(dir) = refract(ray.direction, normal, 1.0, n) else {
             return;
         };
@@ -482,6 +508,7 @@ impl<'a> Tracer<'a> {
                 Event::Scattered { t, albedo } => {
                     pos = ray.at(t);
                     weight *= albedo;
+                    lines.history.scattered();
                     hint = scattered_in;
                     self.nee_hint = hint;
                     self.light_at_potch(pos, dir, &lines, weight, acc, bins);
@@ -552,6 +579,7 @@ impl<'a> Tracer<'a> {
                         }
                     }
                     weight *= f;
+                    lines.history.reflected_inside();
                     dir = reflect(dir, normal);
                     pos = exit - normal * EPSILON_MM;
                     None
@@ -562,6 +590,7 @@ impl<'a> Tracer<'a> {
                         return;
                     };
                     pos = ray.at(t_end) + Vec3::Z * EPSILON_MM;
+                    lines.history.backed();
                     weight *= match back.kind {
                         Backing::Ironstone => {
                             lines.tint();

@@ -14,11 +14,13 @@
 //! Each pixel keeps the sums of its even and of its odd samples (for the noise estimate,
 //! [`super::noise`]) and of the squares of the samples' XYZ (for its variance).
 
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
 use super::noise::{relative_rms, PixelNoise};
+use super::orders::OrderSums;
 use super::{PathImage, PathSetup, Tracer};
 use crate::sampling::{stage, Rng};
 use crate::scene::MAX_SPP;
@@ -102,6 +104,7 @@ pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathIm
     let mut sums = vec![PixelSums::default(); w * h];
     let mut spectral = SpectralImage::new(w, h, setup.spectral.grid);
     let (mut done, mut count) = (0u32, 0u32);
+    let mut orders = OrderSums::default();
     while done < target {
         // The pass: doubling the samples so far, within the target and the time left.
         let mut size = if done == 0 { FIRST_PASS_SPP } else { done };
@@ -114,13 +117,15 @@ pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathIm
             let fits = (left / per_spp.max(1e-9)).floor().max(1.0);
             size = size.min(fits.min(f64::from(u32::MAX)) as u32);
         }
-        trace_pass(
+        let pass_orders = trace_pass(
             stone,
             setup,
             done..done + size,
+            &on_stone,
             &mut sums,
             &mut spectral.data,
         );
+        orders.merge(&pass_orders);
         done += size;
         count += 1;
         let elapsed = start.elapsed();
@@ -159,25 +164,30 @@ pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathIm
             .iter()
             .map(|p| to_f32(p.variance_of_mean(done)))
             .collect(),
+        bragg_orders: Some(orders.report(done, on_stone.iter().filter(|&&on| on).count())),
         on_stone,
     }
 }
 
-/// Samples `range` of every pixel, added to its sums and its spectral bins.
+/// Samples `range` of every pixel, added to its sums and its spectral bins; returns the
+/// luminance of the pixels `on_stone` per class of path ([`super::orders`]), summed per row.
 fn trace_pass(
     stone: &Stone,
     setup: &PathSetup,
     range: std::ops::Range<u32>,
+    on_stone: &[bool],
     sums: &mut [PixelSums],
     spectral: &mut [f32],
-) {
+) -> OrderSums {
     let w = setup.width;
+    let orders = Mutex::new(OrderSums::default());
     let bins = setup.spectral.grid.bins;
     sums.par_chunks_mut(w)
         .zip(spectral.par_chunks_mut(w * bins))
         .enumerate()
         .for_each(|(y, (row, row_bins))| {
             let mut tracer = Tracer::new(stone, setup);
+            let mut row_orders = OrderSums::default();
             for (x, px) in row.iter_mut().enumerate() {
                 let pixel = (y * w + x) as u64;
                 let px_bins = &mut row_bins[x * bins..(x + 1) * bins];
@@ -197,9 +207,18 @@ fn trace_pass(
                         half[c] += acc[c];
                         px.squares[c] += acc[c] * acc[c];
                     }
+                    if on_stone[pixel as usize] {
+                        row_orders.add_sample(s, &tracer.tally);
+                    }
                 }
             }
+            // Integer sums: the same in any order.
+            orders
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .merge(&row_orders);
         });
+    orders.into_inner().unwrap_or_else(|e| e.into_inner())
 }
 
 /// Whether each pixel's centre sees the stone.

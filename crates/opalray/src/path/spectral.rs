@@ -32,6 +32,7 @@ use crate::spectrum::WavelengthGrid;
 use crate::stone::ironstone_reflectance;
 
 use super::notches::Notches;
+use super::orders::History;
 
 /// Most lines one contribution carries.
 pub const MAX_LINES: usize = 24;
@@ -167,6 +168,8 @@ pub struct PathSpectrum {
     dark: bool,
     waves: [f32; MAX_DRAWS],
     weights: [f32; MAX_DRAWS],
+    /// What the path has met: its class in the tally by Bragg order ([`super::orders`]).
+    pub(super) history: History,
 }
 
 impl Default for PathSpectrum {
@@ -178,6 +181,7 @@ impl Default for PathSpectrum {
             dark: false,
             waves: [0.0; MAX_DRAWS],
             weights: [0.0; MAX_DRAWS],
+            history: History::default(),
         }
     }
 }
@@ -199,6 +203,7 @@ impl PathSpectrum {
             dark: self.dark,
             waves: self.waves,
             weights: self.weights,
+            history: self.history,
         };
         out.reflect_through(line, sampler, u, self.notches.as_deref());
         out
@@ -212,6 +217,7 @@ impl PathSpectrum {
         u: f64,
         notches: Option<&Notches>,
     ) {
+        self.history.bragg();
         if self.dark {
             return;
         }
