@@ -283,6 +283,11 @@ impl Irradiance {
         Irradiance { values }
     }
 
+    /// The largest `Ē` in the table.
+    pub fn peak(&self) -> f32 {
+        self.values.iter().fold(0.0, |m, &v| m.max(v))
+    }
+
     /// `Ē(n)` for the unit normal `n` (the stone's frame).
     pub fn at(&self, n: Vec3) -> f32 {
         let (rows, cols) = IRRADIANCE_GRID;

@@ -73,6 +73,11 @@ impl PotchLight {
         low * (1.0 - ty) + high * ty
     }
 
+    /// The largest light in the table.
+    pub(super) fn peak(&self) -> f32 {
+        self.values.iter().fold(0.0, |m, &v| m.max(v))
+    }
+
     /// Whether `p` lies under the bar (inside its inner surface).
     pub(super) fn holds(&self, p: Vec3) -> bool {
         let q = (p - self.centre) / self.inner.semi_axes();

@@ -25,6 +25,11 @@ const MIN_WEIGHT: f32 = 1e-4;
 /// A line's reflection adding less luminance than this (relative to a white diffuser under
 /// the light) is left out: 1/30 of the darkest step of an 8-bit sRGB image.
 const CUT: f32 = 1e-5;
+/// A reflection whose light through the surface is under [`CUT`] is followed for the body's
+/// light alone (walked without its lines) only where that could add more than this: a dark
+/// body's light seen in reflections is a few tenths of a per cent of the black opal's, and
+/// following every reflection for it took half as long again.
+const BODY_CUT: f32 = 1e-3;
 /// Most lines of the eye ray kept for the notches of later reflections.
 const MAX_EYE_LINES: usize = 96;
 /// Directions of the quadrature of the light reaching a point of the backing.
@@ -67,6 +72,11 @@ pub(super) struct Tracer<'a> {
     /// The scene's light as the body sees it: the direction towards it from the stone's
     /// centre and its irradiance there on a plane facing it.
     body_light: Option<(Vec3, f32)>,
+    /// Where the camera ray at hand entered the stone.
+    entry: Entry,
+    /// The most radiance the body can send (in the stone), 0 without a scattering body:
+    /// what a reflection can see besides the light through the surface.
+    body_peak: f32,
 }
 
 impl<'a> Tracer<'a> {
@@ -77,7 +87,13 @@ impl<'a> Tracer<'a> {
         irradiance: &'a Irradiance,
         lit: Lit<'a>,
     ) -> Self {
-        Tracer {
+        let body_light = setup
+            .light
+            .map(|l| (l.source.direction_to_light(Vec3::ZERO), l.intensity))
+            .or(setup
+                .area_light
+                .map(|a| (a.center().normalize(), setup.light_intensity)));
+        let mut tracer = Tracer {
             stone,
             setup,
             colours,
@@ -98,13 +114,30 @@ impl<'a> Tracer<'a> {
                 .max(setup.area_light.map_or(0.0, |a| a.value()))
                 * stone.n_eff
                 * stone.n_eff,
-            body_light: setup
-                .light
-                .map(|l| (l.source.direction_to_light(Vec3::ZERO), l.intensity))
-                .or(setup
-                    .area_light
-                    .map(|a| (a.center().normalize(), setup.light_intensity))),
+            body_light,
+            entry: Entry {
+                normal: Vec3::Z,
+                fresnel_normal: fresnel_dielectric(1.0, 1.0, stone.n_eff),
+            },
+            body_peak: 0.0,
+        };
+        tracer.body_peak = tracer.body_peak(irradiance);
+        tracer
+    }
+
+    /// The most radiance the body can send into the stone ([`Tracer::body_radiance`] at its
+    /// brightest light), 0 where nothing scatters.
+    fn body_peak(&self, irradiance: &Irradiance) -> f32 {
+        let potch = &self.stone.potch;
+        if potch.extinction_per_mm <= 0.0 && potch.domain_scattering_per_mm <= 0.0 {
+            return 0.0;
         }
+        let lamp = self.body_light.map_or(0.0, |(_, e)| e);
+        let lit = irradiance
+            .peak()
+            .max(self.lit.potch.map_or(0.0, |p| p.peak()))
+            + lamp;
+        self.body_radiance(self.setup.body_reflectance, lit)
     }
 
     /// One camera ray.
@@ -134,7 +167,8 @@ impl<'a> Tracer<'a> {
             normal,
             fresnel_normal: fresnel_dielectric(1.0, 1.0, n),
         };
-        self.inside(p, dir, region, (1.0 - fresnel) / (n * n), entry, sums);
+        self.entry = entry;
+        self.inside(p, dir, region, (1.0 - fresnel) / (n * n), sums);
     }
 
     /// The eye ray inside the stone from `pos` along `dir` in `region`, with weight `w`.
@@ -144,7 +178,6 @@ impl<'a> Tracer<'a> {
         mut dir: Vec3,
         mut region: Region,
         mut w: f32,
-        entry: Entry,
         sums: &mut Sums,
     ) {
         let stone = self.stone;
@@ -166,10 +199,7 @@ impl<'a> Tracer<'a> {
                 });
                 // The body's scattering thickness from each span to the segment's end, and
                 // what lies beyond it: the body there is a layer of that thickness.
-                let ground = match (boundary, stone.back) {
-                    (Boundary::Back, Some(back)) => back.reflectance(550.0) as f32,
-                    _ => 0.0,
-                };
+                let ground = ground_of(stone, boundary);
                 let mut beyond: f32 = self.spans.iter().map(|s| self.km_scattering(s)).sum();
                 for k in 0..self.spans.len() {
                     let span = self.spans[k];
@@ -186,8 +216,8 @@ impl<'a> Tracer<'a> {
                         let tau = sigma * (span.t1 - span.t0);
                         let kept = (-tau).exp();
                         let r = layer_reflectance(self.setup.body_reflectance, layer, ground);
-                        let lit = self.light_on_body(ray.at(span.t0), span, &entry);
-                        self.body(w * (1.0 - kept), r, lit, &entry, sums);
+                        let lit = self.light_on_body(ray.at(span.t0), span);
+                        self.body(w * (1.0 - kept), r, lit, sums);
                         w *= kept;
                     }
                     if w < MIN_WEIGHT {
@@ -239,7 +269,7 @@ impl<'a> Tracer<'a> {
             colours.push((xyz, s));
             let t_in = self.eye_transmittance(l.line.center_nm);
             let weight = w * t_in as f32;
-            if weight * xyz[1] as f32 * self.peak > CUT {
+            if weight * xyz[1] as f32 * (self.peak + self.body_peak) > CUT {
                 let cos_theta = -dir.dot(l.normal);
                 let sigma = stone.lobe_sigma(l.kind, cos_theta);
                 let mirror = reflect(dir, l.normal);
@@ -294,17 +324,23 @@ impl<'a> Tracer<'a> {
     /// domains, which only dim it, are then left out.
     fn reflected(&mut self, out: &Out, line: &BraggLine, sigma: f32, weight: f32) -> f32 {
         let bound = self.seen_out(out.face, out.dir, Region::Opal, sigma);
-        if weight * bound < CUT {
-            return 0.0;
+        if weight * bound >= CUT {
+            self.follow_out(out, line.center_nm, sigma, true)
+        } else if weight * self.body_peak >= BODY_CUT {
+            // Only the body can add enough: its light along the way, the lines not read.
+            self.follow_out(out, line.center_nm, sigma, false)
+        } else {
+            0.0
         }
-        self.follow_out(out, line.center_nm, sigma)
     }
 
     /// [`Tracer::reflected`] through the domains: each segment in the opal walked, dimmed by
-    /// the potch and haze, notched at `wavelength` by the lines it crosses; what a line
-    /// takes from it is reflected again and seen through the surface along its own mirror
-    /// direction ([`Tracer::seen_out`]: a second Bragg reflection, so that no light is lost).
-    fn follow_out(&mut self, out: &Out, wavelength: f64, sigma: f32) -> f32 {
+    /// the potch and haze, whose own light it sees on the way (the body's radiance where it
+    /// scatters, as the eye ray sees it), and, with `lines`, notched at `wavelength` by the
+    /// lines it crosses; what a line takes from it is reflected again and seen through the
+    /// surface along its own mirror direction ([`Tracer::seen_out`]: a second Bragg
+    /// reflection, so that no light is lost).
+    fn follow_out(&mut self, out: &Out, wavelength: f64, sigma: f32, lines: bool) -> f32 {
         let stone = self.stone;
         let potch = stone.potch;
         let (mut pos, mut dir, mut region) = (out.face, out.dir, Region::Opal);
@@ -327,15 +363,29 @@ impl<'a> Tracer<'a> {
                     true
                 });
                 let skipped = skip.take();
+                let ground = ground_of(stone, boundary);
+                let mut beyond: f32 = self.out_spans.iter().map(|s| self.km_scattering(s)).sum();
                 for k in 0..self.out_spans.len() {
                     let span = self.out_spans[k];
                     let len = span.t1 - span.t0;
+                    let layer = beyond;
+                    beyond -= self.km_scattering(&span);
+                    let sigma_t = match span.domain {
+                        None => potch.extinction_per_mm,
+                        Some(_) => potch.domain_scattering_per_mm,
+                    };
+                    let kept = (-sigma_t * len).exp();
+                    if sigma_t > 0.0 {
+                        // The body seen along the reflection: its light in the line's colour.
+                        let r = layer_reflectance(self.setup.body_reflectance, layer, ground);
+                        let lit = self.light_on_body(ray.at(span.t0), span);
+                        seen += w * (1.0 - kept) * self.body_radiance(r, lit);
+                    }
+                    w *= kept;
                     let Some(domain) = span.domain else {
-                        w *= (-potch.extinction_per_mm * len).exp();
                         continue;
                     };
-                    w *= (-potch.domain_scattering_per_mm * len).exp();
-                    if Some(domain) == skipped {
+                    if !lines || Some(domain) == skipped {
                         continue;
                     }
                     self.out_lines.clear();
@@ -547,9 +597,8 @@ impl<'a> Tracer<'a> {
     /// environment's irradiance at the surface the eye ray entered (the chip's reflectance
     /// includes the surface's `1 − F₀` on the way in, which the eye ray's weight holds
     /// already).
-    fn body(&mut self, w: f32, reflectance: f32, e: f32, entry: &Entry, sums: &mut Sums) {
-        let n = self.stone.n_eff;
-        let v = w * n * n * reflectance * e / (1.0 - entry.fresnel_normal);
+    fn body(&mut self, w: f32, reflectance: f32, e: f32, sums: &mut Sums) {
+        let v = w * self.body_radiance(reflectance, e);
         self.add_notched_white(f64::from(v), sums);
     }
 
@@ -557,11 +606,19 @@ impl<'a> Tracer<'a> {
     /// over `span`: under a colour bar the light reaching the potch's top through the bar
     /// ([`PotchLight`]), elsewhere the room's and the lamp's at the surface the eye ray
     /// entered.
-    fn light_on_body(&self, at: Vec3, span: Span, entry: &Entry) -> f32 {
+    fn light_on_body(&self, at: Vec3, span: Span) -> f32 {
         match self.lit.potch {
             Some(potch) if span.domain.is_none() && potch.holds(at) => potch.at(at),
-            _ => self.irradiance_on(entry.normal),
+            _ => self.irradiance_on(self.entry.normal),
         }
+    }
+
+    /// The radiance in the stone of a body of reflectance `reflectance` lit by the outside
+    /// irradiance `e` (a chip at the surface the eye ray entered: its reflectance includes
+    /// the surface's `1 − F₀` on the way in).
+    fn body_radiance(&self, reflectance: f32, e: f32) -> f32 {
+        let n = self.stone.n_eff;
+        n * n * reflectance * e / (1.0 - self.entry.fresnel_normal)
     }
 
     /// The backing seen at `at` by the eye ray with weight `w`: its reflectance under the
@@ -772,6 +829,15 @@ pub(super) struct Lit<'a> {
     pub potch: Option<&'a PotchLight>,
 }
 
+/// The reflectance of what lies beyond a segment in the opal that ends at `boundary`: the
+/// backing's (at 550 nm) or nothing.
+fn ground_of(stone: &Stone, boundary: Boundary) -> f32 {
+    match (boundary, stone.back) {
+        (Boundary::Back, Some(back)) => back.reflectance(550.0) as f32,
+        _ => 0.0,
+    }
+}
+
 /// A reflection leaving a domain: its face, its direction, the domain (the reflected ray
 /// leaves it through that face) and the cells likely to hold the face.
 struct Out {
@@ -782,6 +848,7 @@ struct Out {
 }
 
 /// Where the eye ray entered the stone.
+#[derive(Clone, Copy)]
 struct Entry {
     /// The surface's outward normal there.
     normal: Vec3,
