@@ -75,8 +75,8 @@ fn sobol_points_and_independent_streams_agree_under_a_point_light() {
     the_means_agree(LightKind::Point);
 }
 
-/// Relative RMS of the difference of two renders with independent seeds over √2 (the noise
-/// of one), over the pixels whose two renders sum above 0.01 in Y, and the two means of Y.
+/// The noise of one render, from two with independent seeds `a` and `b` (Y): √(Σ (a − b)²/2 /
+/// Σ ((a + b)/2)²) over the pixels where `a + b` > 0.01; and the two images' means of Y.
 fn noise_between_seeds(name: &str, point: bool, sampling: Sampling) -> (f64, f64, f64) {
     let render = |seed: u64| {
         let mut scene = preset(name).unwrap();
@@ -105,12 +105,11 @@ fn noise_between_seeds(name: &str, point: bool, sampling: Sampling) -> (f64, f64
             .collect::<Vec<_>>()
     };
     let (a, b) = (render(0), render(1));
-    let (mut d2, mut m2, mut n) = (0.0, 0.0, 0);
+    let (mut d2, mut m2) = (0.0, 0.0);
     for (x, y) in a.iter().zip(&b) {
         if x + y > 0.01 {
             d2 += (x - y).powi(2) / 2.0;
             m2 += ((x + y) / 2.0).powi(2);
-            n += 1;
         }
     }
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
