@@ -18,6 +18,9 @@ fn render(method: Method, w: u32, h: u32, spp: u32) -> Vec<[f32; 3]> {
     scene.integrator = IntegratorConfig::of(method);
     scene.integrator.set_spp(spp);
     scene.light.rays = 20_000;
+    // The light's disc in the gloss is a lottery for the path tracer at 64 spp (tests/stored.rs,
+    // `paper_stone`): with it the ratio below read 2.42, 1.48, 2.00 and 1.70 for seeds 0 to 3.
+    scene.render.gloss = 0.0;
     let prepared = prepare(&scene).unwrap();
     prepared.render(scene.light.angle_deg).rgb.data
 }
@@ -56,8 +59,10 @@ fn the_two_passes_stay_within_their_measured_distance_of_the_path_tracer() {
     );
 }
 
-/// The measured relative RMS, 1.53 at 64 × 48 (docs/model.md), with a margin for the path
-/// tracer's noise at 64 spp.
-const RMS_BOUND: f64 = 1.8;
-/// The measured ratio of mean luminances (two-pass over path), 2.47, with a margin.
-const RATIO_RANGE: (f64, f64) = (2.0, 3.0);
+/// The measured relative RMS without the gloss at 64 × 48 (docs/model.md): 2.16, 2.13, 2.65
+/// for seeds 0 to 2 with independent streams, 2.29 with the Sobol points (its spread is the
+/// path tracer's fireflies at 64 spp), with a margin.
+const RMS_BOUND: f64 = 3.2;
+/// The measured ratio of mean luminances (two-pass over path) without the gloss: 2.08 to 2.09
+/// for seeds 0 to 2 with independent streams, 2.05 with the Sobol points, with a margin.
+const RATIO_RANGE: (f64, f64) = (1.8, 2.4);

@@ -47,7 +47,7 @@
 //!   the lamp's disc ([`Stone::lamp_density`]), so that a mirror shows the lamp's disc.
 //! - Russian roulette below a weight of 0.02; at most `max_depth` events.
 //!
-//! Spectra: see [`spectral`]. Every sample of every pixel draws from its own stream; rows are
+//! Spectra: see [`spectral`]. Every sample of every pixel draws its own numbers ([`sampler`]); rows are
 //! rendered in parallel into pre-sized buffers, so the image does not depend on the number of
 //! threads nor on how the passes fall ([`passes`]). Its noise: [`noise`]; its light
 //! by class of path (Bragg events, the body, a backing): [`orders`].
@@ -58,6 +58,7 @@ pub mod noise;
 mod notches;
 pub mod orders;
 pub mod passes;
+pub mod sampler;
 pub mod spectral;
 
 use std::f32::consts::PI;
@@ -68,7 +69,6 @@ use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, Ray};
 use crate::lights::emitters;
 use crate::lights::{AreaLight, Environment};
 use crate::optics::BraggLine;
-use crate::sampling::Rng;
 use crate::scene::Backing;
 use crate::spectrum::SpectralImage;
 use crate::stone::body::{hg_cos, hg_phase};
@@ -79,10 +79,12 @@ pub use method::PathTracer;
 pub use noise::Noise;
 pub use orders::BraggOrders;
 pub use passes::{trace_passes, PassReport, Passes};
+pub use sampler::Sampling;
 pub use spectral::{Lines, PathSpectrum, SpectralSampler, MAX_DRAWS};
 
 use nee::Drawn;
 use orders::{SampleTally, BACKGROUND, CLASSES, GLOSS};
+use sampler::PathSampler;
 
 /// Paths whose weight falls below this play Russian roulette.
 const ROULETTE_BELOW: f32 = 0.02;
@@ -316,7 +318,13 @@ impl<'a> Tracer<'a> {
     }
 
     /// One camera ray's path.
-    fn sample(&mut self, ray: Ray, rng: &mut Rng, acc: &mut [f64; 3], bins: &mut [f32]) {
+    fn sample(
+        &mut self,
+        ray: Ray,
+        sampler: &mut PathSampler,
+        acc: &mut [f64; 3],
+        bins: &mut [f32],
+    ) {
         self.tally = [0.0; CLASSES];
         let plain = PathSpectrum::default();
         let stone = self.stone;
@@ -351,7 +359,7 @@ impl<'a> Tracer<'a> {
             splits_scattering: true,
             hint: Hint::default(),
         };
-        self.inside(start, true, 0, rng, acc, bins);
+        self.inside(start, true, 0, sampler, acc, bins);
     }
 
     /// What a ray leaving the stone at `origin` along `dir` sees: the environment, or the area
@@ -383,7 +391,7 @@ impl<'a> Tracer<'a> {
         state: PathState,
         mut split: bool,
         depth: u32,
-        rng: &mut Rng,
+        sampler: &mut PathSampler,
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
@@ -412,6 +420,7 @@ impl<'a> Tracer<'a> {
             if !self.goes_deeper(level) {
                 return;
             }
+            sampler.begin_event(level);
             let ray = Ray {
                 origin: pos,
                 direction: dir,
@@ -434,7 +443,7 @@ impl<'a> Tracer<'a> {
                     let at_start = std::mem::replace(&mut first, false);
                     let mut chord = span.t1 - span.t0;
                     let Some(domain) = span.domain else {
-                        let flight = -(1.0 - rng.uniform_f32()).ln() / potch.extinction_per_mm;
+                        let flight = -(1.0 - sampler.uniform_f32()).ln() / potch.extinction_per_mm;
                         if flight < chord {
                             event = Event::Scattered {
                                 t: span.t0 + flight,
@@ -449,7 +458,7 @@ impl<'a> Tracer<'a> {
                     let mut scatter_at = None;
                     if potch.domain_scattering_per_mm > 0.0 {
                         let flight =
-                            -(1.0 - rng.uniform_f32()).ln() / potch.domain_scattering_per_mm;
+                            -(1.0 - sampler.uniform_f32()).ln() / potch.domain_scattering_per_mm;
                         if flight < chord {
                             chord = flight;
                             scatter_at = Some(span.t0 + flight);
@@ -460,7 +469,7 @@ impl<'a> Tracer<'a> {
                     if !(at_start && skip_first == Some(domain)) {
                         match self.cross_domain(
                             &ray, span.t0, chord, domain, span.hint, weight, &mut lines, split,
-                            level, rng, acc, bins,
+                            level, sampler, acc, bins,
                         ) {
                             Crossing::On(scale) => weight *= scale,
                             Crossing::Ended => {
@@ -519,8 +528,8 @@ impl<'a> Tracer<'a> {
                     let sample_env = sample_env && stone.reach_bound(pos) >= MIN_REACH;
                     if sample_env {
                         let phase = |to: Vec3| hg_phase(g, to.dot(incoming));
-                        self.environment_at(pos, &phase, &lines, weight, rng, acc, bins);
-                        self.area_at(pos, &phase, &lines, weight, rng, acc, bins);
+                        self.environment_at(pos, &phase, &lines, weight, sampler, acc, bins);
+                        self.area_at(pos, &phase, &lines, weight, sampler, acc, bins);
                     }
                     // The camera path's first scattering goes on in several directions.
                     let k = if first_scattering {
@@ -538,7 +547,7 @@ impl<'a> Tracer<'a> {
                         })
                     };
                     for _ in 1..k {
-                        let d = sample_hg(incoming, g, rng);
+                        let d = sample_hg(incoming, g, sampler);
                         let state = PathState {
                             pos,
                             dir: d,
@@ -550,9 +559,11 @@ impl<'a> Tracer<'a> {
                             splits_scattering: false,
                             hint,
                         };
-                        self.inside(state, false, level + 1, rng, acc, bins);
+                        let mark = sampler.mark();
+                        self.inside(state, false, level + 1, sampler, acc, bins);
+                        sampler.reset(mark);
                     }
-                    dir = sample_hg(dir, g, rng);
+                    dir = sample_hg(dir, g, sampler);
                     phase_drawn(dir)
                 }
                 Event::Boundary(Boundary::Surface) => {
@@ -605,10 +616,10 @@ impl<'a> Tracer<'a> {
                     self.light_at_back(pos, &lines, weight, acc, bins);
                     if sample_env {
                         let lambert = |to: Vec3| to.z.max(0.0) / PI;
-                        self.environment_at(pos, &lambert, &lines, weight, rng, acc, bins);
-                        self.area_at(pos, &lambert, &lines, weight, rng, acc, bins);
+                        self.environment_at(pos, &lambert, &lines, weight, sampler, acc, bins);
+                        self.area_at(pos, &lambert, &lines, weight, sampler, acc, bins);
                     }
-                    dir = cosine_about_z(rng);
+                    dir = cosine_about_z(sampler);
                     sample_env.then(|| Drawn {
                         density: dir.z / PI,
                         from: pos,
@@ -626,7 +637,7 @@ impl<'a> Tracer<'a> {
                     let facing = if dir.z > 0.0 { -Vec3::Z } else { Vec3::Z };
                     let f = fresnel_dielectric(-dir.dot(facing), n1, n2);
                     let at = ray.at(t_end);
-                    match refract(dir, facing, n1, n2).filter(|_| rng.uniform_f32() >= f) {
+                    match refract(dir, facing, n1, n2).filter(|_| sampler.uniform_f32() >= f) {
                         Some(d) => {
                             dir = d;
                             weight *= (n1 / n2) * (n1 / n2);
@@ -647,7 +658,7 @@ impl<'a> Tracer<'a> {
                 split = false;
             }
             first_in_cap = false;
-            if !self.roulette(&mut weight, rng) {
+            if !self.roulette(&mut weight, sampler) {
                 return;
             }
             level += 1;
@@ -673,9 +684,9 @@ impl<'a> Tracer<'a> {
     }
 
     /// Russian roulette below [`ROULETTE_BELOW`]: `false` if the path ends.
-    fn roulette(&self, weight: &mut f32, rng: &mut Rng) -> bool {
+    fn roulette(&self, weight: &mut f32, sampler: &mut PathSampler) -> bool {
         if *weight < ROULETTE_BELOW {
-            if rng.uniform_f32() >= *weight / ROULETTE_BELOW {
+            if sampler.uniform_f32() >= *weight / ROULETTE_BELOW {
                 return false;
             }
             *weight = ROULETTE_BELOW;
@@ -696,11 +707,11 @@ impl<'a> Tracer<'a> {
         density: &dyn Fn(Vec3) -> f32,
         path: &PathSpectrum,
         weight: f32,
-        rng: &mut Rng,
+        sampler: &mut PathSampler,
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
-        let u = [rng.uniform_f32(), rng.uniform_f32()];
+        let u = [sampler.uniform_f32(), sampler.uniform_f32()];
         let sample = self.setup.environment.sample(u);
         if sample.pdf <= 0.0 {
             return;
@@ -754,7 +765,7 @@ impl<'a> Tracer<'a> {
         lines: &mut PathSpectrum,
         split: bool,
         level: u32,
-        rng: &mut Rng,
+        sampler: &mut PathSampler,
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) -> Crossing {
@@ -767,7 +778,7 @@ impl<'a> Tracer<'a> {
             return Crossing::On(1.0);
         }
         let x = ray.at(t0 + EPSILON_MM);
-        self.light_at_domain(x, dir, domain, lines, weight, rng, acc, bins);
+        self.light_at_domain(x, dir, domain, lines, weight, sampler, acc, bins);
         // The branches below refill `self.lines`: this crossing keeps its own.
         let here = std::mem::take(&mut self.lines);
         let face = ray.at(t0);
@@ -823,7 +834,7 @@ impl<'a> Tracer<'a> {
                 &pick[..n],
                 lines,
                 weight,
-                rng,
+                sampler,
                 acc,
                 bins,
             );
@@ -847,15 +858,15 @@ impl<'a> Tracer<'a> {
                 weight,
             };
             for line in &here {
-                self.branch(&path, line, true, lines, level, rng, acc, bins);
+                self.branch(&path, line, true, lines, level, sampler, acc, bins);
             }
         } else {
-            let reflects = rng.uniform() < p_branch;
+            let reflects = sampler.uniform() < p_branch;
             if chooses {
                 goes_on = (!reflects).then_some((1.0 / (1.0 - p_branch)) as f32);
             }
             if reflects {
-                let mut u = rng.uniform() * total;
+                let mut u = sampler.uniform() * total;
                 let mut pick = here.len() - 1;
                 for (i, e) in energy.iter().enumerate() {
                     if u < *e {
@@ -876,9 +887,9 @@ impl<'a> Tracer<'a> {
                     weight: w,
                 };
                 if chooses {
-                    reflected_to = self.reflected_path(&path, &here[pick], lines, rng);
+                    reflected_to = self.reflected_path(&path, &here[pick], lines, sampler);
                 } else {
-                    self.branch(&path, &here[pick], false, lines, level, rng, acc, bins);
+                    self.branch(&path, &here[pick], false, lines, level, sampler, acc, bins);
                 }
             }
         }
@@ -909,24 +920,26 @@ impl<'a> Tracer<'a> {
         cull: bool,
         lines: &PathSpectrum,
         level: u32,
-        rng: &mut Rng,
+        sampler: &mut PathSampler,
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
-        let Some(mut state) = self.reflected_path(path, line, lines, rng) else {
+        let Some(mut state) = self.reflected_path(path, line, lines, sampler) else {
             return;
         };
         if cull {
             // Russian roulette on what the branch's first escape will see.
             let p = self.follow_probability(path.face, state.dir);
             if p < 1.0 {
-                if rng.uniform_f32() >= p {
+                if sampler.uniform_f32() >= p {
                     return;
                 }
                 state.weight /= p;
             }
         }
-        self.inside(state, false, level + 1, rng, acc, bins);
+        let mark = sampler.mark();
+        self.inside(state, false, level + 1, sampler, acc, bins);
+        sampler.reset(mark);
     }
 
     /// The path that the reflection `path` by `line` of a path of spectrum `lines` starts: the
@@ -937,10 +950,10 @@ impl<'a> Tracer<'a> {
         path: &Reflection,
         line: &ActiveLine,
         lines: &PathSpectrum,
-        rng: &mut Rng,
+        sampler: &mut PathSampler,
     ) -> Option<PathState> {
-        let (d, l) = self.reflection(path.domain, line, path.dir, rng)?;
-        let branch = lines.reflected(l, self.setup.spectral, rng.uniform());
+        let (d, l) = self.reflection(path.domain, line, path.dir, sampler)?;
+        let branch = lines.reflected(l, self.setup.spectral, sampler.uniform());
         if branch.is_dark() {
             return None;
         }
@@ -996,10 +1009,10 @@ impl<'a> Tracer<'a> {
         domain: u32,
         line: &ActiveLine,
         dir: Vec3,
-        rng: &mut Rng,
+        sampler: &mut PathSampler,
     ) -> Option<(Vec3, BraggLine)> {
         let sigma = self.stone.lobe_sigma(line.kind, -dir.dot(line.normal));
-        let h = sample_lobe(line.normal, sigma, rng);
+        let h = sample_lobe(line.normal, sigma, sampler);
         let cos_h = -dir.dot(h);
         (cos_h > 0.0).then(|| (reflect(dir, h), self.line_at(domain, line, cos_h)))
     }
@@ -1027,7 +1040,7 @@ impl<'a> Tracer<'a> {
         domain: u32,
         path: &PathSpectrum,
         weight: f32,
-        rng: &mut Rng,
+        sampler: &mut PathSampler,
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
@@ -1061,7 +1074,7 @@ impl<'a> Tracer<'a> {
             let mut lines = path.reflected(
                 self.line_at(domain, &line, cos_h),
                 self.setup.spectral,
-                rng.uniform(),
+                sampler.uniform(),
             );
             for n in &notches {
                 lines.transmit(*n, self.setup.spectral);
@@ -1165,26 +1178,26 @@ fn line_energy(line: &BraggLine) -> f64 {
 
 /// A new direction after scattering a path travelling along `dir` by the Henyey–Greenstein
 /// phase of anisotropy `g`.
-fn sample_hg(dir: Vec3, g: f32, rng: &mut Rng) -> Vec3 {
-    let cos = hg_cos(f64::from(g), rng.uniform()) as f32;
+fn sample_hg(dir: Vec3, g: f32, sampler: &mut PathSampler) -> Vec3 {
+    let cos = hg_cos(f64::from(g), sampler.uniform()) as f32;
     let sin = (1.0 - cos * cos).max(0.0).sqrt();
-    let phi = 2.0 * PI * rng.uniform_f32();
+    let phi = 2.0 * PI * sampler.uniform_f32();
     let (t, b) = dir.any_orthonormal_pair();
     (dir * cos + (t * phi.cos() + b * phi.sin()) * sin).normalize()
 }
 
 /// A direction drawn with density `cos θ / π` about +z.
-fn cosine_about_z(rng: &mut Rng) -> Vec3 {
-    let r = rng.uniform_f32().sqrt();
-    let phi = 2.0 * PI * rng.uniform_f32();
+fn cosine_about_z(sampler: &mut PathSampler) -> Vec3 {
+    let r = sampler.uniform_f32().sqrt();
+    let phi = 2.0 * PI * sampler.uniform_f32();
     Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - r * r).max(0.0).sqrt())
 }
 
 /// A normal drawn about `n` with a Gaussian tilt of standard deviation `sigma` (radians).
-fn sample_lobe(n: Vec3, sigma: f32, rng: &mut Rng) -> Vec3 {
-    let u = (1.0 - rng.uniform_f32()).max(1e-12);
+fn sample_lobe(n: Vec3, sigma: f32, sampler: &mut PathSampler) -> Vec3 {
+    let u = (1.0 - sampler.uniform_f32()).max(1e-12);
     let alpha = sigma * (-2.0 * u.ln()).sqrt();
-    let phi = 2.0 * PI * rng.uniform_f32();
+    let phi = 2.0 * PI * sampler.uniform_f32();
     let (t, b) = n.any_orthonormal_pair();
     (n * alpha.cos() + (t * phi.cos() + b * phi.sin()) * alpha.sin()).normalize()
 }

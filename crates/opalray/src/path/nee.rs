@@ -23,11 +23,11 @@
 
 use glam::Vec3;
 
+use super::sampler::PathSampler;
 use super::{Tracer, EPSILON_MM};
 use crate::geometry::fresnel_dielectric;
 use crate::geometry::refracted_entry;
 use crate::geometry::LightSource;
-use crate::sampling::Rng;
 use crate::stone::{angle_between, ActiveLine};
 
 use super::spectral::PathSpectrum;
@@ -155,9 +155,9 @@ impl Tracer<'_> {
 
     /// One direction drawn towards the area light from `x` and refracted in: `(the path in,
     /// the direction outside, the light's value, the density per steradian outside)`.
-    fn draw_area(&self, x: Vec3, rng: &mut Rng) -> Option<(Inbound, Vec3, f32, f32)> {
+    fn draw_area(&self, x: Vec3, sampler: &mut PathSampler) -> Option<(Inbound, Vec3, f32, f32)> {
         let light = self.estimated_area_light()?;
-        let u = [rng.uniform_f32(), rng.uniform_f32()];
+        let u = [sampler.uniform_f32(), sampler.uniform_f32()];
         let e0 = self.light_entry(&light, x)?;
         let sample = light.sample(e0, u)?;
         let inbound = self.refracted_in(x, sample.direction)?;
@@ -176,11 +176,11 @@ impl Tracer<'_> {
         density: &dyn Fn(Vec3) -> f32,
         path: &PathSpectrum,
         weight: f32,
-        rng: &mut Rng,
+        sampler: &mut PathSampler,
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
-        let Some((inbound, out, value, q)) = self.draw_area(x, rng) else {
+        let Some((inbound, out, value, q)) = self.draw_area(x, sampler) else {
             return;
         };
         let f = density(inbound.to_light);
@@ -217,11 +217,11 @@ impl Tracer<'_> {
         pick: &[f64],
         path: &PathSpectrum,
         weight: f32,
-        rng: &mut Rng,
+        sampler: &mut PathSampler,
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
-        let Some((inbound, _, value, q)) = self.draw_area(x, rng) else {
+        let Some((inbound, _, value, q)) = self.draw_area(x, sampler) else {
             return;
         };
         let to_eye = -dir;
@@ -249,7 +249,7 @@ impl Tracer<'_> {
             let mut reflected = path.reflected(
                 self.line_at(domain, line, cos_h),
                 self.setup.spectral,
-                rng.uniform(),
+                sampler.uniform(),
             );
             for n in &notches {
                 reflected.transmit(*n, self.setup.spectral);
@@ -322,7 +322,7 @@ pub(super) mod tests {
     use super::*;
     use crate::geometry::Camera;
     use crate::lights::Environment;
-    use crate::path::{PathSetup, SpectralSampler};
+    use crate::path::{PathSetup, Sampling, SpectralSampler};
     use crate::scene::{EnvironmentConfig, EnvironmentKind};
     use crate::stone::Stone;
 
@@ -390,11 +390,12 @@ pub(super) mod tests {
         for p in 0..pixels {
             let (mut sum, mut sum2) = (0.0f64, 0.0f64);
             for s in 0..spp {
-                let mut rng = Rng::new(setup.seed, stream, p * spp + s);
-                let x = (p % setup.width as u64) as f32 + rng.uniform_f32();
-                let y = (p / setup.width as u64) as f32 + rng.uniform_f32();
+                let key = setup.seed ^ stream.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+                let mut sampler = PathSampler::new(key, p, s as u32, Sampling::Independent);
+                let x = (p % setup.width as u64) as f32 + sampler.uniform_f32();
+                let y = (p / setup.width as u64) as f32 + sampler.uniform_f32();
                 let mut acc = [0.0f64; 3];
-                tracer.sample(setup.camera.ray(x, y), &mut rng, &mut acc, &mut bins);
+                tracer.sample(setup.camera.ray(x, y), &mut sampler, &mut acc, &mut bins);
                 sum += acc[1];
                 sum2 += acc[1] * acc[1];
             }

@@ -4,10 +4,10 @@
 //!
 //! A render is a sequence of passes of samples per pixel: the first pass 2 (1 if only one is
 //! asked for), then each pass as many as all before it (doubling the total), cut so as not to
-//! pass `spp`, [`Passes::max_pass_spp`] nor, by the passes' measured pace, the time limit. Sample `s` of pixel `p` draws
-//! from its own stream `(seed, PATH, p · 2^SAMPLE_BITS + s)` (its jitter over the pixel,
-//! uniform, and its path), and every pixel's sums take its samples in the order of `s`,
-//! whatever the passes; so the image for `n` samples per pixel is the same bytes however the
+//! pass `spp`, [`Passes::max_pass_spp`] nor, by the passes' measured pace, the time limit.
+//! Sample `s` of pixel `p` is point `s` of the pixel's Owen-scrambled Sobol sequence, laid
+//! out by event ([`super::sampler`]: its jitter over the pixel, then its path), and every
+//! pixel's sums take its samples in the order of `s`, whatever the passes; so the image for `n` samples per pixel is the same bytes however the
 //! passes fall and at any thread count — a time-limited render is the render with the `spp`
 //! it reached. Rows are rendered in parallel into pre-sized buffers.
 //!
@@ -21,14 +21,14 @@ use rayon::prelude::*;
 
 use super::noise::{relative_rms, PixelNoise};
 use super::orders::OrderSums;
+use super::sampler::{PathSampler, Sampling, MAX_SAMPLES};
 use super::{PathImage, PathSetup, Tracer};
-use crate::sampling::{stage, Rng};
 use crate::scene::MAX_SPP;
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
 
-/// Bits of a stream index given to the sample number (`spp` ≤ [`MAX_SPP`] = 2¹⁶ < 2¹⁷).
-const SAMPLE_BITS: u32 = 17;
+// Every sample of a pixel is a point of its sequence.
+const _: () = assert!(MAX_SPP <= MAX_SAMPLES);
 /// Samples per pixel of the first pass: two, so that the noise can be estimated from the first.
 const FIRST_PASS_SPP: u32 = 2;
 
@@ -43,6 +43,9 @@ pub struct Passes<'a> {
     pub max_pass_spp: Option<u32>,
     /// Called after every pass (on the calling thread).
     pub on_pass: Option<&'a (dyn Fn(&PassReport) + Sync)>,
+    /// Which points the samples are: Owen-scrambled Sobol (the default) or independent
+    /// streams ([`Sampling`]).
+    pub sampling: Sampling,
 }
 
 /// Where a render stands after a pass.
@@ -120,6 +123,7 @@ pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathIm
         let pass_orders = trace_pass(
             stone,
             setup,
+            passes.sampling,
             done..done + size,
             &on_stone,
             &mut sums,
@@ -174,6 +178,7 @@ pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathIm
 fn trace_pass(
     stone: &Stone,
     setup: &PathSetup,
+    sampling: Sampling,
     range: std::ops::Range<u32>,
     on_stone: &[bool],
     sums: &mut [PixelSums],
@@ -192,16 +197,12 @@ fn trace_pass(
                 let pixel = (y * w + x) as u64;
                 let px_bins = &mut row_bins[x * bins..(x + 1) * bins];
                 for s in range.clone() {
-                    let mut rng = Rng::new(
-                        setup.seed,
-                        stage::PATH,
-                        (pixel << SAMPLE_BITS) | u64::from(s),
-                    );
-                    let jx = rng.uniform_f32();
-                    let jy = rng.uniform_f32();
+                    let mut sampler = PathSampler::new(setup.seed, pixel, s, sampling);
+                    let jx = sampler.uniform_f32();
+                    let jy = sampler.uniform_f32();
                     let ray = setup.camera.ray(x as f32 + jx, y as f32 + jy);
                     let mut acc = [0.0f64; 3];
-                    tracer.sample(ray, &mut rng, &mut acc, px_bins);
+                    tracer.sample(ray, &mut sampler, &mut acc, px_bins);
                     let half = &mut px.halves[(s % 2) as usize];
                     for c in 0..3 {
                         half[c] += acc[c];
