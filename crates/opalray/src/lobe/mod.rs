@@ -352,16 +352,27 @@ impl BackingLight {
 
     /// The light at `at` (on the back plane).
     fn at(&self, at: Vec3) -> f32 {
-        let (nx, ny) = BACKING_GRID;
-        let fx = ((at.x / self.half.0 + 1.0) * 0.5 * (nx - 1) as f32).clamp(0.0, (nx - 1) as f32);
-        let fy = ((at.y / self.half.1 + 1.0) * 0.5 * (ny - 1) as f32).clamp(0.0, (ny - 1) as f32);
-        let (i, j) = ((fx as usize).min(nx - 2), (fy as usize).min(ny - 2));
-        let (tx, ty) = (fx - i as f32, fy - j as f32);
-        let v = |i: usize, j: usize| self.values[j * nx + i];
-        let low = v(i, j) * (1.0 - tx) + v(i + 1, j) * tx;
-        let high = v(i, j + 1) * (1.0 - tx) + v(i + 1, j + 1) * tx;
-        low * (1.0 - ty) + high * ty
+        bilinear(
+            &self.values,
+            BACKING_GRID,
+            at.x / self.half.0,
+            at.y / self.half.1,
+        )
     }
+}
+
+/// A table of `grid.0 × grid.1` values over `[−1, 1]²` (row-major, x fastest) read
+/// bilinearly at `(u, v)`, clamped to its edges.
+fn bilinear(values: &[f32], grid: (usize, usize), u: f32, v: f32) -> f32 {
+    let (nx, ny) = grid;
+    let fx = ((u + 1.0) * 0.5 * (nx - 1) as f32).clamp(0.0, (nx - 1) as f32);
+    let fy = ((v + 1.0) * 0.5 * (ny - 1) as f32).clamp(0.0, (ny - 1) as f32);
+    let (i, j) = ((fx as usize).min(nx - 2), (fy as usize).min(ny - 2));
+    let (tx, ty) = (fx - i as f32, fy - j as f32);
+    let at = |i: usize, j: usize| values[j * nx + i];
+    let low = at(i, j) * (1.0 - tx) + at(i + 1, j) * tx;
+    let high = at(i, j + 1) * (1.0 - tx) + at(i + 1, j + 1) * tx;
+    low * (1.0 - ty) + high * ty
 }
 
 /// The back plane's grid point `(i, j)` over `[−a, a] × [−b, b]`, `half = (a, b)`.

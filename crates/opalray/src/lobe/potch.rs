@@ -60,17 +60,9 @@ impl PotchLight {
 
     /// The light at `p`, a point of the potch under the bar (on or just under its top).
     pub(super) fn at(&self, p: Vec3) -> f32 {
-        let (nx, ny) = GRID;
         let a = self.inner.semi_axes();
         let q = p - self.centre;
-        let fx = ((q.x / a.x + 1.0) * 0.5 * (nx - 1) as f32).clamp(0.0, (nx - 1) as f32);
-        let fy = ((q.y / a.y + 1.0) * 0.5 * (ny - 1) as f32).clamp(0.0, (ny - 1) as f32);
-        let (i, j) = ((fx as usize).min(nx - 2), (fy as usize).min(ny - 2));
-        let (tx, ty) = (fx - i as f32, fy - j as f32);
-        let v = |i: usize, j: usize| self.values[j * nx + i];
-        let low = v(i, j) * (1.0 - tx) + v(i + 1, j) * tx;
-        let high = v(i, j + 1) * (1.0 - tx) + v(i + 1, j + 1) * tx;
-        low * (1.0 - ty) + high * ty
+        super::bilinear(&self.values, GRID, q.x / a.x, q.y / a.y)
     }
 
     /// The largest light in the table.
