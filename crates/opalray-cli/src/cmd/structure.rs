@@ -13,7 +13,7 @@ use opalray::structure::{self, map::MAX_SCALE};
 use opalray::Scene;
 
 use super::common::{write_json, SceneArgs};
-use crate::outputs::Outputs;
+use crate::outputs::{Output, Outputs};
 
 const EXAMPLES: &str = "\
 Examples:
@@ -93,12 +93,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let slice_z = args.slice_z.unwrap_or(nz / 2);
     super::memory::check_structure(&scene, pixels)?;
-    let mut outputs = Outputs::new();
-    let image = outputs.add("--output", &args.output, &["png"])?;
-    let stats_out = match &args.stats {
-        Some(path) => Some(outputs.add("--stats", path, &["json"])?),
-        None => None,
-    };
+    let (outputs, image, stats_out) = declare_outputs(&args)?;
 
     // Grow and draw.
     let start = Instant::now();
@@ -143,9 +138,7 @@ pub fn run(args: Args) -> Result<()> {
         map.height,
         nz - 1
     ))?;
-    if let Some(path) = &args.stats {
-        crate::stdio::out(format_args!("wrote {}", path.display()))?;
-    }
+    report_stats(&args)?;
     crate::stdio::out(format_args!(
         "structure {nx} × {ny} × {nz}: {} inside cells, {} clusters, {} voids \
          (void ratio {:.4}), {} seeds, mean radius {:.2} cells, {:.1} ms",
@@ -160,15 +153,29 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// Draw the slice of the stone the renderers read (`scene`'s method is not the two passes).
-fn run_stone(args: &Args, scene: &Scene) -> Result<()> {
-    let [nx, ny, nz] = scene.structure.grid;
+/// The map (`--output`) and the statistics (`--stats`), checked before any work.
+fn declare_outputs(args: &Args) -> Result<(Outputs, Output, Option<Output>)> {
     let mut outputs = Outputs::new();
     let image = outputs.add("--output", &args.output, &["png"])?;
-    let stats_out = match &args.stats {
+    let stats = match &args.stats {
         Some(path) => Some(outputs.add("--stats", path, &["json"])?),
         None => None,
     };
+    Ok((outputs, image, stats))
+}
+
+/// Say that the statistics were written, if asked for.
+fn report_stats(args: &Args) -> Result<()> {
+    if let Some(path) = &args.stats {
+        crate::stdio::out(format_args!("wrote {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// Draw the slice of the stone the renderers read (`scene`'s method is not the two passes).
+fn run_stone(args: &Args, scene: &Scene) -> Result<()> {
+    let [nx, ny, nz] = scene.structure.grid;
+    let (outputs, image, stats_out) = declare_outputs(args)?;
 
     // Build the stone, find the level, draw.
     let start = Instant::now();
@@ -204,9 +211,7 @@ fn run_stone(args: &Args, scene: &Scene) -> Result<()> {
         slice.height,
         nz - 1
     ))?;
-    if let Some(path) = &args.stats {
-        crate::stdio::out(format_args!("wrote {}", path.display()))?;
-    }
+    report_stats(args)?;
     crate::stdio::out(format_args!(
         "stone of the {} method: {} domains, {} cut by the slice, {:.0} % of it in domains \
          (the rest potch), {:.1} ms",
