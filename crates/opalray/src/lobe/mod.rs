@@ -10,7 +10,9 @@
 //! - **Domain crossing**, for every line met ([`Stone::lines`]): the mirror direction about
 //!   the family normal is followed out of the stone (the domains on the way notch it, the
 //!   potch and haze dim it; at the surface `(1 − F) n²` escapes, the rest is reflected
-//!   inside and followed again, up to [`trace::MAX_SEGMENTS`] segments), and the
+//!   inside and followed again, up to [`trace::MAX_SEGMENTS`] segments, through the
+//!   domains after a total reflection and through the surface alone after a partial one),
+//!   and the
 //!   environment is read there through the lobe, its width the mosaic spread carried
 //!   through the refraction ([`crate::lights::Environment::filtered`]). The line's colour is
 //!   its equivalent width times the light × colour-matching functions over its profile

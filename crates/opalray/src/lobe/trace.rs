@@ -30,6 +30,9 @@ const CUT: f32 = 1e-5;
 /// body's light seen in reflections is a few tenths of a per cent of the black opal's, and
 /// following every reflection for it took half as long again.
 const BODY_CUT: f32 = 1e-3;
+/// A reflection's walk out that loses more than this share of its weight at the surface was
+/// partly reflected there (total internal reflection keeps all of it).
+const PARTIAL: f32 = 0.99;
 /// Most lines of the eye ray kept for the notches of later reflections.
 const MAX_EYE_LINES: usize = 96;
 /// Directions of the quadrature of the light reaching a point of the backing.
@@ -57,10 +60,13 @@ pub(super) struct Tracer<'a> {
     lines: Vec<ActiveLine>,
     out_spans: Vec<Span>,
     out_lines: Vec<ActiveLine>,
-    /// The colours of the lines of the crossing at hand.
-    line_colours: Vec<([f64; 3], f64)>,
-    /// The lines the eye ray has crossed, with their windows.
-    eye_lines: Vec<(BraggLine, (f64, f64))>,
+    /// The colours `(XYZ, S)` of the lines of the crossing at hand, and what the eye ray's
+    /// earlier lines leave of each line's centre.
+    line_colours: Vec<([f64; 3], f64, f64)>,
+    /// The lines the eye ray has crossed.
+    eye_lines: Vec<BraggLine>,
+    /// Their windows (`BraggLine::window_nm`), apart: what every wavelength is checked against.
+    eye_windows: Vec<(f64, f64)>,
     /// XYZ the eye ray's notches take from a white of luminance 1.
     notch_xyz: [f64; 3],
     /// The same per bin.
@@ -105,6 +111,7 @@ impl<'a> Tracer<'a> {
             out_lines: Vec::with_capacity(16),
             line_colours: Vec::with_capacity(16),
             eye_lines: Vec::with_capacity(MAX_EYE_LINES),
+            eye_windows: Vec::with_capacity(MAX_EYE_LINES),
             notch_xyz: [0.0; 3],
             notch_bins: vec![0.0; setup.spectral.grid.bins],
             bin_width_nm: setup.spectral.grid.bin_width_nm(),
@@ -148,6 +155,7 @@ impl<'a> Tracer<'a> {
             return;
         };
         self.eye_lines.clear();
+        self.eye_windows.clear();
         self.notch_xyz = [0.0; 3];
         self.notch_bins.iter_mut().for_each(|b| *b = 0.0);
         // The surface: the gloss, and the refracted part goes in.
@@ -266,8 +274,8 @@ impl<'a> Tracer<'a> {
         colours.clear();
         for l in &lines {
             let (xyz, s) = self.colours.of(&l.line);
-            colours.push((xyz, s));
             let t_in = self.eye_transmittance(l.line.center_nm);
+            colours.push((xyz, s, t_in));
             let weight = w * t_in as f32;
             if weight * xyz[1] as f32 * (self.peak + self.body_peak) > CUT {
                 let cos_theta = -dir.dot(l.normal);
@@ -286,19 +294,28 @@ impl<'a> Tracer<'a> {
                 self.light_at(ray.at(span.t0 + EPSILON_MM), dir, domain, l, weight, sums);
             }
         }
-        // The ray goes on through, carrying each line's notch.
-        for (l, &(xyz, s)) in lines.iter().zip(&colours) {
+        // The ray goes on through, carrying each line's notch: what the earlier lines, this
+        // crossing's before it among them, leave of its centre.
+        for (k, (l, &(xyz, s, t_in))) in lines.iter().zip(&colours).enumerate() {
             if self.eye_lines.len() >= MAX_EYE_LINES {
                 break;
             }
-            let t_prev = self.eye_transmittance(l.line.center_nm);
+            let centre = l.line.center_nm;
+            let mut t_prev = t_in;
+            for before in &lines[..k] {
+                let (lo, hi) = before.line.window_nm();
+                if centre > lo && centre < hi {
+                    t_prev *= 1.0 - before.line.reflectance(centre);
+                }
+            }
             for (n, v) in self.notch_xyz.iter_mut().zip(xyz) {
                 *n += t_prev * v;
             }
             if let Some(b) = self.setup.spectral.grid.bin_of(l.line.center_nm) {
                 self.notch_bins[b] += (t_prev * s / self.bin_width_nm) as f32;
             }
-            self.eye_lines.push((l.line, l.line.window_nm()));
+            self.eye_windows.push(l.line.window_nm());
+            self.eye_lines.push(l.line);
         }
         self.line_colours = colours;
         self.lines = lines;
@@ -307,9 +324,9 @@ impl<'a> Tracer<'a> {
     /// `Π (1 − R)` at `wavelength_nm` of the lines the eye ray has crossed.
     fn eye_transmittance(&self, wavelength_nm: f64) -> f64 {
         let mut t = 1.0;
-        for (line, (lo, hi)) in &self.eye_lines {
+        for (k, (lo, hi)) in self.eye_windows.iter().enumerate() {
             if wavelength_nm > *lo && wavelength_nm < *hi {
-                t *= 1.0 - line.reflectance(wavelength_nm);
+                t *= 1.0 - self.eye_lines[k].reflectance(wavelength_nm);
             }
         }
         t
@@ -406,10 +423,17 @@ impl<'a> Tracer<'a> {
                 break;
             }
             let at = ray.at(t_end);
+            let before = w;
             let event;
             (event, pos, dir, region, w) = self.boundary_out(at, dir, region, boundary, w, sigma);
             seen += event;
             if boundary == Boundary::Back {
+                break;
+            }
+            if boundary == Boundary::Surface && w < PARTIAL * before {
+                // A partial reflection at the surface: the share sent back inside is
+                // followed through the surface alone, dimmed by the potch under a bar.
+                seen += w * self.escape(pos, dir, region, sigma, Dim::Bar);
                 break;
             }
         }
@@ -437,7 +461,12 @@ impl<'a> Tracer<'a> {
             let Some((t_end, boundary)) = stone.exit(&ray, region) else {
                 break;
             };
-            if dim != Dim::None && region == Region::Opal {
+            if dim == Dim::Bar && region == Region::Opal {
+                w *= (-potch.extinction_per_mm * stone.bar_chord(&ray, t_end)).exp();
+                if w < MIN_WEIGHT {
+                    break;
+                }
+            } else if dim != Dim::None && region == Region::Opal {
                 let mut tau = 0.0f32;
                 stone.walk(pos, dir, 0.0, t_end, Hint::default(), &mut |s| {
                     let sigma = match (s.domain, dim) {
@@ -818,6 +847,8 @@ pub(super) enum Dim {
     Potch,
     /// The potch and the domains' haze.
     PotchAndHaze,
+    /// The potch under a colour bar alone (its chord, without a walk).
+    Bar,
 }
 
 /// The tables of light inside the stone a tracer reads (none while they are being made).

@@ -442,6 +442,21 @@ impl Stone {
         self.bar_inner.map(|e| (e, self.bar_centre))
     }
 
+    /// The length of `ray.at(t)`, `t ∈ [0, t_end]`, under the colour bar's inner surface (in
+    /// the potch there), 0 without a bar.
+    pub fn bar_chord(&self, ray: &Ray, t_end: f32) -> f32 {
+        let Some(inner) = &self.bar_inner else {
+            return 0.0;
+        };
+        let local = Ray {
+            origin: ray.origin - self.bar_centre,
+            direction: ray.direction,
+        };
+        inner
+            .intersect(&local)
+            .map_or(0.0, |(a, b)| (b.min(t_end) - a.max(0.0)).max(0.0))
+    }
+
     /// The region `p` (inside the stone) lies in.
     #[inline]
     pub fn region_at(&self, p: Vec3) -> Region {
