@@ -23,7 +23,8 @@ const FRESNEL_ROWS: usize = 256;
 /// dome's internal reflections followed; dimmed by the potch, not by the domains' haze, which
 /// sends most of what it scatters on), over `1 − F̄`, the share of a diffuse irradiance
 /// that the surface lets in ([`hemispherical_fresnel`]); for potch at a flat surface this is
-/// `Ē` again. Tabulated over the footprint and read bilinearly.
+/// `Ē` again. Tabulated over the footprint and read bilinearly (the points no read inside
+/// the footprint weighs in are left 0, [`super::read_points`]).
 pub(crate) struct PotchLight {
     inner: Ellipsoid,
     centre: Vec3,
@@ -41,11 +42,15 @@ impl PotchLight {
         let (inner, centre) = stone.bar_surface()?;
         let (nx, ny) = GRID;
         let entering = 1.0 - hemispherical_fresnel(stone.n_eff);
+        let read = super::read_points(GRID, super::READ_RADIUS);
         let mut values = vec![0.0f32; nx * ny];
         values.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
             let mut tracer =
                 trace::Tracer::new(stone, setup, colours, irradiance, trace::Lit::default());
             for (i, v) in row.iter_mut().enumerate() {
+                if !read[j * nx + i] {
+                    continue;
+                }
                 let (p, normal) = point(&inner, centre, i, j);
                 *v = tracer.light_on(p + normal * 1e-3, normal, DIRECTIONS, trace::Dim::Potch)
                     / entering;
