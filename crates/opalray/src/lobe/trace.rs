@@ -445,8 +445,13 @@ impl<'a> Tracer<'a> {
                         (Some(_), Dim::PotchAndHaze) => potch.domain_scattering_per_mm,
                         (Some(_), _) => 0.0,
                     };
+                    if sigma <= 0.0 {
+                        return true;
+                    }
                     tau += sigma * (s.t1 - s.t0);
-                    true
+                    // Once the ray is dimmed under MIN_WEIGHT, the rest of the walk (which
+                    // can only dim it more) is left: it ends below.
+                    w * (-tau).exp() >= MIN_WEIGHT
                 });
                 w *= (-tau).exp();
                 if w < MIN_WEIGHT {
