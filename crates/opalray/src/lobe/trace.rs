@@ -424,7 +424,8 @@ impl<'a> Tracer<'a> {
     }
 
     /// [`Tracer::seen_out`], dimmed on every segment in the opal as `dim` says; `hint` holds
-    /// the cells of `pos`, if known (the first walk starts from them).
+    /// the cells of `pos`, if known (the first walk starts from them), each later segment's
+    /// walk starting from the cells where the last one ended.
     fn escape(
         &self,
         pos: Vec3,
@@ -448,7 +449,7 @@ impl<'a> Tracer<'a> {
             };
             if dim != Dim::None && region == Region::Opal {
                 let mut tau = 0.0f32;
-                stone.walk(pos, dir, 0.0, t_end, std::mem::take(&mut hint), &mut |s| {
+                hint = stone.walk(pos, dir, 0.0, t_end, hint, &mut |s| {
                     let sigma = match (s.domain, dim) {
                         (None, _) => potch.extinction_per_mm,
                         (Some(_), Dim::PotchAndHaze) => potch.domain_scattering_per_mm,
