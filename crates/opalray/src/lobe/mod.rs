@@ -468,6 +468,33 @@ mod tests {
     }
 
     #[test]
+    fn a_table_read_inside_its_footprint_reads_only_computed_points() {
+        // The points left out hold NaN: a read whose cell has one as a corner returns NaN.
+        for grid in [BACKING_GRID, (32, 24), (96, 72)] {
+            let read = read_points(grid, READ_RADIUS);
+            let values: Vec<f32> = read
+                .iter()
+                .map(|&r| if r { 1.0 } else { f32::NAN })
+                .collect();
+            let skipped = read.iter().filter(|&&r| !r).count();
+            assert!(skipped > 0, "{grid:?}: nothing left out");
+            let n = 400;
+            for a in 0..=n {
+                for b in 0..=n {
+                    let (u, v) = (
+                        2.0 * a as f32 / n as f32 - 1.0,
+                        2.0 * b as f32 / n as f32 - 1.0,
+                    );
+                    if u * u + v * v <= 1.001 {
+                        let x = bilinear(&values, grid, u, v);
+                        assert!((x - 1.0).abs() < 1e-6, "{grid:?} at ({u}, {v}): {x}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn the_backing_is_lit_through_the_stone() {
         // Lossless: inside a clear dielectric in a furnace the radiance is n² in every
         // direction that leads out (the furnace through the surface); what the dome

@@ -12,9 +12,10 @@ use crate::stone::Stone;
 /// Points across and along the bar's footprint at which the light is computed.
 const GRID: (usize, usize) = (48, 36);
 /// Directions of the quadrature at each point, each reading the environment through a lobe
-/// of half their spacing ([`trace::Tracer::light_on`]). 96 moved no pixel of the gem
-/// presets at 320 × 240 by more than 7 codes (mean under 0.06) and the white body's value by
-/// 0.002, at twice the time (BENCHMARKS.md, 2026-12-06).
+/// of half their spacing ([`trace::Tracer::light_on`]). Twice as many (96) take twice the
+/// time and change no gem preset's pixel at 320 × 240 by more than 7 codes (the mean by
+/// under 0.06) nor the white body's value by more than 0.002 (BENCHMARKS.md, 2026-12-06).
+const DIRECTIONS: usize = 48;
 /// Rows of the quadrature of [`hemispherical_fresnel`].
 const FRESNEL_ROWS: usize = 256;
 
