@@ -17,6 +17,8 @@
 //!   lines' own window, `optics::line`), every 0.25 nm, and read at the line's centre,
 //!   interpolated in the width's logarithm.
 
+use rayon::prelude::*;
+
 use crate::optics::BraggLine;
 use crate::path::SpectralSampler;
 
@@ -41,45 +43,20 @@ pub struct LineColours {
 }
 
 impl LineColours {
-    /// The table of the light and range of `sampler`.
+    /// The table of the light and range of `sampler`: each row's convolution runs in
+    /// parallel over its columns, each column's sum in the kernel's order (the same bytes
+    /// at any thread count).
     pub fn new(sampler: &SpectralSampler) -> Self {
         let (lo, hi) = sampler.range_nm();
         let columns = ((hi - lo) / STEP_NM).round() as usize + 1;
-        let at = |i: i64| -> [f64; 4] {
-            if i < 0 || i >= columns as i64 {
-                return [0.0; 4];
-            }
-            sampler.at(lo + i as f64 * STEP_NM).map(f64::from)
-        };
-        let mut table = Vec::with_capacity(WIDTHS.len() * columns);
-        for &gamma in &WIDTHS {
-            let reach = if gamma == 0.0 {
-                0
-            } else {
-                ((REACH * gamma / STEP_NM).ceil() as i64).min(columns as i64)
-            };
-            let kernel: Vec<f64> = (-reach..=reach)
-                .map(|k| {
-                    if gamma == 0.0 {
-                        return 1.0;
-                    }
-                    // The Lorentzian's mass over the step about k (exact for steps finer
-                    // than its core).
-                    let x = k as f64 * STEP_NM;
-                    ((x + 0.5 * STEP_NM) / gamma).atan() - ((x - 0.5 * STEP_NM) / gamma).atan()
-                })
-                .collect();
-            let norm: f64 = kernel.iter().sum();
-            for i in 0..columns as i64 {
-                let mut v = [0.0f64; 4];
-                for (k, w) in (-reach..=reach).zip(&kernel) {
-                    let s = at(i + k);
-                    for c in 0..4 {
-                        v[c] += w * s[c];
-                    }
-                }
-                table.push(v.map(|c| (c / norm) as f32));
-            }
+        // The light × colour-matching functions at every column; 0 beyond the range, whose
+        // taps are left out of the sums (they would add 0).
+        let samples: Vec<[f64; 4]> = (0..columns)
+            .map(|i| sampler.at(lo + i as f64 * STEP_NM).map(f64::from))
+            .collect();
+        let mut table = vec![[0.0f32; 4]; WIDTHS.len() * columns];
+        for (row, &gamma) in table.chunks_mut(columns).zip(&WIDTHS) {
+            smooth(&samples, gamma, row);
         }
         LineColours {
             lo_nm: lo,
@@ -132,6 +109,50 @@ impl LineColours {
         let (a, b) = (read(r0), read(r0 + 1));
         std::array::from_fn(|c| a[c] * (1.0 - fr) + b[c] * fr)
     }
+}
+
+/// Columns of a row that one parallel task smooths.
+const CHUNK: usize = 64;
+
+/// `row` = `samples` convolved with the Lorentzian of half-width `gamma` (nm; 0: none),
+/// its mass over each step, cut at [`REACH`] half-widths and normalised over the whole
+/// kernel (a line near the range's end loses the light beyond it).
+fn smooth(samples: &[[f64; 4]], gamma: f64, row: &mut [[f32; 4]]) {
+    let columns = samples.len() as i64;
+    let reach = if gamma == 0.0 {
+        0
+    } else {
+        ((REACH * gamma / STEP_NM).ceil() as i64).min(columns)
+    };
+    let kernel: Vec<f64> = (-reach..=reach)
+        .map(|k| {
+            if gamma == 0.0 {
+                return 1.0;
+            }
+            // The Lorentzian's mass over the step about k (exact for steps finer than its
+            // core).
+            let x = k as f64 * STEP_NM;
+            ((x + 0.5 * STEP_NM) / gamma).atan() - ((x - 0.5 * STEP_NM) / gamma).atan()
+        })
+        .collect();
+    let norm: f64 = kernel.iter().sum();
+    row.par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(chunk, cells)| {
+            for (offset, cell) in cells.iter_mut().enumerate() {
+                let i = (chunk * CHUNK + offset) as i64;
+                // The taps that fall inside the range, in the kernel's order.
+                let (first, last) = ((i - reach).max(0), (i + reach).min(columns - 1));
+                let taps = &kernel[(first - (i - reach)) as usize..];
+                let mut v = [0.0f64; 4];
+                for (s, w) in samples[first as usize..=last as usize].iter().zip(taps) {
+                    for c in 0..4 {
+                        v[c] += w * s[c];
+                    }
+                }
+                *cell = v.map(|c| (c / norm) as f32);
+            }
+        });
 }
 
 /// The fractional row of [`WIDTHS`] of a Lorentzian of half-width `gamma_nm`.

@@ -444,11 +444,21 @@ impl<'a> Tracer<'a> {
     /// [`MAX_SEGMENTS`] surface events, no domains on the way): the environment through a
     /// lobe of width `sigma` over normals, in the stone's radiance.
     fn seen_out(&self, pos: Vec3, dir: Vec3, region: Region, sigma: f32) -> f32 {
-        self.escape(pos, dir, region, sigma, Dim::None)
+        self.escape(pos, dir, region, sigma, Dim::None, Hint::default())
     }
 
-    /// [`Tracer::seen_out`], dimmed on every segment in the opal as `dim` says.
-    fn escape(&self, pos: Vec3, dir: Vec3, region: Region, sigma: f32, dim: Dim) -> f32 {
+    /// [`Tracer::seen_out`], dimmed on every segment in the opal as `dim` says; `hint` holds
+    /// the cells of `pos`, if known (the first walk starts from them), each later segment's
+    /// walk starting from the cells where the last one ended.
+    fn escape(
+        &self,
+        pos: Vec3,
+        dir: Vec3,
+        region: Region,
+        sigma: f32,
+        dim: Dim,
+        mut hint: Hint,
+    ) -> f32 {
         let stone = self.stone;
         let potch = stone.potch;
         let (mut pos, mut dir, mut region) = (pos, dir, region);
@@ -468,14 +478,19 @@ impl<'a> Tracer<'a> {
                 }
             } else if dim != Dim::None && region == Region::Opal {
                 let mut tau = 0.0f32;
-                stone.walk(pos, dir, 0.0, t_end, Hint::default(), &mut |s| {
+                hint = stone.walk(pos, dir, 0.0, t_end, hint, &mut |s| {
                     let sigma = match (s.domain, dim) {
                         (None, _) => potch.extinction_per_mm,
                         (Some(_), Dim::PotchAndHaze) => potch.domain_scattering_per_mm,
                         (Some(_), _) => 0.0,
                     };
+                    if sigma <= 0.0 {
+                        return true;
+                    }
                     tau += sigma * (s.t1 - s.t0);
-                    true
+                    // Once the ray is dimmed under MIN_WEIGHT, the rest of the walk (which
+                    // can only dim it more) is left: it ends below.
+                    w * (-tau).exp() >= MIN_WEIGHT
                 });
                 w *= (-tau).exp();
                 if w < MIN_WEIGHT {
@@ -702,13 +717,22 @@ impl<'a> Tracer<'a> {
         let sigma = 0.25 * (PI / count).sqrt();
         let golden = PI * (3.0 - 5f32.sqrt());
         let (t, b) = normal.any_orthonormal_pair();
+        // The cells holding `at`, where every direction's walk starts.
+        let mut start = Hint::default();
+        if dim != Dim::None && self.stone.region_at(at) == Region::Opal {
+            self.stone
+                .walk(at, normal, 0.0, EPSILON_MM, start, &mut |s| {
+                    start = s.hint;
+                    false
+                });
+        }
         let mut sum = 0.0;
         for k in 0..directions {
             let r = ((k as f32 + 0.5) / count).sqrt();
             let phi = golden * k as f32;
             let dir = (t * (r * phi.cos()) + b * (r * phi.sin()))
                 + normal * (1.0 - r * r).max(0.0).sqrt();
-            sum += self.escape(at, dir, self.stone.region_at(at), sigma, dim);
+            sum += self.escape(at, dir, self.stone.region_at(at), sigma, dim, start);
         }
         sum / count + self.point_light_on(at, normal)
     }
