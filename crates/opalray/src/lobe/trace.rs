@@ -433,7 +433,7 @@ impl<'a> Tracer<'a> {
             if boundary == Boundary::Surface && w < PARTIAL * before {
                 // A partial reflection at the surface: the share sent back inside is
                 // followed through the surface alone, dimmed by the potch under a bar.
-                seen += w * self.escape(pos, dir, region, sigma, Dim::Bar);
+                seen += w * self.escape(pos, dir, region, sigma, Dim::Bar, Hint::default());
                 break;
             }
         }
