@@ -103,6 +103,34 @@ struct Reflection {
     weight: f32,
 }
 
+/// One camera sample in flight: the draws of its path and the light it adds to its pixel.
+struct CameraSample<'s> {
+    /// Its random numbers ([`sampler`]).
+    draws: &'s mut PathSampler,
+    /// Its XYZ so far.
+    xyz: &'s mut [f64; 3],
+    /// Its pixel's spectral bins (bin averages), which every sample of the pixel adds to.
+    bins: &'s mut [f32],
+}
+
+/// Where light is estimated on a path: the point `x` inside the stone, the path's spectrum
+/// and its weight there.
+struct Estimate<'p> {
+    x: Vec3,
+    path: &'p PathSpectrum,
+    weight: f32,
+}
+
+/// A domain met by a path's segment `ray`: the domain from `t0` (mm along the ray) over
+/// `chord` (mm, up to the segment's next event), the cells holding its start.
+struct DomainSpan<'r> {
+    ray: &'r Ray,
+    t0: f32,
+    chord: f32,
+    domain: u32,
+    cells: Hint,
+}
+
 /// What a domain crossing leaves of the path that met it.
 enum Crossing {
     /// It goes on through, its weight times this.
@@ -297,27 +325,21 @@ impl<'a> Tracer<'a> {
     }
 
     /// Add `weight` of the path's spectrum `lines` to the sample, tallied in the path's class.
-    fn add(&mut self, lines: &PathSpectrum, weight: f32, acc: &mut [f64; 3], bins: &mut [f32]) {
-        self.add_as(lines.history.class(), lines, weight, acc, bins);
+    fn add(&mut self, lines: &PathSpectrum, weight: f32, s: &mut CameraSample) {
+        self.add_as(lines.history.class(), lines, weight, s);
     }
 
     /// [`Tracer::add`], tallied in `class` ([`orders`]): the luminance it adds.
-    fn add_as(
-        &mut self,
-        class: usize,
-        lines: &PathSpectrum,
-        weight: f32,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) {
-        let y = acc[1];
+    fn add_as(&mut self, class: usize, lines: &PathSpectrum, weight: f32, s: &mut CameraSample) {
+        let y = s.xyz[1];
         self.setup
             .spectral
-            .add_path(lines, f64::from(weight), acc, bins);
-        self.tally[class] += acc[1] - y;
+            .add_path(lines, f64::from(weight), s.xyz, s.bins);
+        self.tally[class] += s.xyz[1] - y;
     }
 
-    /// One camera ray's path.
+    /// One camera ray's path: its draws from `sampler`, its XYZ added to `acc`, its spectrum
+    /// to its pixel's `bins`.
     fn sample(
         &mut self,
         ray: Ray,
@@ -325,13 +347,18 @@ impl<'a> Tracer<'a> {
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
+        let s = &mut CameraSample {
+            draws: sampler,
+            xyz: acc,
+            bins,
+        };
         self.tally = [0.0; CLASSES];
         let plain = PathSpectrum::default();
         let stone = self.stone;
         let shape = stone.shape;
         let Some((t0, _)) = shape.intersect(&ray).filter(|&(t0, _)| t0 > 0.0) else {
             let v = self.escaped(ray.origin, ray.direction);
-            self.add_as(BACKGROUND, &plain, v, acc, bins);
+            self.add_as(BACKGROUND, &plain, v, s);
             return;
         };
         // The surface: gloss to the environment and the light's disc, the rest refracts in.
@@ -343,7 +370,7 @@ impl<'a> Tracer<'a> {
         let fresnel = fresnel_dielectric(cos_i, 1.0, n);
         let mirror = reflect(ray.direction, normal);
         let gloss = fresnel * self.setup.gloss * (self.escaped(p, mirror) + self.disc(mirror));
-        self.add_as(GLOSS, &plain, gloss, acc, bins);
+        self.add_as(GLOSS, &plain, gloss, s);
         let Some(dir) = refract(ray.direction, normal, 1.0, n) else {
             return;
         };
@@ -359,7 +386,7 @@ impl<'a> Tracer<'a> {
             splits_scattering: true,
             hint: Hint::default(),
         };
-        self.inside(start, true, 0, sampler, acc, bins);
+        self.inside(start, true, 0, s);
     }
 
     /// What a ray leaving the stone at `origin` along `dir` sees: the environment, or the area
@@ -386,15 +413,7 @@ impl<'a> Tracer<'a> {
     /// The path `state` inside the stone. If `split`, every reflection at the domain crossings
     /// of its first segment in the opal is followed (a branch each) and the ray goes on through
     /// as well; elsewhere a reflection branch is drawn at random.
-    fn inside(
-        &mut self,
-        state: PathState,
-        mut split: bool,
-        depth: u32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) {
+    fn inside(&mut self, state: PathState, mut split: bool, depth: u32, s: &mut CameraSample) {
         let stone = self.stone;
         let shape = stone.shape;
         let potch = stone.potch;
@@ -420,7 +439,7 @@ impl<'a> Tracer<'a> {
             if !self.goes_deeper(level) {
                 return;
             }
-            sampler.begin_event(level);
+            s.draws.begin_event(level);
             let ray = Ray {
                 origin: pos,
                 direction: dir,
@@ -443,7 +462,7 @@ impl<'a> Tracer<'a> {
                     let at_start = std::mem::replace(&mut first, false);
                     let mut chord = span.t1 - span.t0;
                     let Some(domain) = span.domain else {
-                        let flight = -(1.0 - sampler.uniform_f32()).ln() / potch.extinction_per_mm;
+                        let flight = -(1.0 - s.draws.uniform_f32()).ln() / potch.extinction_per_mm;
                         if flight < chord {
                             event = Event::Scattered {
                                 t: span.t0 + flight,
@@ -458,7 +477,7 @@ impl<'a> Tracer<'a> {
                     let mut scatter_at = None;
                     if potch.domain_scattering_per_mm > 0.0 {
                         let flight =
-                            -(1.0 - sampler.uniform_f32()).ln() / potch.domain_scattering_per_mm;
+                            -(1.0 - s.draws.uniform_f32()).ln() / potch.domain_scattering_per_mm;
                         if flight < chord {
                             chord = flight;
                             scatter_at = Some(span.t0 + flight);
@@ -467,10 +486,14 @@ impl<'a> Tracer<'a> {
                     }
                     // A ray reflected at a domain's face leaves through that face.
                     if !(at_start && skip_first == Some(domain)) {
-                        match self.cross_domain(
-                            &ray, span.t0, chord, domain, span.hint, weight, &mut lines, split,
-                            level, sampler, acc, bins,
-                        ) {
+                        let at = DomainSpan {
+                            ray: &ray,
+                            t0: span.t0,
+                            chord,
+                            domain,
+                            cells: span.hint,
+                        };
+                        match self.cross_domain(&at, weight, &mut lines, split, level, s) {
                             Crossing::On(scale) => weight *= scale,
                             Crossing::Ended => {
                                 ended = true;
@@ -520,7 +543,12 @@ impl<'a> Tracer<'a> {
                     lines.history.scattered();
                     hint = scattered_in;
                     self.nee_hint = hint;
-                    self.light_at_potch(pos, dir, &lines, weight, acc, bins);
+                    let at = Estimate {
+                        x: pos,
+                        path: &lines,
+                        weight,
+                    };
+                    self.light_at_potch(&at, dir, s);
                     let g = potch.anisotropy;
                     let incoming = dir;
                     // Deep in a milky body no light from outside reaches this point: the
@@ -528,8 +556,8 @@ impl<'a> Tracer<'a> {
                     let sample_env = sample_env && stone.reach_bound(pos) >= MIN_REACH;
                     if sample_env {
                         let phase = |to: Vec3| hg_phase(g, to.dot(incoming));
-                        self.environment_at(pos, &phase, &lines, weight, sampler, acc, bins);
-                        self.area_at(pos, &phase, &lines, weight, sampler, acc, bins);
+                        self.environment_at(&at, &phase, s);
+                        self.area_at(&at, &phase, s);
                     }
                     // The camera path's first scattering goes on in several directions.
                     let k = if first_scattering {
@@ -547,7 +575,7 @@ impl<'a> Tracer<'a> {
                         })
                     };
                     for _ in 1..k {
-                        let d = sample_hg(incoming, g, sampler);
+                        let d = sample_hg(incoming, g, s.draws);
                         let state = PathState {
                             pos,
                             dir: d,
@@ -559,11 +587,11 @@ impl<'a> Tracer<'a> {
                             splits_scattering: false,
                             hint,
                         };
-                        let mark = sampler.mark();
-                        self.inside(state, false, level + 1, sampler, acc, bins);
-                        sampler.reset(mark);
+                        let mark = s.draws.mark();
+                        self.inside(state, false, level + 1, s);
+                        s.draws.reset(mark);
                     }
-                    dir = sample_hg(dir, g, sampler);
+                    dir = sample_hg(dir, g, s.draws);
                     phase_drawn(dir)
                 }
                 Event::Boundary(Boundary::Surface) => {
@@ -585,7 +613,7 @@ impl<'a> Tracer<'a> {
                             }
                             if v > 0.0 {
                                 let value = weight * (1.0 - f) * n * n * v;
-                                self.add(&lines, value, acc, bins);
+                                self.add(&lines, value, s);
                             }
                         }
                     }
@@ -613,13 +641,18 @@ impl<'a> Tracer<'a> {
                         return;
                     }
                     self.nee_hint = hint;
-                    self.light_at_back(pos, &lines, weight, acc, bins);
+                    let at = Estimate {
+                        x: pos,
+                        path: &lines,
+                        weight,
+                    };
+                    self.light_at_back(&at, s);
                     if sample_env {
                         let lambert = |to: Vec3| to.z.max(0.0) / PI;
-                        self.environment_at(pos, &lambert, &lines, weight, sampler, acc, bins);
-                        self.area_at(pos, &lambert, &lines, weight, sampler, acc, bins);
+                        self.environment_at(&at, &lambert, s);
+                        self.area_at(&at, &lambert, s);
                     }
-                    dir = cosine_about_z(sampler);
+                    dir = cosine_about_z(s.draws);
                     sample_env.then(|| Drawn {
                         density: dir.z / PI,
                         from: pos,
@@ -637,7 +670,7 @@ impl<'a> Tracer<'a> {
                     let facing = if dir.z > 0.0 { -Vec3::Z } else { Vec3::Z };
                     let f = fresnel_dielectric(-dir.dot(facing), n1, n2);
                     let at = ray.at(t_end);
-                    match refract(dir, facing, n1, n2).filter(|_| sampler.uniform_f32() >= f) {
+                    match refract(dir, facing, n1, n2).filter(|_| s.draws.uniform_f32() >= f) {
                         Some(d) => {
                             dir = d;
                             weight *= (n1 / n2) * (n1 / n2);
@@ -658,7 +691,7 @@ impl<'a> Tracer<'a> {
                 split = false;
             }
             first_in_cap = false;
-            if !self.roulette(&mut weight, sampler) {
+            if !self.roulette(&mut weight, s.draws) {
                 return;
             }
             level += 1;
@@ -700,18 +733,14 @@ impl<'a> Tracer<'a> {
     /// distribution, refracted in through the surface ([`refracted_entry`]), weighted by the
     /// balance heuristic against the scattering's own draw (see the escape in
     /// [`Tracer::inside`]).
-    #[allow(clippy::too_many_arguments)]
     fn environment_at(
         &mut self,
-        x: Vec3,
+        at: &Estimate,
         density: &dyn Fn(Vec3) -> f32,
-        path: &PathSpectrum,
-        weight: f32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
+        s: &mut CameraSample,
     ) {
-        let u = [sampler.uniform_f32(), sampler.uniform_f32()];
+        let Estimate { x, weight, .. } = *at;
+        let u = [s.draws.uniform_f32(), s.draws.uniform_f32()];
         let sample = self.setup.environment.sample(u);
         if sample.pdf <= 0.0 {
             return;
@@ -737,38 +766,36 @@ impl<'a> Tracer<'a> {
         let mis = sample.pdf / (sample.pdf + p_b + p_area);
         let irradiance = inbound.gain;
         self.add_towards(
-            x,
+            at,
             inbound.to_light,
             inbound.distance,
             None,
-            path,
             |transmitted| weight * f * value * irradiance * transmitted * mis / sample.pdf,
-            acc,
-            bins,
+            s,
         );
     }
 
-    /// A domain crossing of `ray` at `t0` over `chord`: light estimation, the reflection
-    /// branches (every one if `split`), and the lines the ray carries on through (added to
-    /// `lines`). Returns what goes on: the ray through, its weight scaled; or, for a path
-    /// already reflected, which either reflects or goes on (see the comment below), its
-    /// reflection; or nothing.
-    #[allow(clippy::too_many_arguments)]
+    /// A domain crossing `at` of a path of `weight` and spectrum `lines` at event `level`:
+    /// light estimation, the reflection branches (every one if `split`), and the lines the
+    /// ray carries on through (added to `lines`). Returns what goes on: the ray through, its
+    /// weight scaled; or, for a path already reflected, which either reflects or goes on (see
+    /// the comment below), its reflection; or nothing.
     fn cross_domain(
         &mut self,
-        ray: &Ray,
-        t0: f32,
-        chord: f32,
-        domain: u32,
-        cells: Hint,
+        at: &DomainSpan,
         weight: f32,
         lines: &mut PathSpectrum,
         split: bool,
         level: u32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
+        s: &mut CameraSample,
     ) -> Crossing {
+        let DomainSpan {
+            ray,
+            t0,
+            chord,
+            domain,
+            cells,
+        } = *at;
         let stone = self.stone;
         self.nee_hint = cells;
         let dir = ray.direction;
@@ -778,7 +805,12 @@ impl<'a> Tracer<'a> {
             return Crossing::On(1.0);
         }
         let x = ray.at(t0 + EPSILON_MM);
-        self.light_at_domain(x, dir, domain, lines, weight, sampler, acc, bins);
+        let estimate = Estimate {
+            x,
+            path: lines,
+            weight,
+        };
+        self.light_at_domain(&estimate, dir, domain, s);
         // The branches below refill `self.lines`: this crossing keeps its own.
         let here = std::mem::take(&mut self.lines);
         let face = ray.at(t0);
@@ -826,18 +858,12 @@ impl<'a> Tracer<'a> {
                 }
             }
             let n = energy.len();
-            self.area_at_domain(
+            let estimate = Estimate {
                 x,
-                dir,
-                domain,
-                &here[..n],
-                &pick[..n],
-                lines,
+                path: lines,
                 weight,
-                sampler,
-                acc,
-                bins,
-            );
+            };
+            self.area_at_domain(&estimate, dir, domain, &here[..n], &pick[..n], s);
         }
         // A path already reflected chooses: it reflects (as above) or goes on through with
         // its weight over 1 − p. Forking it too would make a tree: its light lies in its line,
@@ -858,15 +884,15 @@ impl<'a> Tracer<'a> {
                 weight,
             };
             for line in &here {
-                self.branch(&path, line, true, lines, level, sampler, acc, bins);
+                self.branch(&path, line, true, lines, level, s);
             }
         } else {
-            let reflects = sampler.uniform() < p_branch;
+            let reflects = s.draws.uniform() < p_branch;
             if chooses {
                 goes_on = (!reflects).then_some((1.0 / (1.0 - p_branch)) as f32);
             }
             if reflects {
-                let mut u = sampler.uniform() * total;
+                let mut u = s.draws.uniform() * total;
                 let mut pick = here.len() - 1;
                 for (i, e) in energy.iter().enumerate() {
                     if u < *e {
@@ -887,9 +913,9 @@ impl<'a> Tracer<'a> {
                     weight: w,
                 };
                 if chooses {
-                    reflected_to = self.reflected_path(&path, &here[pick], lines, sampler);
+                    reflected_to = self.reflected_path(&path, &here[pick], lines, s.draws);
                 } else {
-                    self.branch(&path, &here[pick], false, lines, level, sampler, acc, bins);
+                    self.branch(&path, &here[pick], false, lines, level, s);
                 }
             }
         }
@@ -912,7 +938,6 @@ impl<'a> Tracer<'a> {
 
     /// Follow the reflection `path` by `line` as a path of its own; if `cull`, followed with
     /// the probability [`Tracer::follow_probability`] gives it (its weight over that).
-    #[allow(clippy::too_many_arguments)]
     fn branch(
         &mut self,
         path: &Reflection,
@@ -920,26 +945,24 @@ impl<'a> Tracer<'a> {
         cull: bool,
         lines: &PathSpectrum,
         level: u32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
+        s: &mut CameraSample,
     ) {
-        let Some(mut state) = self.reflected_path(path, line, lines, sampler) else {
+        let Some(mut state) = self.reflected_path(path, line, lines, s.draws) else {
             return;
         };
         if cull {
             // Russian roulette on what the branch's first escape will see.
             let p = self.follow_probability(path.face, state.dir);
             if p < 1.0 {
-                if sampler.uniform_f32() >= p {
+                if s.draws.uniform_f32() >= p {
                     return;
                 }
                 state.weight /= p;
             }
         }
-        let mark = sampler.mark();
-        self.inside(state, false, level + 1, sampler, acc, bins);
-        sampler.reset(mark);
+        let mark = s.draws.mark();
+        self.inside(state, false, level + 1, s);
+        s.draws.reset(mark);
     }
 
     /// The path that the reflection `path` by `line` of a path of spectrum `lines` starts: the
@@ -1030,20 +1053,10 @@ impl<'a> Tracer<'a> {
         Some((to_light, irradiance * light.intensity, distance))
     }
 
-    /// Next-event estimation of the light at a domain crossing `x`: each of the domain's lines
-    /// (in `self.lines`) whose lobe holds the half vector.
-    #[allow(clippy::too_many_arguments)]
-    fn light_at_domain(
-        &mut self,
-        x: Vec3,
-        dir: Vec3,
-        domain: u32,
-        path: &PathSpectrum,
-        weight: f32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) {
+    /// Next-event estimation of the light at a crossing `at` of `domain` by a path along
+    /// `dir`: each of the domain's lines (in `self.lines`) whose lobe holds the half vector.
+    fn light_at_domain(&mut self, at: &Estimate, dir: Vec3, domain: u32, s: &mut CameraSample) {
+        let Estimate { x, path, weight } = *at;
         let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
             return;
         };
@@ -1074,54 +1087,38 @@ impl<'a> Tracer<'a> {
             let mut lines = path.reflected(
                 self.line_at(domain, &line, cos_h),
                 self.setup.spectral,
-                sampler.uniform(),
+                s.draws.uniform(),
             );
             for n in &notches {
                 lines.transmit(*n, self.setup.spectral);
             }
             let value = weight * PI * irradiance * transmitted * density / (4.0 * cos_h);
-            self.add(&lines, value, acc, bins);
+            self.add(&lines, value, s);
         }
     }
 
-    /// Next-event estimation of the light at a scattering event of a path travelling along
-    /// `dir` (Henyey–Greenstein phase).
-    #[allow(clippy::too_many_arguments)]
-    fn light_at_potch(
-        &mut self,
-        x: Vec3,
-        dir: Vec3,
-        path: &PathSpectrum,
-        weight: f32,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) {
+    /// Next-event estimation of the light at a scattering event `at` of a path travelling
+    /// along `dir` (Henyey–Greenstein phase).
+    fn light_at_potch(&mut self, at: &Estimate, dir: Vec3, s: &mut CameraSample) {
+        let Estimate { x, weight, .. } = *at;
         let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
             return;
         };
         // π × E × phase: light travelling along −to_light turned into −dir.
         let phase = hg_phase(self.stone.potch.anisotropy, to_light.dot(dir));
         self.add_towards(
-            x,
+            at,
             to_light,
             distance,
             None,
-            path,
             |transmitted| weight * PI * irradiance * transmitted * phase,
-            acc,
-            bins,
+            s,
         );
     }
 
-    /// Next-event estimation of the light at the backing (Lambert, facing +z).
-    fn light_at_back(
-        &mut self,
-        x: Vec3,
-        path: &PathSpectrum,
-        weight: f32,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) {
+    /// Next-event estimation of the light at the backing, at `at` (Lambert, facing +z).
+    fn light_at_back(&mut self, at: &Estimate, s: &mut CameraSample) {
+        let Estimate { x, weight, .. } = *at;
         let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
             return;
         };
@@ -1131,14 +1128,12 @@ impl<'a> Tracer<'a> {
         }
         // π × ρ E cos / π (ρ is in the weight or the path's tint).
         self.add_towards(
-            x,
+            at,
             to_light,
             distance,
             None,
-            path,
             |transmitted| weight * irradiance * transmitted * cos,
-            acc,
-            bins,
+            s,
         );
     }
 
