@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::nee::Drawn;
 use super::sampler::PathSampler;
-use super::vertex::{Segment, Step, Vertex, Waiting};
+use super::vertex::{Segment, Step, Vertex, Waiting, WaitingAt};
 use super::{
     cosine_about_z, sample_hg, scattering_split, CameraSample, Estimate, Tracer, EPSILON_MM,
     MIN_REACH,
@@ -18,9 +18,9 @@ use crate::scene::Backing;
 use crate::stone::body::hg_phase;
 use crate::stone::{Hint, Region};
 
-/// A scattered path: `remaining` directions to follow as branches, then its own.
+/// A scattering at `from`: `remaining` directions to follow as branches, then the path's own.
 pub(super) struct Scattering {
-    pub vertex: Vertex,
+    pub from: Vec3,
     pub remaining: u32,
     /// Its direction before the scattering.
     pub incoming: Vec3,
@@ -35,7 +35,7 @@ impl Scattering {
     fn drawn(&self, d: Vec3) -> Option<Drawn> {
         self.estimated.then(|| Drawn {
             density: hg_phase(self.g, d.dot(self.incoming)),
-            from: self.vertex.pos,
+            from: self.from,
             environment: true,
         })
     }
@@ -46,7 +46,7 @@ impl Tracer<'_> {
     /// the phase's draws (several directions for the camera path's first).
     pub(super) fn scatter(
         &mut self,
-        mut v: Vertex,
+        v: &mut Vertex,
         ray: &Ray,
         t: f32,
         albedo: f32,
@@ -82,21 +82,25 @@ impl Tracer<'_> {
         v.splits_scattering = false;
         v.weight /= k as f32;
         let scattering = Scattering {
-            vertex: v,
+            from: v.pos,
             remaining: k - 1,
             incoming,
             g,
             estimated,
         };
-        self.scatter_on(scattering, s)
+        self.scatter_on(v, scattering, s)
     }
 
     /// A scattered path's next direction: a branch while `remaining`, then its own.
-    pub(super) fn scatter_on(&mut self, mut sc: Scattering, s: &mut CameraSample) -> Step {
+    pub(super) fn scatter_on(
+        &mut self,
+        v: &mut Vertex,
+        mut sc: Scattering,
+        s: &mut CameraSample,
+    ) -> Step {
         if sc.remaining > 0 {
             sc.remaining -= 1;
             let d = sample_hg(sc.incoming, sc.g, s.draws);
-            let v = &sc.vertex;
             let child = Vertex {
                 pos: v.pos,
                 dir: d,
@@ -111,14 +115,13 @@ impl Tracer<'_> {
                 first_in_cap: v.region == Region::Cap,
                 level: v.level + 1,
             };
-            return Step::Fork {
-                parent: Waiting::Scattering(Box::new(sc)),
-                child,
-            };
+            return Step::Fork(Box::new(Waiting {
+                vertex: std::mem::replace(v, child),
+                at: WaitingAt::Scattering(sc),
+            }));
         }
-        let dir = sample_hg(sc.vertex.dir, sc.g, s.draws);
-        sc.vertex.drawn = sc.drawn(dir);
-        let mut v = sc.vertex;
+        let dir = sample_hg(v.dir, sc.g, s.draws);
+        v.drawn = sc.drawn(dir);
         v.dir = dir;
         self.go_on(v, s.draws)
     }
@@ -127,7 +130,7 @@ impl Tracer<'_> {
     /// on reflected with weight × F (both ways at once, no random choice).
     pub(super) fn surface(
         &mut self,
-        mut v: Vertex,
+        v: &mut Vertex,
         segment: &Segment,
         s: &mut CameraSample,
     ) -> Step {
@@ -163,7 +166,7 @@ impl Tracer<'_> {
     /// estimated there.
     pub(super) fn backing(
         &mut self,
-        mut v: Vertex,
+        v: &mut Vertex,
         segment: &Segment,
         s: &mut CameraSample,
     ) -> Step {
@@ -208,7 +211,7 @@ impl Tracer<'_> {
     /// else refracted into the other region.
     pub(super) fn cap_plane(
         &mut self,
-        mut v: Vertex,
+        v: &mut Vertex,
         segment: &Segment,
         s: &mut CameraSample,
     ) -> Step {
@@ -240,7 +243,7 @@ impl Tracer<'_> {
 
     /// After an event: the camera ray's first segment in the opal splits (after a triplet's
     /// cap, its first there), then Russian roulette and the next level.
-    fn go_on(&self, mut v: Vertex, draws: &mut PathSampler) -> Step {
+    fn go_on(&self, v: &mut Vertex, draws: &mut PathSampler) -> Step {
         if !(v.region == Region::Opal && v.first_in_cap) {
             v.split = false;
         }
@@ -249,6 +252,6 @@ impl Tracer<'_> {
             return Step::End;
         }
         v.level += 1;
-        Step::Go(v)
+        Step::Go
     }
 }

@@ -235,7 +235,7 @@ struct Tracer<'a> {
     tally: SampleTally,
     /// The paths waiting on their branches ([`Tracer::inside`]), kept between samples for
     /// its room.
-    waiting: Vec<(Waiting, Mark)>,
+    waiting: Vec<(Box<Waiting>, Mark)>,
 }
 
 impl<'a> Tracer<'a> {

@@ -99,29 +99,30 @@ pub(super) enum SpanStep {
     Stop(Reached),
 }
 
-/// A path that waits while a branch of it is followed.
-pub(super) enum Waiting {
-    /// At a crossing of its walk.
-    Crossing(Box<WaitingWalk>),
-    /// At a scattering that goes on in several directions.
-    Scattering(Box<Scattering>),
+/// A path that waits while a branch of it is followed, and where it waits.
+pub(super) struct Waiting {
+    pub vertex: Vertex,
+    pub at: WaitingAt,
 }
 
-/// A path waiting at a crossing of its segment: the crossing's other branches, then its
-/// walk's spans.
-pub(super) struct WaitingWalk {
-    pub vertex: Vertex,
-    pub segment: Segment,
-    pub after: AfterBranch,
+/// Where a path waits on its branch.
+pub(super) enum WaitingAt {
+    /// At a crossing of its segment: the crossing's other branches, then the walk's spans.
+    Crossing {
+        segment: Segment,
+        after: AfterBranch,
+    },
+    /// At a scattering that goes on in several directions.
+    Scattering(Scattering),
 }
 
 /// What the loop does next.
 pub(super) enum Step {
-    /// Go on with this path's next event.
-    Go(Vertex),
-    /// Follow `child` to its end, then go on with `parent`.
-    Fork { parent: Waiting, child: Vertex },
-    /// The path ends: the last one waiting goes on.
+    /// Go on with the current path's next event.
+    Go,
+    /// The current path is a branch of this one, which waits until the branch ends.
+    Fork(Box<Waiting>),
+    /// The current path ends: the last one waiting goes on.
     End,
 }
 
@@ -132,17 +133,22 @@ impl Tracer<'_> {
     pub(super) fn inside(&mut self, start: Vertex, s: &mut CameraSample) {
         let mut stack = std::mem::take(&mut self.waiting);
         let bound = self.setup.max_depth as usize;
-        let mut step = Step::Go(start);
+        let mut v = start;
+        let mut step = Step::Go;
         loop {
             step = match step {
-                Step::Go(v) => self.event(v, s),
-                Step::Fork { parent, child } => {
+                Step::Go => self.event(&mut v, s),
+                Step::Fork(parent) => {
                     debug_assert!(stack.len() < bound, "a branch beyond max_depth");
                     stack.push((parent, s.draws.mark()));
-                    Step::Go(child)
+                    Step::Go
                 }
                 Step::End => match stack.pop() {
-                    Some((parent, mark)) => self.resume(parent, mark, s),
+                    Some((parent, mark)) => {
+                        let Waiting { vertex, at } = *parent;
+                        v = vertex;
+                        self.resume(&mut v, at, mark, s)
+                    }
                     None => break,
                 },
             };
@@ -150,17 +156,17 @@ impl Tracer<'_> {
         self.waiting = stack;
     }
 
-    /// Go on with `parent`, its draws back at `mark`.
-    fn resume(&mut self, parent: Waiting, mark: Mark, s: &mut CameraSample) -> Step {
+    /// Go on with the path `v` where it waited, its draws back at `mark`.
+    fn resume(&mut self, v: &mut Vertex, at: WaitingAt, mark: Mark, s: &mut CameraSample) -> Step {
         s.draws.reset(mark);
-        match parent {
-            Waiting::Crossing(w) => self.resume_walk(*w, s),
-            Waiting::Scattering(sc) => self.scatter_on(*sc, s),
+        match at {
+            WaitingAt::Crossing { segment, after } => self.resume_walk(v, segment, after, s),
+            WaitingAt::Scattering(sc) => self.scatter_on(v, sc, s),
         }
     }
 
     /// The next event of `v`: its segment walked to the first event, then that event.
-    fn event(&mut self, mut v: Vertex, s: &mut CameraSample) -> Step {
+    fn event(&mut self, v: &mut Vertex, s: &mut CameraSample) -> Step {
         if !self.goes_deeper(v.level) {
             return Step::End;
         }
@@ -179,7 +185,7 @@ impl Tracer<'_> {
             skip_first: v.skip.take(),
         };
         let reached = if v.region == Region::Opal {
-            self.walk(&mut v, &segment, s)
+            self.walk(v, &segment, s)
         } else {
             Reached::Boundary(Hint::default())
         };
@@ -271,7 +277,7 @@ impl Tracer<'_> {
     /// Where the walk ended: the event there, or the path it goes on as.
     fn reached(
         &mut self,
-        mut v: Vertex,
+        v: &mut Vertex,
         segment: Segment,
         reached: Reached,
         s: &mut CameraSample,
@@ -290,46 +296,44 @@ impl Tracer<'_> {
                 self.scatter(v, &segment.ray, t, albedo, s)
             }
             Reached::Ended => Step::End,
-            Reached::Reflected(next) => Step::Go(*next),
+            Reached::Reflected(next) => {
+                *v = *next;
+                Step::Go
+            }
             Reached::Branched(b) => {
                 let Branched { child, after } = *b;
-                let parent = WaitingWalk {
-                    vertex: v,
-                    segment,
-                    after,
-                };
-                Step::Fork {
-                    parent: Waiting::Crossing(Box::new(parent)),
-                    child,
-                }
+                Step::Fork(Box::new(Waiting {
+                    vertex: std::mem::replace(v, child),
+                    at: WaitingAt::Crossing { segment, after },
+                }))
             }
         }
     }
 
     /// A path waiting at a crossing goes on: the crossing's next branch, or the crossing's
     /// end and the walk's spans past it.
-    fn resume_walk(&mut self, mut w: WaitingWalk, s: &mut CameraSample) -> Step {
-        let lines = &w.vertex.lines;
-        if let Some(child) = self.next_branch(&mut w.after.crossing, lines, s.draws) {
-            return Step::Fork {
-                parent: Waiting::Crossing(Box::new(w)),
-                child,
-            };
+    fn resume_walk(
+        &mut self,
+        v: &mut Vertex,
+        segment: Segment,
+        mut after: AfterBranch,
+        s: &mut CameraSample,
+    ) -> Step {
+        if let Some(child) = self.next_branch(&mut after.crossing, &v.lines, s.draws) {
+            return Step::Fork(Box::new(Waiting {
+                vertex: std::mem::replace(v, child),
+                at: WaitingAt::Crossing { segment, after },
+            }));
         }
-        let WaitingWalk {
-            mut vertex,
-            segment,
-            after,
-        } = w;
-        let on = self.close_open_crossing(after.crossing, &mut vertex.lines);
-        let mut step = crossed(&mut vertex, on, after.scatter_at);
+        let on = self.close_open_crossing(after.crossing, &mut v.lines);
+        let mut step = crossed(v, on, after.scatter_at);
         let mut rest = after.rest.into_iter();
         while let Ok(SpanStep::On) = step {
             let Some(span) = rest.next() else {
                 let reached = Reached::Boundary(after.end_hint);
-                return self.reached(vertex, segment, reached, s);
+                return self.reached(v, segment, reached, s);
             };
-            step = self.visit_span(&mut vertex, &segment, span, false, s);
+            step = self.visit_span(v, &segment, span, false, s);
         }
         let reached = match step {
             Ok(SpanStep::Stop(reached)) => reached,
@@ -340,7 +344,7 @@ impl Tracer<'_> {
                 Reached::Branched(b)
             }
         };
-        self.reached(vertex, segment, reached, s)
+        self.reached(v, segment, reached, s)
     }
 }
 
