@@ -47,11 +47,16 @@
 //!   the lamp's disc ([`Stone::lamp_density`]), so that a mirror shows the lamp's disc.
 //! - Russian roulette below a weight of 0.02; at most `max_depth` events.
 //!
+//! The loop over a path's events, its branches waiting on a small stack rather than recursing:
+//! `vertex.rs`; one method per event: `events.rs`, `crossing.rs`.
+//!
 //! Spectra: see [`spectral`]. Every sample of every pixel draws its own numbers ([`sampler`]); rows are
 //! rendered in parallel into pre-sized buffers, so the image does not depend on the number of
 //! threads nor on how the passes fall ([`passes`]). Its noise: [`noise`]; its light
 //! by class of path (Bragg events, the body, a backing): [`orders`].
 
+mod crossing;
+mod events;
 mod method;
 mod nee;
 pub mod noise;
@@ -60,6 +65,7 @@ pub mod orders;
 pub mod passes;
 pub mod sampler;
 pub mod spectral;
+mod vertex;
 
 use std::f32::consts::PI;
 
@@ -69,10 +75,9 @@ use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, Ray};
 use crate::lights::emitters;
 use crate::lights::{AreaLight, Environment};
 use crate::optics::BraggLine;
-use crate::scene::Backing;
 use crate::spectrum::SpectralImage;
 use crate::stone::body::{hg_cos, hg_phase};
-use crate::stone::{ActiveLine, Boundary, Hint, Region, Span, Stone};
+use crate::stone::{ActiveLine, Hint, Region, Span, Stone};
 use glam::Vec3;
 
 pub use method::PathTracer;
@@ -82,50 +87,33 @@ pub use passes::{trace_passes, PassReport, Passes};
 pub use sampler::Sampling;
 pub use spectral::{Lines, PathSpectrum, SpectralSampler, MAX_DRAWS};
 
-use nee::Drawn;
 use orders::{SampleTally, BACKGROUND, CLASSES, GLOSS};
-use sampler::PathSampler;
+use sampler::{Mark, PathSampler};
+use vertex::{Vertex, Waiting};
 
 /// Paths whose weight falls below this play Russian roulette.
 const ROULETTE_BELOW: f32 = 0.02;
 
-/// A reflection at a domain crossing: the ray along `dir` meets `domain`'s face at `face`
-/// (light was estimated at `x`, just inside), in the cells `cells`; the branch's weight, and
-/// its probability where the area light was also estimated there (`None`: the branch's escape
-/// is the only way there).
-struct Reflection {
-    face: Vec3,
+/// One camera sample in flight: the draws of its path and the light it adds to its pixel.
+struct CameraSample<'s> {
+    /// Its random numbers ([`sampler`]).
+    draws: &'s mut PathSampler,
+    /// Its XYZ so far.
+    xyz: &'s mut [f64; 3],
+    /// Its pixel's spectral bins (bin averages), which every sample of the pixel adds to.
+    bins: &'s mut [f32],
+}
+
+/// Where light is estimated on a path: the point `x` inside the stone, the path's spectrum
+/// and its weight there.
+struct Estimate<'p> {
     x: Vec3,
-    dir: Vec3,
-    domain: u32,
-    cells: Hint,
-    p_pick: Option<f64>,
+    path: &'p PathSpectrum,
     weight: f32,
 }
 
-/// What a domain crossing leaves of the path that met it.
-enum Crossing {
-    /// It goes on through, its weight times this.
-    On(f32),
-    /// It ends.
-    Ended,
-    /// It was reflected (a path already reflected reflects instead of going on): it goes on
-    /// as this path.
-    Reflected(Box<PathState>),
-}
 /// Offset of a new ray's origin along its direction, mm (0.1 µm).
 const EPSILON_MM: f32 = 1e-4;
-/// Most lines one domain crossing can have (one per family normal: 4 + 6 + 12 + 3).
-const MAX_LINES_PER_CROSSING: usize = 25;
-/// Most probability of a reflection branch at a domain crossing after the first segment.
-const MAX_BRANCH_PROBABILITY: f64 = 0.25;
-/// Most probability with which an already reflected path reflects at a crossing (the rest
-/// goes on through, its weight over 1 − p).
-const MAX_CHOICE_PROBABILITY: f64 = 0.95;
-/// Least share of an already reflected path's light a line is drawn with, as a fraction of
-/// its share of white light (keeps every branch possible, so the estimate unbiased).
-const MIN_SHARE_OF_WHITE: f64 = 0.01;
-
 /// Least bound of the share of outside light that can reach a scattering point
 /// ([`Stone::reach_bound`]) for the environment and an area light to be estimated there.
 /// Below it the estimate would cost a refracted solve and a walk to add almost nothing; the
@@ -229,33 +217,6 @@ pub fn trace_paths(stone: &Stone, setup: &PathSetup) -> PathImage {
     trace_passes(stone, setup, &Passes::default())
 }
 
-/// What happens next on a path inside the stone.
-enum Event {
-    /// Scattered at `t` (by the potch, or the haze of a milky domain), keeping `albedo`.
-    Scattered { t: f32, albedo: f32 },
-    /// Reached the boundary of its region.
-    Boundary(Boundary),
-}
-
-/// Where a path inside the stone is.
-#[derive(Clone)]
-struct PathState {
-    pos: Vec3,
-    dir: Vec3,
-    weight: f32,
-    /// Its spectrum: the lines met so far.
-    lines: PathSpectrum,
-    /// The domain whose face reflected it (left through that face).
-    skip: Option<u32>,
-    region: Region,
-    /// How its first segment was drawn, where light was also estimated there.
-    drawn: Option<Drawn>,
-    /// Whether its first scattering splits ([`scattering_split`]): the camera path's.
-    splits_scattering: bool,
-    /// The cells likely to hold `pos` ([`Stone::walk`]).
-    hint: Hint,
-}
-
 struct Tracer<'a> {
     stone: &'a Stone,
     setup: &'a PathSetup<'a>,
@@ -272,6 +233,9 @@ struct Tracer<'a> {
     follow_from: f32,
     /// The current camera sample's luminance per class of path ([`orders`]).
     tally: SampleTally,
+    /// The paths waiting on their branches ([`Tracer::inside`]), kept between samples for
+    /// its room.
+    waiting: Vec<(Box<Waiting>, Mark)>,
 }
 
 impl<'a> Tracer<'a> {
@@ -293,31 +257,26 @@ impl<'a> Tracer<'a> {
                 0.0
             },
             tally: [0.0; CLASSES],
+            waiting: Vec::with_capacity(setup.max_depth as usize),
         }
     }
 
     /// Add `weight` of the path's spectrum `lines` to the sample, tallied in the path's class.
-    fn add(&mut self, lines: &PathSpectrum, weight: f32, acc: &mut [f64; 3], bins: &mut [f32]) {
-        self.add_as(lines.history.class(), lines, weight, acc, bins);
+    fn add(&mut self, lines: &PathSpectrum, weight: f32, s: &mut CameraSample) {
+        self.add_as(lines.history.class(), lines, weight, s);
     }
 
     /// [`Tracer::add`], tallied in `class` ([`orders`]): the luminance it adds.
-    fn add_as(
-        &mut self,
-        class: usize,
-        lines: &PathSpectrum,
-        weight: f32,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) {
-        let y = acc[1];
+    fn add_as(&mut self, class: usize, lines: &PathSpectrum, weight: f32, s: &mut CameraSample) {
+        let y = s.xyz[1];
         self.setup
             .spectral
-            .add_path(lines, f64::from(weight), acc, bins);
-        self.tally[class] += acc[1] - y;
+            .add_path(lines, f64::from(weight), s.xyz, s.bins);
+        self.tally[class] += s.xyz[1] - y;
     }
 
-    /// One camera ray's path.
+    /// One camera ray's path: its draws from `sampler`, its XYZ added to `acc`, its spectrum
+    /// to its pixel's `bins`.
     fn sample(
         &mut self,
         ray: Ray,
@@ -325,13 +284,18 @@ impl<'a> Tracer<'a> {
         acc: &mut [f64; 3],
         bins: &mut [f32],
     ) {
+        let s = &mut CameraSample {
+            draws: sampler,
+            xyz: acc,
+            bins,
+        };
         self.tally = [0.0; CLASSES];
         let plain = PathSpectrum::default();
         let stone = self.stone;
         let shape = stone.shape;
         let Some((t0, _)) = shape.intersect(&ray).filter(|&(t0, _)| t0 > 0.0) else {
             let v = self.escaped(ray.origin, ray.direction);
-            self.add_as(BACKGROUND, &plain, v, acc, bins);
+            self.add_as(BACKGROUND, &plain, v, s);
             return;
         };
         // The surface: gloss to the environment and the light's disc, the rest refracts in.
@@ -343,12 +307,12 @@ impl<'a> Tracer<'a> {
         let fresnel = fresnel_dielectric(cos_i, 1.0, n);
         let mirror = reflect(ray.direction, normal);
         let gloss = fresnel * self.setup.gloss * (self.escaped(p, mirror) + self.disc(mirror));
-        self.add_as(GLOSS, &plain, gloss, acc, bins);
+        self.add_as(GLOSS, &plain, gloss, s);
         let Some(dir) = refract(ray.direction, normal, 1.0, n) else {
             return;
         };
         let weight = (1.0 - fresnel) / (n * n);
-        let start = PathState {
+        let start = Vertex {
             pos: p,
             dir,
             weight,
@@ -356,10 +320,13 @@ impl<'a> Tracer<'a> {
             skip: None,
             region,
             drawn: None,
-            splits_scattering: true,
             hint: Hint::default(),
+            split: true,
+            splits_scattering: true,
+            first_in_cap: region == Region::Cap,
+            level: 0,
         };
-        self.inside(start, true, 0, sampler, acc, bins);
+        self.inside(start, s);
     }
 
     /// What a ray leaving the stone at `origin` along `dir` sees: the environment, or the area
@@ -381,288 +348,6 @@ impl<'a> Tracer<'a> {
     /// The light's disc seen along `dir` from outside, in image units.
     fn disc(&self, dir: Vec3) -> f32 {
         self.setup.light.map_or(0.0, |light| light.disc(dir))
-    }
-
-    /// The path `state` inside the stone. If `split`, every reflection at the domain crossings
-    /// of its first segment in the opal is followed (a branch each) and the ray goes on through
-    /// as well; elsewhere a reflection branch is drawn at random.
-    fn inside(
-        &mut self,
-        state: PathState,
-        mut split: bool,
-        depth: u32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) {
-        let stone = self.stone;
-        let shape = stone.shape;
-        let potch = stone.potch;
-        let PathState {
-            mut pos,
-            mut dir,
-            mut weight,
-            mut lines,
-            mut skip,
-            mut region,
-            drawn,
-            splits_scattering,
-            mut hint,
-        } = state;
-        let mut first_scattering = splits_scattering;
-        let mut first_in_cap = region == Region::Cap;
-        // How a scattering or a branch drew this segment's direction, when light was also
-        // sampled there: the MIS weight of its escape.
-        let mut drawn_with = drawn;
-        let sample_env = stone.cap.is_none();
-        let mut level = depth;
-        loop {
-            if !self.goes_deeper(level) {
-                return;
-            }
-            sampler.begin_event(level);
-            let ray = Ray {
-                origin: pos,
-                direction: dir,
-            };
-            let Some((t_end, boundary)) = stone.exit(&ray, region) else {
-                return;
-            };
-            let mut event = Event::Boundary(boundary);
-            let skip_first = skip.take();
-            let mut end_hint = Hint::default();
-            // The cells of a scattering in the potch.
-            let mut scattered_in = Hint::default();
-            // Where a path already reflected reflects again, it goes on as that reflection.
-            let mut reflected_to = None;
-            if region == Region::Opal {
-                // The domains are crossed as the walk finds them; an event ends the walk.
-                let mut first = true;
-                let mut ended = false;
-                end_hint = stone.walk(pos, dir, 0.0, t_end, hint, &mut |span| {
-                    let at_start = std::mem::replace(&mut first, false);
-                    let mut chord = span.t1 - span.t0;
-                    let Some(domain) = span.domain else {
-                        let flight = -(1.0 - sampler.uniform_f32()).ln() / potch.extinction_per_mm;
-                        if flight < chord {
-                            event = Event::Scattered {
-                                t: span.t0 + flight,
-                                albedo: potch.albedo,
-                            };
-                            scattered_in = span.hint;
-                            return false;
-                        }
-                        return true;
-                    };
-                    // Milky domains scatter too (without absorbing).
-                    let mut scatter_at = None;
-                    if potch.domain_scattering_per_mm > 0.0 {
-                        let flight =
-                            -(1.0 - sampler.uniform_f32()).ln() / potch.domain_scattering_per_mm;
-                        if flight < chord {
-                            chord = flight;
-                            scatter_at = Some(span.t0 + flight);
-                            scattered_in = span.hint;
-                        }
-                    }
-                    // A ray reflected at a domain's face leaves through that face.
-                    if !(at_start && skip_first == Some(domain)) {
-                        match self.cross_domain(
-                            &ray, span.t0, chord, domain, span.hint, weight, &mut lines, split,
-                            level, sampler, acc, bins,
-                        ) {
-                            Crossing::On(scale) => weight *= scale,
-                            Crossing::Ended => {
-                                ended = true;
-                                return false;
-                            }
-                            Crossing::Reflected(next) => {
-                                reflected_to = Some(next);
-                                ended = true;
-                                return false;
-                            }
-                        }
-                    }
-                    if let Some(t) = scatter_at {
-                        event = Event::Scattered { t, albedo: 1.0 };
-                        return false;
-                    }
-                    true
-                });
-                if ended {
-                    let Some(next) = reflected_to else {
-                        return;
-                    };
-                    PathState {
-                        pos,
-                        dir,
-                        weight,
-                        lines,
-                        skip,
-                        region,
-                        drawn: drawn_with,
-                        hint,
-                        ..
-                    } = *next;
-                    split = false;
-                    first_in_cap = false;
-                    first_scattering = false;
-                    level += 1;
-                    continue;
-                }
-            }
-            hint = end_hint;
-            // The density a scattering drew the next segment with (see `drawn_with`).
-            drawn_with = match event {
-                Event::Scattered { t, albedo } => {
-                    pos = ray.at(t);
-                    weight *= albedo;
-                    lines.history.scattered();
-                    hint = scattered_in;
-                    self.nee_hint = hint;
-                    self.light_at_potch(pos, dir, &lines, weight, acc, bins);
-                    let g = potch.anisotropy;
-                    let incoming = dir;
-                    // Deep in a milky body no light from outside reaches this point: the
-                    // estimate is skipped and the scattering's own draw weighs alone.
-                    let sample_env = sample_env && stone.reach_bound(pos) >= MIN_REACH;
-                    if sample_env {
-                        let phase = |to: Vec3| hg_phase(g, to.dot(incoming));
-                        self.environment_at(pos, &phase, &lines, weight, sampler, acc, bins);
-                        self.area_at(pos, &phase, &lines, weight, sampler, acc, bins);
-                    }
-                    // The camera path's first scattering goes on in several directions.
-                    let k = if first_scattering {
-                        scattering_split(weight)
-                    } else {
-                        1
-                    };
-                    first_scattering = false;
-                    weight /= k as f32;
-                    let phase_drawn = |d: Vec3| {
-                        sample_env.then(|| Drawn {
-                            density: hg_phase(g, d.dot(incoming)),
-                            from: pos,
-                            environment: true,
-                        })
-                    };
-                    for _ in 1..k {
-                        let d = sample_hg(incoming, g, sampler);
-                        let state = PathState {
-                            pos,
-                            dir: d,
-                            weight,
-                            lines: lines.clone(),
-                            skip: None,
-                            region,
-                            drawn: phase_drawn(d),
-                            splits_scattering: false,
-                            hint,
-                        };
-                        let mark = sampler.mark();
-                        self.inside(state, false, level + 1, sampler, acc, bins);
-                        sampler.reset(mark);
-                    }
-                    dir = sample_hg(dir, g, sampler);
-                    phase_drawn(dir)
-                }
-                Event::Boundary(Boundary::Surface) => {
-                    // Both ways at once: what escapes is added now (its share 1 − F), the
-                    // path goes on reflected with weight × F.
-                    let n = stone.index_of(region);
-                    let exit = ray.at(t_end);
-                    let normal = shape.normal(exit);
-                    let cos = dir.dot(normal).max(0.0);
-                    let f = fresnel_dielectric(cos, n, 1.0);
-                    if f < 1.0 {
-                        if let Some(out) = refract(dir, normal, n, 1.0) {
-                            let (mut v, light) = self.escaped_to(exit, out);
-                            if let Some(drawn) = drawn_with.filter(|_| v > 0.0) {
-                                // Drawn where light was also sampled: the balance heuristic
-                                // over external solid angle, against the draws that would
-                                // have found this same path.
-                                v *= self.escape_weight(&drawn, dir, out, exit, light);
-                            }
-                            if v > 0.0 {
-                                let value = weight * (1.0 - f) * n * n * v;
-                                self.add(&lines, value, acc, bins);
-                            }
-                        }
-                    }
-                    weight *= f;
-                    lines.history.reflected_inside();
-                    dir = reflect(dir, normal);
-                    pos = exit - normal * EPSILON_MM;
-                    None
-                }
-                Event::Boundary(Boundary::Back) => {
-                    // The backing reflects diffusely (Lambert): cosine-weighted about +z.
-                    let Some(back) = stone.back else {
-                        return;
-                    };
-                    pos = ray.at(t_end) + Vec3::Z * EPSILON_MM;
-                    lines.history.backed();
-                    weight *= match back.kind {
-                        Backing::Ironstone => {
-                            lines.tint();
-                            1.0
-                        }
-                        _ => back.reflectance(550.0) as f32,
-                    };
-                    if weight <= 0.0 {
-                        return;
-                    }
-                    self.nee_hint = hint;
-                    self.light_at_back(pos, &lines, weight, acc, bins);
-                    if sample_env {
-                        let lambert = |to: Vec3| to.z.max(0.0) / PI;
-                        self.environment_at(pos, &lambert, &lines, weight, sampler, acc, bins);
-                        self.area_at(pos, &lambert, &lines, weight, sampler, acc, bins);
-                    }
-                    dir = cosine_about_z(sampler);
-                    sample_env.then(|| Drawn {
-                        density: dir.z / PI,
-                        from: pos,
-                        environment: true,
-                    })
-                }
-                Event::Boundary(Boundary::CapPlane) => {
-                    // Between the opal slice and the cap: reflected with probability F,
-                    // else refracted into the other region.
-                    let other = match region {
-                        Region::Opal => Region::Cap,
-                        Region::Cap => Region::Opal,
-                    };
-                    let (n1, n2) = (stone.index_of(region), stone.index_of(other));
-                    let facing = if dir.z > 0.0 { -Vec3::Z } else { Vec3::Z };
-                    let f = fresnel_dielectric(-dir.dot(facing), n1, n2);
-                    let at = ray.at(t_end);
-                    match refract(dir, facing, n1, n2).filter(|_| sampler.uniform_f32() >= f) {
-                        Some(d) => {
-                            dir = d;
-                            weight *= (n1 / n2) * (n1 / n2);
-                            region = other;
-                            pos = at - facing * EPSILON_MM;
-                        }
-                        None => {
-                            dir = reflect(dir, facing);
-                            pos = at + facing * EPSILON_MM;
-                        }
-                    }
-                    hint = Hint::default();
-                    None
-                }
-            };
-            // The camera ray's first segment in the opal splits (after a triplet's cap).
-            if !(region == Region::Opal && first_in_cap) {
-                split = false;
-            }
-            first_in_cap = false;
-            if !self.roulette(&mut weight, sampler) {
-                return;
-            }
-            level += 1;
-        }
     }
 
     /// Whether a path goes on to its event `level` (counted from 0): within `max_depth`
@@ -695,23 +380,19 @@ impl<'a> Tracer<'a> {
     }
 
     /// Next-event estimation of the environment (and an area light in front of it) at a
-    /// scattering point `x` in the opal whose scattering density towards a direction (per
+    /// scattering point (`at`) in the opal whose scattering density towards a direction (per
     /// steradian, inside) is `density`: one direction drawn from the environment's
     /// distribution, refracted in through the surface ([`refracted_entry`]), weighted by the
     /// balance heuristic against the scattering's own draw (see the escape in
-    /// [`Tracer::inside`]).
-    #[allow(clippy::too_many_arguments)]
+    /// [`Tracer::surface`]).
     fn environment_at(
         &mut self,
-        x: Vec3,
+        at: &Estimate,
         density: &dyn Fn(Vec3) -> f32,
-        path: &PathSpectrum,
-        weight: f32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
+        s: &mut CameraSample,
     ) {
-        let u = [sampler.uniform_f32(), sampler.uniform_f32()];
+        let Estimate { x, weight, .. } = *at;
+        let u = [s.draws.uniform_f32(), s.draws.uniform_f32()];
         let sample = self.setup.environment.sample(u);
         if sample.pdf <= 0.0 {
             return;
@@ -737,284 +418,13 @@ impl<'a> Tracer<'a> {
         let mis = sample.pdf / (sample.pdf + p_b + p_area);
         let irradiance = inbound.gain;
         self.add_towards(
-            x,
+            at,
             inbound.to_light,
             inbound.distance,
             None,
-            path,
             |transmitted| weight * f * value * irradiance * transmitted * mis / sample.pdf,
-            acc,
-            bins,
+            s,
         );
-    }
-
-    /// A domain crossing of `ray` at `t0` over `chord`: light estimation, the reflection
-    /// branches (every one if `split`), and the lines the ray carries on through (added to
-    /// `lines`). Returns what goes on: the ray through, its weight scaled; or, for a path
-    /// already reflected, which either reflects or goes on (see the comment below), its
-    /// reflection; or nothing.
-    #[allow(clippy::too_many_arguments)]
-    fn cross_domain(
-        &mut self,
-        ray: &Ray,
-        t0: f32,
-        chord: f32,
-        domain: u32,
-        cells: Hint,
-        weight: f32,
-        lines: &mut PathSpectrum,
-        split: bool,
-        level: u32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) -> Crossing {
-        let stone = self.stone;
-        self.nee_hint = cells;
-        let dir = ray.direction;
-        self.lines.clear();
-        stone.lines(domain, dir, chord, &mut self.lines);
-        if self.lines.is_empty() {
-            return Crossing::On(1.0);
-        }
-        let x = ray.at(t0 + EPSILON_MM);
-        self.light_at_domain(x, dir, domain, lines, weight, sampler, acc, bins);
-        // The branches below refill `self.lines`: this crossing keeps its own.
-        let here = std::mem::take(&mut self.lines);
-        let face = ray.at(t0);
-        // Unless split, one reflection, drawn with twice the lines' share of white light (at
-        // most ¼), as a branch: its weight is about 1/(2 × its share), never large against
-        // what its line passes. A path already reflected chooses (below) with each line's
-        // share of its own light, what the line reflects at the wavelengths it carries
-        // (exact: the branches' weights are then about 1 at each wavelength; the floor keeps
-        // every branch possible).
-        let reflected = lines.reflects();
-        let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
-        // A reflected path's reflectances here, at its wavelengths: for its choice, and for
-        // its pass on through (the table zeroed only for such a path).
-        let mut at_path = if reflected {
-            Some([[0.0f32; MAX_DRAWS]; MAX_LINES_PER_CROSSING])
-        } else {
-            None
-        };
-        for (i, (e, l)) in energy.iter_mut().zip(&here).enumerate() {
-            let white = line_energy(&l.line);
-            *e = match &mut at_path {
-                Some(r) => lines
-                    .reflectances(&l.line, &mut r[i])
-                    .max(MIN_SHARE_OF_WHITE * white),
-                None => white,
-            };
-        }
-        let energy = &energy[..here.len().min(MAX_LINES_PER_CROSSING)];
-        let total: f64 = energy.iter().sum();
-        let chooses = !split && reflected;
-        let p_branch = if chooses {
-            total.min(MAX_CHOICE_PROBABILITY)
-        } else {
-            (2.0 * total).min(MAX_BRANCH_PROBABILITY)
-        };
-        // A path already reflected chooses (below); it finds the area light by its branches'
-        // escapes alone: estimated at its every crossing, with the weight its choices give it,
-        // the estimate would add more noise than it takes away (twice the variance, measured).
-        if !chooses && self.estimated_area_light().is_some() {
-            // Each line's probability of its branch, for the balance against the area light.
-            let mut pick = [1.0f64; MAX_LINES_PER_CROSSING];
-            if !split {
-                for (p, e) in pick.iter_mut().zip(energy) {
-                    *p = p_branch * e / total;
-                }
-            }
-            let n = energy.len();
-            self.area_at_domain(
-                x,
-                dir,
-                domain,
-                &here[..n],
-                &pick[..n],
-                lines,
-                weight,
-                sampler,
-                acc,
-                bins,
-            );
-        }
-        // A path already reflected chooses: it reflects (as above) or goes on through with
-        // its weight over 1 − p. Forking it too would make a tree: its light lies in its line,
-        // alike plates reflect that line again at about p = ¼ each, and a fork per plate over
-        // many plates and events grows without bound. One path on, its cost grows with depth
-        // only linearly.
-        let mut goes_on = Some(1.0);
-        let mut reflected_to = None;
-        if split {
-            // Every reflection as a branch of its own.
-            let path = Reflection {
-                face,
-                x,
-                dir,
-                domain,
-                cells,
-                p_pick: Some(1.0),
-                weight,
-            };
-            for line in &here {
-                self.branch(&path, line, true, lines, level, sampler, acc, bins);
-            }
-        } else {
-            let reflects = sampler.uniform() < p_branch;
-            if chooses {
-                goes_on = (!reflects).then_some((1.0 / (1.0 - p_branch)) as f32);
-            }
-            if reflects {
-                let mut u = sampler.uniform() * total;
-                let mut pick = here.len() - 1;
-                for (i, e) in energy.iter().enumerate() {
-                    if u < *e {
-                        pick = i;
-                        break;
-                    }
-                    u -= e;
-                }
-                let p_pick = p_branch * energy[pick] / total;
-                let w = weight / p_pick as f32;
-                let path = Reflection {
-                    face,
-                    x,
-                    dir,
-                    domain,
-                    cells,
-                    p_pick: (!chooses).then_some(p_pick),
-                    weight: w,
-                };
-                if chooses {
-                    reflected_to = self.reflected_path(&path, &here[pick], lines, sampler);
-                } else {
-                    self.branch(&path, &here[pick], false, lines, level, sampler, acc, bins);
-                }
-            }
-        }
-        // The ray goes on through the planes, carrying 1 − R of each line.
-        if goes_on.is_some() {
-            for (i, l) in here.iter().enumerate() {
-                match at_path.as_ref().and_then(|r| r.get(i)) {
-                    Some(r) => lines.pass(r),
-                    None => lines.transmit(l.line, self.setup.spectral),
-                }
-            }
-        }
-        self.lines = here;
-        match (goes_on, reflected_to) {
-            (Some(scale), _) => Crossing::On(scale),
-            (None, Some(next)) => Crossing::Reflected(Box::new(next)),
-            (None, None) => Crossing::Ended,
-        }
-    }
-
-    /// Follow the reflection `path` by `line` as a path of its own; if `cull`, followed with
-    /// the probability [`Tracer::follow_probability`] gives it (its weight over that).
-    #[allow(clippy::too_many_arguments)]
-    fn branch(
-        &mut self,
-        path: &Reflection,
-        line: &ActiveLine,
-        cull: bool,
-        lines: &PathSpectrum,
-        level: u32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) {
-        let Some(mut state) = self.reflected_path(path, line, lines, sampler) else {
-            return;
-        };
-        if cull {
-            // Russian roulette on what the branch's first escape will see.
-            let p = self.follow_probability(path.face, state.dir);
-            if p < 1.0 {
-                if sampler.uniform_f32() >= p {
-                    return;
-                }
-                state.weight /= p;
-            }
-        }
-        let mark = sampler.mark();
-        self.inside(state, false, level + 1, sampler, acc, bins);
-        sampler.reset(mark);
-    }
-
-    /// The path that the reflection `path` by `line` of a path of spectrum `lines` starts: the
-    /// lobe's normal drawn ([`Tracer::reflection`]); `None` where it faces away or the path's
-    /// light is all gone.
-    fn reflected_path(
-        &mut self,
-        path: &Reflection,
-        line: &ActiveLine,
-        lines: &PathSpectrum,
-        sampler: &mut PathSampler,
-    ) -> Option<PathState> {
-        let (d, l) = self.reflection(path.domain, line, path.dir, sampler)?;
-        let branch = lines.reflected(l, self.setup.spectral, sampler.uniform());
-        if branch.is_dark() {
-            return None;
-        }
-        Some(PathState {
-            pos: path.face,
-            dir: d,
-            weight: path.weight,
-            lines: branch,
-            skip: Some(path.domain),
-            region: Region::Opal,
-            drawn: path
-                .p_pick
-                .and_then(|p| self.drawn_branch(path.x, path.dir, d, line, p)),
-            splits_scattering: false,
-            hint: path.cells,
-        })
-    }
-
-    /// The probability with which a reflection of the camera ray's first segment, leaving
-    /// `from` along `dir`, is followed: what the room shows where it first meets the surface
-    /// and refracts out, over [`FOLLOW_FROM`] of the room's brightest, at least [`MIN_FOLLOW`];
-    /// 1 where it meets an area light, is reflected whole (beyond the critical angle) or
-    /// meets anything but the surface first. Most reflections look into the dark room; the
-    /// bright ones, which hold the picture's colour, are all followed.
-    fn follow_probability(&self, from: Vec3, dir: Vec3) -> f32 {
-        if self.follow_from <= 0.0 {
-            return 1.0;
-        }
-        let stone = self.stone;
-        let ray = Ray {
-            origin: from,
-            direction: dir,
-        };
-        let Some((t, Boundary::Surface)) = stone.exit(&ray, Region::Opal) else {
-            return 1.0;
-        };
-        let exit = ray.at(t);
-        let Some(out) = refract(dir, stone.shape.normal(exit), stone.n_eff, 1.0) else {
-            return 1.0;
-        };
-        let (value, light) = self.escaped_to(exit, out);
-        if light {
-            return 1.0;
-        }
-        (value / self.follow_from).clamp(MIN_FOLLOW, 1.0)
-    }
-
-    /// A reflection of the ray along `dir` by `line` of `domain`: the lobe's normal drawn, the
-    /// mirrored direction and the line at the half-vector angle; `None` if the drawn normal
-    /// faces away.
-    fn reflection(
-        &self,
-        domain: u32,
-        line: &ActiveLine,
-        dir: Vec3,
-        sampler: &mut PathSampler,
-    ) -> Option<(Vec3, BraggLine)> {
-        let sigma = self.stone.lobe_sigma(line.kind, -dir.dot(line.normal));
-        let h = sample_lobe(line.normal, sigma, sampler);
-        let cos_h = -dir.dot(h);
-        (cos_h > 0.0).then(|| (reflect(dir, h), self.line_at(domain, line, cos_h)))
     }
 
     /// `line`'s family in `domain` met at `cos_theta` ([`Stone::line_at`]).
@@ -1030,20 +440,10 @@ impl<'a> Tracer<'a> {
         Some((to_light, irradiance * light.intensity, distance))
     }
 
-    /// Next-event estimation of the light at a domain crossing `x`: each of the domain's lines
-    /// (in `self.lines`) whose lobe holds the half vector.
-    #[allow(clippy::too_many_arguments)]
-    fn light_at_domain(
-        &mut self,
-        x: Vec3,
-        dir: Vec3,
-        domain: u32,
-        path: &PathSpectrum,
-        weight: f32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) {
+    /// Next-event estimation of the light at a crossing `at` of `domain` by a path along
+    /// `dir`: each of the domain's lines (in `self.lines`) whose lobe holds the half vector.
+    fn light_at_domain(&mut self, at: &Estimate, dir: Vec3, domain: u32, s: &mut CameraSample) {
+        let Estimate { x, path, weight } = *at;
         let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
             return;
         };
@@ -1074,54 +474,38 @@ impl<'a> Tracer<'a> {
             let mut lines = path.reflected(
                 self.line_at(domain, &line, cos_h),
                 self.setup.spectral,
-                sampler.uniform(),
+                s.draws.uniform(),
             );
             for n in &notches {
                 lines.transmit(*n, self.setup.spectral);
             }
             let value = weight * PI * irradiance * transmitted * density / (4.0 * cos_h);
-            self.add(&lines, value, acc, bins);
+            self.add(&lines, value, s);
         }
     }
 
-    /// Next-event estimation of the light at a scattering event of a path travelling along
-    /// `dir` (Henyey–Greenstein phase).
-    #[allow(clippy::too_many_arguments)]
-    fn light_at_potch(
-        &mut self,
-        x: Vec3,
-        dir: Vec3,
-        path: &PathSpectrum,
-        weight: f32,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) {
+    /// Next-event estimation of the light at a scattering event `at` of a path travelling
+    /// along `dir` (Henyey–Greenstein phase).
+    fn light_at_potch(&mut self, at: &Estimate, dir: Vec3, s: &mut CameraSample) {
+        let Estimate { x, weight, .. } = *at;
         let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
             return;
         };
         // π × E × phase: light travelling along −to_light turned into −dir.
         let phase = hg_phase(self.stone.potch.anisotropy, to_light.dot(dir));
         self.add_towards(
-            x,
+            at,
             to_light,
             distance,
             None,
-            path,
             |transmitted| weight * PI * irradiance * transmitted * phase,
-            acc,
-            bins,
+            s,
         );
     }
 
-    /// Next-event estimation of the light at the backing (Lambert, facing +z).
-    fn light_at_back(
-        &mut self,
-        x: Vec3,
-        path: &PathSpectrum,
-        weight: f32,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
-    ) {
+    /// Next-event estimation of the light at the backing, at `at` (Lambert, facing +z).
+    fn light_at_back(&mut self, at: &Estimate, s: &mut CameraSample) {
+        let Estimate { x, weight, .. } = *at;
         let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
             return;
         };
@@ -1131,14 +515,12 @@ impl<'a> Tracer<'a> {
         }
         // π × ρ E cos / π (ρ is in the weight or the path's tint).
         self.add_towards(
-            x,
+            at,
             to_light,
             distance,
             None,
-            path,
             |transmitted| weight * irradiance * transmitted * cos,
-            acc,
-            bins,
+            s,
         );
     }
 
@@ -1165,15 +547,6 @@ impl<'a> Tracer<'a> {
         );
         (t > 1e-6).then_some((t, notches))
     }
-}
-
-/// A line's share of white light: its area over wavelength over the 400 nm of the visible.
-/// The area is `ν² λ/N` for a weak grating (the side lobes' sum) and `2νλ/(πN)` (the stop
-/// band) for a saturated one; `ν² λ / (N (1 + πν/2))` joins the two.
-fn line_energy(line: &BraggLine) -> f64 {
-    let nu = 0.5 * (line.nu_s + line.nu_p);
-    let area = nu * nu * line.center_nm / (line.layers * (1.0 + 0.5 * std::f64::consts::PI * nu));
-    (area / 400.0).max(1e-9)
 }
 
 /// A new direction after scattering a path travelling along `dir` by the Henyey–Greenstein

@@ -24,13 +24,12 @@
 use glam::Vec3;
 
 use super::sampler::PathSampler;
-use super::{Tracer, EPSILON_MM};
+use super::{CameraSample, Estimate, Tracer, EPSILON_MM};
 use crate::geometry::fresnel_dielectric;
 use crate::geometry::refracted_entry;
 use crate::geometry::LightSource;
 use crate::stone::{angle_between, ActiveLine};
 
-use super::spectral::PathSpectrum;
 use crate::lights::AreaLight;
 
 /// The one refracted path from a direction outside to a point inside.
@@ -105,33 +104,31 @@ impl Tracer<'_> {
         })
     }
 
-    /// Walk from `x` towards the light (the potch's transmittance, the notches of the domains
-    /// crossed but `skip`), then add `value(transmittance)` with the path's lines, those
-    /// notches and `reflected` (a domain's line, if the light is reflected at `x`).
-    #[allow(clippy::too_many_arguments)]
+    /// Walk from `at`'s point along `to_light` for `distance` mm (the potch's transmittance,
+    /// the notches of the domains crossed but `skip`), then add `value(transmittance)` with
+    /// the path's lines and those notches.
     pub(super) fn add_towards(
         &mut self,
-        x: Vec3,
+        at: &Estimate,
         to_light: Vec3,
         distance: f32,
         skip: Option<u32>,
-        path: &PathSpectrum,
         value: impl Fn(f32) -> f32,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
+        s: &mut CameraSample,
     ) {
-        let Some((transmitted, notches)) = self.towards_light(x, to_light, distance, skip) else {
+        let Some((transmitted, notches)) = self.towards_light(at.x, to_light, distance, skip)
+        else {
             return;
         };
         if notches.is_empty() {
-            self.add(path, value(transmitted), acc, bins);
+            self.add(at.path, value(transmitted), s);
             return;
         }
-        let mut lines = path.clone();
+        let mut lines = at.path.clone();
         for n in &notches {
             lines.transmit(*n, self.setup.spectral);
         }
-        self.add(&lines, value(transmitted), acc, bins);
+        self.add(&lines, value(transmitted), s);
     }
 
     /// The entry point of the refracted path from the area light's centre to `x`, from which
@@ -166,21 +163,17 @@ impl Tracer<'_> {
         Some((inbound, sample.direction, value, sample.pdf))
     }
 
-    /// Next-event estimation of the area light at a potch scattering or a backing at `x`,
+    /// Next-event estimation of the area light at a potch scattering or a backing `at`,
     /// whose density of scattering towards a direction (per steradian, inside) is `density`
     /// (the phase, or Lambert's `cos / π`); balanced against that draw and the environment's.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn area_at(
         &mut self,
-        x: Vec3,
+        at: &Estimate,
         density: &dyn Fn(Vec3) -> f32,
-        path: &PathSpectrum,
-        weight: f32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
+        s: &mut CameraSample,
     ) {
-        let Some((inbound, out, value, q)) = self.draw_area(x, sampler) else {
+        let Estimate { x, weight, .. } = *at;
+        let Some((inbound, out, value, q)) = self.draw_area(x, s.draws) else {
             return;
         };
         let f = density(inbound.to_light);
@@ -193,35 +186,29 @@ impl Tracer<'_> {
         let mis = q / (q + p_b + p_env);
         let gain = inbound.gain;
         self.add_towards(
-            x,
+            at,
             inbound.to_light,
             inbound.distance,
             None,
-            path,
             |t| weight * f * value * gain * t * mis / q,
-            acc,
-            bins,
+            s,
         );
     }
 
-    /// Next-event estimation of the area light at a domain crossing `x` of a path along
+    /// Next-event estimation of the area light at a crossing `at` of `domain` by a path along
     /// `dir`: each of the domain's lines (`lines`) whose lobe holds the half vector, balanced
     /// against its reflection branch, drawn with probability `pick[k]` (line `k`).
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn area_at_domain(
         &mut self,
-        x: Vec3,
+        at: &Estimate,
         dir: Vec3,
         domain: u32,
         lines: &[ActiveLine],
         pick: &[f64],
-        path: &PathSpectrum,
-        weight: f32,
-        sampler: &mut PathSampler,
-        acc: &mut [f64; 3],
-        bins: &mut [f32],
+        s: &mut CameraSample,
     ) {
-        let Some((inbound, _, value, q)) = self.draw_area(x, sampler) else {
+        let Estimate { x, path, weight } = *at;
+        let Some((inbound, _, value, q)) = self.draw_area(x, s.draws) else {
             return;
         };
         let to_eye = -dir;
@@ -249,13 +236,13 @@ impl Tracer<'_> {
             let mut reflected = path.reflected(
                 self.line_at(domain, line, cos_h),
                 self.setup.spectral,
-                sampler.uniform(),
+                s.draws.uniform(),
             );
             for n in &notches {
                 reflected.transmit(*n, self.setup.spectral);
             }
             let v = weight * lobe * value * inbound.gain * transmitted * mis / q;
-            self.add(&reflected, v, acc, bins);
+            self.add(&reflected, v, s);
         }
     }
 

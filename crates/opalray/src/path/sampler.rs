@@ -12,7 +12,7 @@
 //! | 0, 1 (set 0) | the camera ray's place in the pixel, x then y |
 //! | `4 + 8 e + k`, `k < 8` (sets `1 + 2e`, `2 + 2e`) | the `k`-th draw of event `e < SOBOL_EVENTS` |
 //!
-//! An event is one segment of the path and what ends it (`Tracer::inside`'s `level`): its
+//! An event is one segment of the path and what ends it (the path's `Vertex::level`, `path/vertex.rs`): its
 //! free flights, the estimates and choices at the domains it crosses, the draw of the next
 //! direction, the roulette. Each draw takes the next slot of its event, so no two decisions
 //! of one path read one dimension, and each event's first draws are the same dimensions in

@@ -1,0 +1,257 @@
+//! The events of a path inside the stone, one method each: a scattering in the potch or a
+//! milky domain's haze, the surface from inside, a backing, a triplet's cap plane (the domain
+//! crossings in [`super::crossing`]; the loop over them in [`super::vertex`]).
+
+use std::f32::consts::PI;
+
+use glam::Vec3;
+
+use super::nee::Drawn;
+use super::sampler::PathSampler;
+use super::vertex::{Segment, Step, Vertex, Waiting, WaitingAt};
+use super::{
+    cosine_about_z, sample_hg, scattering_split, CameraSample, Estimate, Tracer, EPSILON_MM,
+    MIN_REACH,
+};
+use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
+use crate::scene::Backing;
+use crate::stone::body::hg_phase;
+use crate::stone::{Hint, Region};
+
+/// A scattering at `from`: `remaining` directions to follow as branches, then the path's own.
+pub(super) struct Scattering {
+    pub from: Vec3,
+    pub remaining: u32,
+    /// Its direction before the scattering.
+    pub incoming: Vec3,
+    /// The phase's anisotropy.
+    pub g: f32,
+    /// Whether the environment and an area light were estimated there.
+    pub estimated: bool,
+}
+
+impl Scattering {
+    /// How a direction `d` drawn from the phase was drawn, for its escape's balance.
+    fn drawn(&self, d: Vec3) -> Option<Drawn> {
+        self.estimated.then(|| Drawn {
+            density: hg_phase(self.g, d.dot(self.incoming)),
+            from: self.from,
+            environment: true,
+        })
+    }
+}
+
+impl Tracer<'_> {
+    /// A scattering at `t` along `ray` keeping `albedo`: the lights estimated there, then
+    /// the phase's draws (several directions for the camera path's first).
+    pub(super) fn scatter(
+        &mut self,
+        v: &mut Vertex,
+        ray: &Ray,
+        t: f32,
+        albedo: f32,
+        s: &mut CameraSample,
+    ) -> Step {
+        let stone = self.stone;
+        v.pos = ray.at(t);
+        v.weight *= albedo;
+        v.lines.history.scattered();
+        self.nee_hint = v.hint;
+        let at = Estimate {
+            x: v.pos,
+            path: &v.lines,
+            weight: v.weight,
+        };
+        self.light_at_potch(&at, v.dir, s);
+        let g = stone.potch.anisotropy;
+        let incoming = v.dir;
+        // Deep in a milky body no light from outside reaches this point: the estimate is
+        // skipped and the scattering's own draw weighs alone.
+        let estimated = stone.cap.is_none() && stone.reach_bound(v.pos) >= MIN_REACH;
+        if estimated {
+            let phase = |to: Vec3| hg_phase(g, to.dot(incoming));
+            self.environment_at(&at, &phase, s);
+            self.area_at(&at, &phase, s);
+        }
+        // The camera path's first scattering goes on in several directions.
+        let k = if v.splits_scattering {
+            scattering_split(v.weight)
+        } else {
+            1
+        };
+        v.splits_scattering = false;
+        v.weight /= k as f32;
+        let scattering = Scattering {
+            from: v.pos,
+            remaining: k - 1,
+            incoming,
+            g,
+            estimated,
+        };
+        self.scatter_on(v, scattering, s)
+    }
+
+    /// A scattered path's next direction: a branch while `remaining`, then its own.
+    pub(super) fn scatter_on(
+        &mut self,
+        v: &mut Vertex,
+        mut sc: Scattering,
+        s: &mut CameraSample,
+    ) -> Step {
+        if sc.remaining > 0 {
+            sc.remaining -= 1;
+            let d = sample_hg(sc.incoming, sc.g, s.draws);
+            let child = Vertex {
+                pos: v.pos,
+                dir: d,
+                weight: v.weight,
+                lines: v.lines.clone(),
+                skip: None,
+                region: v.region,
+                drawn: sc.drawn(d),
+                hint: v.hint,
+                split: false,
+                splits_scattering: false,
+                first_in_cap: v.region == Region::Cap,
+                level: v.level + 1,
+            };
+            return Step::Fork(Box::new(Waiting {
+                vertex: std::mem::replace(v, child),
+                at: WaitingAt::Scattering(sc),
+            }));
+        }
+        let dir = sample_hg(v.dir, sc.g, s.draws);
+        v.drawn = sc.drawn(dir);
+        v.dir = dir;
+        self.go_on(v, s.draws)
+    }
+
+    /// The surface from inside: what escapes (its share 1 − F) is added now, the path goes
+    /// on reflected with weight × F (both ways at once, no random choice).
+    pub(super) fn surface(
+        &mut self,
+        v: &mut Vertex,
+        segment: &Segment,
+        s: &mut CameraSample,
+    ) -> Step {
+        let n = self.stone.index_of(v.region);
+        let exit = segment.ray.at(segment.t_end);
+        let normal = self.stone.shape.normal(exit);
+        let dir = v.dir;
+        let cos = dir.dot(normal).max(0.0);
+        let f = fresnel_dielectric(cos, n, 1.0);
+        if f < 1.0 {
+            if let Some(out) = refract(dir, normal, n, 1.0) {
+                let (mut value, light) = self.escaped_to(exit, out);
+                if let Some(drawn) = v.drawn.filter(|_| value > 0.0) {
+                    // Drawn where light was also sampled: the balance heuristic over external
+                    // solid angle, against the draws that would have found this same path.
+                    value *= self.escape_weight(&drawn, dir, out, exit, light);
+                }
+                if value > 0.0 {
+                    let value = v.weight * (1.0 - f) * n * n * value;
+                    self.add(&v.lines, value, s);
+                }
+            }
+        }
+        v.weight *= f;
+        v.lines.history.reflected_inside();
+        v.dir = reflect(dir, normal);
+        v.pos = exit - normal * EPSILON_MM;
+        v.drawn = None;
+        self.go_on(v, s.draws)
+    }
+
+    /// A backing: a diffuse reflection (Lambert, cosine-weighted about +z), the lights
+    /// estimated there.
+    pub(super) fn backing(
+        &mut self,
+        v: &mut Vertex,
+        segment: &Segment,
+        s: &mut CameraSample,
+    ) -> Step {
+        let Some(back) = self.stone.back else {
+            return Step::End;
+        };
+        v.pos = segment.ray.at(segment.t_end) + Vec3::Z * EPSILON_MM;
+        v.lines.history.backed();
+        v.weight *= match back.kind {
+            Backing::Ironstone => {
+                v.lines.tint();
+                1.0
+            }
+            _ => back.reflectance(550.0) as f32,
+        };
+        if v.weight <= 0.0 {
+            return Step::End;
+        }
+        self.nee_hint = v.hint;
+        let at = Estimate {
+            x: v.pos,
+            path: &v.lines,
+            weight: v.weight,
+        };
+        self.light_at_back(&at, s);
+        let estimated = self.stone.cap.is_none();
+        if estimated {
+            let lambert = |to: Vec3| to.z.max(0.0) / PI;
+            self.environment_at(&at, &lambert, s);
+            self.area_at(&at, &lambert, s);
+        }
+        v.dir = cosine_about_z(s.draws);
+        v.drawn = estimated.then(|| Drawn {
+            density: v.dir.z / PI,
+            from: v.pos,
+            environment: true,
+        });
+        self.go_on(v, s.draws)
+    }
+
+    /// The plane between a triplet's opal slice and its cap: reflected with probability F,
+    /// else refracted into the other region.
+    pub(super) fn cap_plane(
+        &mut self,
+        v: &mut Vertex,
+        segment: &Segment,
+        s: &mut CameraSample,
+    ) -> Step {
+        let other = match v.region {
+            Region::Opal => Region::Cap,
+            Region::Cap => Region::Opal,
+        };
+        let (n1, n2) = (self.stone.index_of(v.region), self.stone.index_of(other));
+        let dir = v.dir;
+        let facing = if dir.z > 0.0 { -Vec3::Z } else { Vec3::Z };
+        let f = fresnel_dielectric(-dir.dot(facing), n1, n2);
+        let at = segment.ray.at(segment.t_end);
+        match refract(dir, facing, n1, n2).filter(|_| s.draws.uniform_f32() >= f) {
+            Some(d) => {
+                v.dir = d;
+                v.weight *= (n1 / n2) * (n1 / n2);
+                v.region = other;
+                v.pos = at - facing * EPSILON_MM;
+            }
+            None => {
+                v.dir = reflect(dir, facing);
+                v.pos = at + facing * EPSILON_MM;
+            }
+        }
+        v.hint = Hint::default();
+        v.drawn = None;
+        self.go_on(v, s.draws)
+    }
+
+    /// After an event: the camera ray's first segment in the opal splits (after a triplet's
+    /// cap, its first there), then Russian roulette and the next level.
+    fn go_on(&self, v: &mut Vertex, draws: &mut PathSampler) -> Step {
+        if !(v.region == Region::Opal && v.first_in_cap) {
+            v.split = false;
+        }
+        v.first_in_cap = false;
+        if !self.roulette(&mut v.weight, draws) {
+            return Step::End;
+        }
+        v.level += 1;
+        Step::Go
+    }
+}
