@@ -11,6 +11,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::faces::{Face, Faces};
 use super::{Hint, Span};
 use crate::sampling::Rng;
 
@@ -28,20 +29,10 @@ pub struct Grains {
     dims: [usize; 3],
     starts: Vec<u32>,
     members: Vec<u32>,
-    /// The boundary faces of every grain, all grains' in one array: grain `i`'s are
-    /// `faces[face_start[i]..face_start[i + 1]]`, in the order of its neighbours' indices.
-    faces: Vec<Face>,
-    face_start: Vec<u32>,
+    /// The boundary faces of every grain, each grain's in the order of its neighbours'
+    /// indices.
+    faces: Faces,
     largest_weight: f32,
-}
-
-/// A face of a grain: the plane `q · m = c` (stretched space) it shares with grain `next`,
-/// `m = s_j − s_i`, `c = (|s_j|² − |s_i|² − w_j + w_i) / 2`.
-#[derive(Clone, Copy, Debug)]
-struct Face {
-    m: Vec3,
-    c: f32,
-    next: u32,
 }
 
 impl Grains {
@@ -88,8 +79,7 @@ impl Grains {
             dims,
             starts: Vec::new(),
             members: Vec::new(),
-            faces: Vec::new(),
-            face_start: Vec::new(),
+            faces: Faces::default(),
             largest_weight: 0.0,
         };
         grains.largest_weight = grains.weights.iter().cloned().fold(0.0, f32::max);
@@ -199,50 +189,22 @@ impl Grains {
                 kept
             })
             .collect();
-        self.faces = Vec::with_capacity(neighbours.iter().map(Vec::len).sum());
-        self.face_start = Vec::with_capacity(neighbours.len() + 1);
-        self.face_start.push(0);
-        for (i, list) in neighbours.iter().enumerate() {
+        // The plane between grains i and j: `q · m = c`, `m = s_j − s_i`,
+        // `c = (|s_j|² − |s_i|² − w_j + w_i) / 2`.
+        let faces = neighbours.iter().enumerate().map(|(i, list)| {
             let (si, wi) = (self.seeds[i], self.weights[i]);
-            for &j in list {
-                let (sj, wj) = (self.seeds[j as usize], self.weights[j as usize]);
-                self.faces.push(Face {
-                    m: sj - si,
-                    c: 0.5 * (sj.length_squared() - si.length_squared() - wj + wi),
-                    next: j,
-                });
-            }
-            self.face_start.push(self.faces.len() as u32);
-        }
-    }
-
-    /// The faces of grain `i`.
-    #[inline]
-    fn faces_of(&self, i: u32) -> &[Face] {
-        let i = i as usize;
-        &self.faces[self.face_start[i] as usize..self.face_start[i + 1] as usize]
-    }
-
-    /// Whether `q` (stretched space) lies in grain `i`.
-    fn holds(&self, i: u32, q: Vec3) -> bool {
-        self.faces_of(i).iter().all(|f| q.dot(f.m) <= f.c)
-    }
-
-    /// The next boundary of grain `i` that `o + t·d` crosses after `t`, before `t_max`.
-    #[inline]
-    fn next_plane(&self, i: u32, o: Vec3, d: Vec3, t: f32, t_max: f32) -> (f32, Option<u32>) {
-        let mut next = (t_max, None);
-        for f in self.faces_of(i) {
-            let denom = d.dot(f.m);
-            if denom <= 0.0 {
-                continue;
-            }
-            let tc = (f.c - o.dot(f.m)) / denom;
-            if tc > t && tc < next.0 {
-                next = (tc, Some(f.next));
-            }
-        }
-        next
+            list.iter()
+                .map(|&j| {
+                    let (sj, wj) = (self.seeds[j as usize], self.weights[j as usize]);
+                    Face {
+                        m: sj - si,
+                        c: 0.5 * (sj.length_squared() - si.length_squared() - wj + wi),
+                        next: j,
+                    }
+                })
+                .collect()
+        });
+        self.faces = Faces::new(faces);
     }
 
     /// The first plane of `candidates` that the ray `o + t·d` (stretched space) crosses after
@@ -281,11 +243,11 @@ impl Grains {
     pub fn at_with(&self, p: Vec3, hint: Option<u32>) -> u32 {
         if let Some(h) = hint {
             let q = p / self.stretch;
-            if self.holds(h, q) {
+            if self.faces.holds(h, q) {
                 return h;
             }
-            if let Some(f) = self.faces_of(h).iter().find(|f| self.holds(f.next, q)) {
-                return f.next;
+            if let Some(j) = self.faces.neighbours(h).find(|&j| self.faces.holds(j, q)) {
+                return j;
             }
         }
         self.at(p)
@@ -330,7 +292,7 @@ impl Grains {
         let mut current = self.at_with(origin + dir * t0, hint);
         // Guard against a ray stuck on a boundary: at most this many grains per walk.
         for _ in 0..100_000 {
-            let (t_next, next) = self.next_plane(current, o, d, t, t1);
+            let (t_next, next) = self.faces.next_plane(current, o, d, t, t1);
             let go_on = visit(
                 Span {
                     t0: t,
@@ -431,7 +393,7 @@ mod tests {
             let found = g.at_with(p, Some(hint));
             total += 1;
             agree += usize::from(found == exact);
-            let neighbour = g.faces_of(hint).iter().any(|f| f.next == exact);
+            let neighbour = g.faces.neighbours(hint).any(|j| j == exact);
             by_neighbour += usize::from(found == exact && neighbour);
         }
         // The faces found by rays are nearly complete: the answers are the exact ones but for

@@ -16,6 +16,7 @@ pub mod balls;
 pub mod body;
 mod crystal;
 mod cut;
+mod faces;
 pub mod grains;
 mod layout;
 mod light_path;
