@@ -8,7 +8,9 @@
 //! a ray's walk from grain to grain is exact (the next boundary is the nearest plane crossing
 //! among the grain's neighbours).
 
-use glam::Vec3;
+use std::ops::Range;
+
+use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::faces::{Face, Faces};
@@ -29,6 +31,9 @@ pub struct Grains {
     dims: [usize; 3],
     starts: Vec<u32>,
     members: Vec<u32>,
+    /// Per member, its seed and weight `(s, w)`, in the order of `members`: the point
+    /// query's data in one run of memory.
+    packed: Vec<Vec4>,
     /// The boundary faces of every grain, each grain's in the order of its neighbours'
     /// indices.
     faces: Faces,
@@ -79,12 +84,16 @@ impl Grains {
             dims,
             starts: Vec::new(),
             members: Vec::new(),
+            packed: Vec::new(),
             faces: Faces::default(),
             largest_weight: 0.0,
         };
         grains.largest_weight = grains.weights.iter().cloned().fold(0.0, f32::max);
         grains.fill_buckets();
         grains.find_neighbours();
+        grains.packed = (grains.members.iter())
+            .map(|&m| grains.seeds[m as usize].extend(grains.weights[m as usize]))
+            .collect();
         grains
     }
 
@@ -121,28 +130,29 @@ impl Grains {
         self.members = members;
     }
 
-    /// Seeds in the buckets within `reach` buckets of `q`'s.
-    fn for_each_near(&self, q: Vec3, reach: i64, mut f: impl FnMut(u32)) {
+    /// The buckets within `reach` buckets of `q`'s, as runs of `members`: each row of
+    /// buckets along x is one run (its buckets are consecutive, and so are their members).
+    #[inline]
+    fn rows_near(&self, q: Vec3, reach: i64, mut f: impl FnMut(Range<usize>)) {
         let b = self.bucket_of(q);
         let range = |a: usize| {
             let lo = (b[a] as i64 - reach).max(0) as usize;
             let hi = ((b[a] as i64 + reach) as usize).min(self.dims[a] - 1);
             lo..=hi
         };
+        let (x_lo, x_hi) = range(0).into_inner();
         for z in range(2) {
             for y in range(1) {
-                for x in range(0) {
-                    let k = self.bucket_index([x, y, z]);
-                    for &m in &self.members[self.starts[k] as usize..self.starts[k + 1] as usize] {
-                        f(m);
-                    }
-                }
+                let first = self.starts[self.bucket_index([x_lo, y, z])] as usize;
+                let end = self.starts[self.bucket_index([x_hi, y, z]) + 1] as usize;
+                f(first..end);
             }
         }
     }
 
-    fn power(&self, i: u32, q: Vec3) -> f32 {
-        (q - self.seeds[i as usize]).length_squared() - self.weights[i as usize]
+    /// Seeds in the buckets within `reach` buckets of `q`'s, bucket by bucket.
+    fn for_each_near(&self, q: Vec3, reach: i64, mut f: impl FnMut(u32)) {
+        self.rows_near(q, reach, |run| self.members[run].iter().for_each(|&m| f(m)));
     }
 
     fn find_neighbours(&mut self) {
@@ -259,10 +269,13 @@ impl Grains {
         let mut best = (f32::INFINITY, 0u32);
         let mut reach = 1;
         loop {
-            self.for_each_near(q, reach, |j| {
-                let d = self.power(j, q);
-                if d < best.0 || (d == best.0 && j < best.1) {
-                    best = (d, j);
+            // The least power, the least index on a tie: the same whatever the order.
+            self.rows_near(q, reach, |run| {
+                for (&s, &j) in self.packed[run.clone()].iter().zip(&self.members[run]) {
+                    let d = (q - s.truncate()).length_squared() - s.w;
+                    if d < best.0 || (d == best.0 && j < best.1) {
+                        best = (d, j);
+                    }
                 }
             });
             // Any seed farther than the searched buckets has power ≥ (reach·bucket)² − w_max.
@@ -348,6 +361,11 @@ mod tests {
     use super::*;
     use crate::sampling::stage;
 
+    /// The power distance of `q` (stretched space) to grain `i`'s seed.
+    fn power(g: &Grains, i: u32, q: Vec3) -> f32 {
+        (q - g.seeds[i as usize]).length_squared() - g.weights[i as usize]
+    }
+
     fn grains(spread: f32, stretch: Vec3) -> Grains {
         let mut rng = Rng::new(7, stage::STRUCTURE, 0);
         Grains::new(Vec3::new(10.0, 7.5, 2.5), 2.0, spread, stretch, &mut rng)
@@ -365,7 +383,7 @@ mod tests {
             );
             let q = p / g.stretch;
             let brute = (0..g.seeds.len() as u32)
-                .min_by(|&a, &b| g.power(a, q).total_cmp(&g.power(b, q)))
+                .min_by(|&a, &b| power(&g, a, q).total_cmp(&power(&g, b, q)))
                 .unwrap();
             assert_eq!(g.at(p), brute);
         }
