@@ -7,7 +7,7 @@
 
 use glam::Vec3;
 
-use super::lines::{slot_optics, SlotOptics};
+use super::lines::SlotTable;
 use super::{
     diffraction_sigma_rad, domain_width_mm, width_row_cos, Domain, LINE_REACH, WIDTH_ROWS,
 };
@@ -18,10 +18,10 @@ use crate::scene::{FamilyChoice, Scene};
 pub(super) struct Crystal {
     /// The families kept.
     pub families: Families,
-    /// Per domain, every family normal in the stone frame (`slots.len()` per domain).
+    /// Per domain, every family normal in the stone frame (one per slot).
     pub normals: Vec<Vec3>,
     /// Each slot's family kind and what its lines read of it.
-    pub slots: Vec<SlotOptics>,
+    pub slots: SlotTable,
     /// Per kind, the lobe's standard deviation (rad) over cos θ.
     pub lobe_sigma: Vec<[f32; WIDTH_ROWS]>,
 }
@@ -32,7 +32,12 @@ impl Crystal {
         let families = kept_families(scene);
         Crystal {
             normals: domain_normals(&families, domains),
-            slots: slot_optics(&families, f64::from(scene.crystal.layers)),
+            slots: SlotTable::new(
+                &families,
+                families.n_eff as f32,
+                scene.spectrum.min_nm,
+                f64::from(scene.crystal.layers),
+            ),
             lobe_sigma: lobe_sigmas(scene, &families),
             families,
         }

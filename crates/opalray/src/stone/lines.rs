@@ -7,10 +7,15 @@
 //! follows comes here, 25 slots a domain for all families: the per-slot constants are read
 //! from one flat array, and a wavelength's test rejects a slot before the line is built.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 use super::{ActiveLine, Stone, LINE_REACH};
 use crate::optics::{BraggLine, Families};
+
+/// Relative margin of the slots' first test ([`SlotTable::reach`]) below the exact bound:
+/// far above the f32 roundings of the test (~10⁻⁷), so it never rejects a slot whose line's
+/// centre reaches the range.
+const REACH_MARGIN: f32 = 1e-4;
 
 /// What [`Stone::lines`] reads of one family slot (a normal of one family kind), the same for
 /// every domain.
@@ -26,22 +31,91 @@ pub(super) struct SlotOptics {
     pub layer_cap: f64,
 }
 
-/// Every slot of `families` in order (kind by kind, each kind's normals in turn), for
-/// `layers_111` coherent (111) layers.
-pub(super) fn slot_optics(families: &Families, layers_111: f64) -> Vec<SlotOptics> {
-    let d111 = families.kinds[0].spacing_over_diameter;
-    families
-        .kinds
-        .iter()
-        .enumerate()
-        .flat_map(|(k, f)| {
-            let slot = SlotOptics {
-                kind: k as u8,
-                spacing_over_diameter: f.spacing_over_diameter,
-                coupling: f.coupling,
-                layer_cap: layers_111 * d111 / f.spacing_over_diameter,
-            };
-            std::iter::repeat_n(slot, f.normals.len())
+/// The family slots of every domain, four to a block: per slot its optics; per block the
+/// first test of its four slots and which lanes hold one.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct SlotTable {
+    /// Per slot, in order (kind by kind, each kind's normals in turn).
+    pub optics: Vec<SlotOptics>,
+    /// Per block, per lane, a lower bound of `D · |cos θ|` (`D` the domain's sphere
+    /// diameter, nm) for the line's centre `2 d n̄ |cos θ|` to reach [`LINE_REACH`] × the
+    /// range's short end: a slot under it has no line.
+    reach: Vec<Vec4>,
+    /// Per block, the lanes holding a slot (bit `l` for lane `l`).
+    lanes: Vec<u32>,
+}
+
+impl SlotTable {
+    /// The slots of `families` in a stone of index `n_eff`, lines kept from `range_lo_nm`,
+    /// for `layers_111` coherent (111) layers.
+    pub fn new(families: &Families, n_eff: f32, range_lo_nm: f64, layers_111: f64) -> Self {
+        let d111 = families.kinds[0].spacing_over_diameter;
+        let optics: Vec<SlotOptics> = (families.kinds.iter().enumerate())
+            .flat_map(|(k, f)| {
+                let slot = SlotOptics {
+                    kind: k as u8,
+                    spacing_over_diameter: f.spacing_over_diameter,
+                    coupling: f.coupling,
+                    layer_cap: layers_111 * d111 / f.spacing_over_diameter,
+                };
+                std::iter::repeat_n(slot, f.normals.len())
+            })
+            .collect();
+        let two_n = 2.0 * f64::from(n_eff);
+        let reach_of = |slot: Option<&SlotOptics>| {
+            slot.map_or(0.0, |s| {
+                let exact = LINE_REACH * range_lo_nm / (two_n * s.spacing_over_diameter);
+                exact as f32 * (1.0 - REACH_MARGIN)
+            })
+        };
+        let blocks = optics.len().div_ceil(4);
+        let reach = (0..blocks)
+            .map(|b| Vec4::from_array(std::array::from_fn(|l| reach_of(optics.get(4 * b + l)))))
+            .collect();
+        let lanes = (0..blocks)
+            .map(|b| {
+                (0..4)
+                    .filter(|l| 4 * b + l < optics.len())
+                    .map(|l| 1u32 << l)
+                    .sum()
+            })
+            .collect();
+        SlotTable {
+            optics,
+            reach,
+            lanes,
+        }
+    }
+
+    /// Blocks of four slots per domain.
+    pub fn blocks(&self) -> usize {
+        self.reach.len()
+    }
+}
+
+/// Four slots' unit normals of one domain (stone frame), by coordinate; unused lanes 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct NormalBlock {
+    x: Vec4,
+    y: Vec4,
+    z: Vec4,
+}
+
+/// `normals` (`slots` per domain, domain by domain) in blocks of four per domain.
+pub(super) fn normal_blocks(normals: &[Vec3], slots: usize) -> Vec<NormalBlock> {
+    normals
+        .chunks(slots)
+        .flat_map(|domain| {
+            domain.chunks(4).map(|four| {
+                let lane = |k: usize, f: fn(Vec3) -> f32| four.get(k).map_or(0.0, |&n| f(n));
+                let column =
+                    |f: fn(Vec3) -> f32| Vec4::new(lane(0, f), lane(1, f), lane(2, f), lane(3, f));
+                NormalBlock {
+                    x: column(|n| n.x),
+                    y: column(|n| n.y),
+                    z: column(|n| n.z),
+                }
+            })
         })
         .collect()
 }
@@ -69,6 +143,8 @@ impl Stone {
     }
 
     /// [`Stone::lines`], keeping only the lines whose window holds `wavelength_nm` if given.
+    /// Four slots at a time are tested against their reach ([`SlotTable`]); the few left are
+    /// built one by one.
     #[inline(always)]
     fn push_lines(
         &self,
@@ -78,46 +154,89 @@ impl Stone {
         wavelength_nm: Option<f64>,
         out: &mut Vec<ActiveLine>,
     ) {
-        let slots = &self.slot_optics;
-        let normals = &self.normals[domain as usize * slots.len()..][..slots.len()];
-        let diameter_nm = f64::from(self.domains[domain as usize].sphere_diameter_nm);
-        let two_n = 2.0 * f64::from(self.n_eff) * diameter_nm;
-        let chord_nm = f64::from(chord_mm) * 1e6;
-        let (range_lo, range_hi) = self.range_nm;
-        let (reach_lo, reach_hi) = (LINE_REACH * range_lo, 1.05 * range_hi);
-        for (slot, &n) in slots.iter().zip(normals) {
-            let dot = n.dot(dir);
-            let c = f64::from(dot.abs());
-            // 2 d n̄: the line's centre face-on.
-            let normal_center_nm = two_n * slot.spacing_over_diameter;
-            let center = normal_center_nm * c;
-            if center < reach_lo || center > reach_hi {
-                continue;
+        let table = &self.slots;
+        let blocks = &self.normals[domain as usize * table.blocks()..][..table.blocks()];
+        let diameter = self.domains[domain as usize].sphere_diameter_nm;
+        let per_diameter = Vec4::splat(1.0 / diameter);
+        let (dx, dy, dz) = (Vec4::splat(dir.x), Vec4::splat(dir.y), Vec4::splat(dir.z));
+        let lines = LineArgs {
+            diameter_nm: f64::from(diameter),
+            two_n: 2.0 * f64::from(self.n_eff) * f64::from(diameter),
+            chord_nm: f64::from(chord_mm) * 1e6,
+            wavelength_nm,
+        };
+        for (b, n) in blocks.iter().enumerate() {
+            // `n · dir` lane by lane, summed as `Vec3::dot` sums.
+            let dot = n.x * dx + n.y * dy + n.z * dz;
+            // Short of its reach (NaN is not), a slot has no line.
+            let short = dot.abs().cmplt(table.reach[b] * per_diameter).bitmask();
+            let mut left = !short & table.lanes[b];
+            let dots = dot.to_array();
+            while left != 0 {
+                let l = left.trailing_zeros() as usize;
+                left &= left - 1;
+                let normal = Vec3::new(n.x[l], n.y[l], n.z[l]);
+                self.push_line(&table.optics[4 * b + l], normal, dots[l], &lines, out);
             }
-            let spacing_nm = slot.spacing_over_diameter * diameter_nm;
-            let layers = (chord_nm * c / spacing_nm).min(slot.layer_cap).max(1.0);
-            if let Some(w) = wavelength_nm {
-                if !BraggLine::window_may_hold(slot.coupling, normal_center_nm, c, layers, w) {
-                    continue;
-                }
-            }
-            let line = BraggLine::new(slot.coupling, normal_center_nm, c, layers);
-            let (lo, hi) = line.window_nm();
-            if hi < range_lo || lo > range_hi {
-                continue;
-            }
-            if let Some(w) = wavelength_nm {
-                if w <= lo || w >= hi {
-                    continue;
-                }
-            }
-            out.push(ActiveLine {
-                normal: if dot > 0.0 { -n } else { n },
-                kind: slot.kind,
-                line,
-            });
         }
     }
+
+    /// The line of one slot of normal `normal` met at `dot = normal · dir`, pushed onto `out`
+    /// if it falls in the range (and its window holds `args.wavelength_nm`, if given).
+    #[inline(always)]
+    fn push_line(
+        &self,
+        slot: &SlotOptics,
+        normal: Vec3,
+        dot: f32,
+        args: &LineArgs,
+        out: &mut Vec<ActiveLine>,
+    ) {
+        let (range_lo, range_hi) = self.range_nm;
+        let c = f64::from(dot.abs());
+        // 2 d n̄: the line's centre face-on.
+        let normal_center_nm = args.two_n * slot.spacing_over_diameter;
+        let center = normal_center_nm * c;
+        if center < LINE_REACH * range_lo || center > 1.05 * range_hi {
+            return;
+        }
+        let spacing_nm = slot.spacing_over_diameter * args.diameter_nm;
+        let layers = (args.chord_nm * c / spacing_nm)
+            .min(slot.layer_cap)
+            .max(1.0);
+        if let Some(w) = args.wavelength_nm {
+            if !BraggLine::window_may_hold(slot.coupling, normal_center_nm, c, layers, w) {
+                return;
+            }
+        }
+        let line = BraggLine::new(slot.coupling, normal_center_nm, c, layers);
+        let (lo, hi) = line.window_nm();
+        if hi < range_lo || lo > range_hi {
+            return;
+        }
+        if let Some(w) = args.wavelength_nm {
+            if w <= lo || w >= hi {
+                return;
+            }
+        }
+        out.push(ActiveLine {
+            normal: if dot > 0.0 { -normal } else { normal },
+            kind: slot.kind,
+            line,
+        });
+    }
+}
+
+/// What every slot's line of one crossing shares.
+struct LineArgs {
+    /// The domain's sphere diameter, nm.
+    diameter_nm: f64,
+    /// `2 n̄ D`, nm.
+    two_n: f64,
+    /// The chord's length, nm.
+    chord_nm: f64,
+    /// The wavelength the windows must hold, if any.
+    wavelength_nm: Option<f64>,
 }
 
 #[cfg(test)]

@@ -37,7 +37,7 @@ use cut::Surfaces;
 use grains::Grains;
 use layout::lay_out;
 pub use light_path::{angle_between, LOBE_SIGMAS};
-use lines::SlotOptics;
+use lines::{normal_blocks, NormalBlock, SlotTable};
 use rough::Outlines;
 
 /// Rows of the rocking-width table over cos θ.
@@ -219,10 +219,11 @@ pub struct Stone {
     /// The plane families of the crystal.
     pub families: Families,
     layout: Layout,
-    /// Per domain, every family normal in the stone frame (`slots` per domain).
-    normals: Vec<Vec3>,
+    /// Per domain, every family normal in the stone frame, four slots to a block
+    /// ([`SlotTable::blocks`] per domain).
+    normals: Vec<NormalBlock>,
     /// Each slot's family kind and what its lines read of it.
-    slot_optics: Vec<SlotOptics>,
+    slots: SlotTable,
     /// Per kind, the lobe's standard deviation (rad) over cos θ, rocking width and mosaic.
     lobe_sigma: Vec<[f32; WIDTH_ROWS]>,
     /// Wavelength range lines are kept in, nm.
@@ -250,8 +251,8 @@ impl Stone {
             domains,
             families: crystal.families,
             layout,
-            normals: crystal.normals,
-            slot_optics: crystal.slots,
+            normals: normal_blocks(&crystal.normals, crystal.slots.optics.len()),
+            slots: crystal.slots,
             lobe_sigma: crystal.lobe_sigma,
             range_nm: (scene.spectrum.min_nm, scene.spectrum.max_nm),
         })
@@ -265,7 +266,8 @@ impl Stone {
             orientation,
             sphere_diameter_nm: scene.crystal.sphere_diameter_nm as f32,
         };
-        stone.normals = domain_normals(&stone.families, &[domain]);
+        let normals = domain_normals(&stone.families, &[domain]);
+        stone.normals = normal_blocks(&normals, stone.slots());
         stone.domains = vec![domain];
         stone.layout = Layout::Single;
         Ok(stone)
@@ -273,7 +275,7 @@ impl Stone {
 
     /// Family slots per domain.
     pub fn slots(&self) -> usize {
-        self.slot_optics.len()
+        self.slots.optics.len()
     }
 
     /// The domain at `p` (mm), `None` in potch (or outside the stone, or in a cap).
