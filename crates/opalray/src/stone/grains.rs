@@ -132,27 +132,65 @@ impl Grains {
 
     /// The buckets within `reach` buckets of `q`'s, as runs of `members`: each row of
     /// buckets along x is one run (its buckets are consecutive, and so are their members).
+    /// With `skip_inner`, the buckets within `reach − 1` are left out.
     #[inline]
-    fn rows_near(&self, q: Vec3, reach: i64, mut f: impl FnMut(Range<usize>)) {
+    fn rows_near(&self, q: Vec3, reach: i64, skip_inner: bool, mut f: impl FnMut(Range<usize>)) {
         let b = self.bucket_of(q);
-        let range = |a: usize| {
+        let range = |a: usize, reach: i64| {
             let lo = (b[a] as i64 - reach).max(0) as usize;
-            let hi = ((b[a] as i64 + reach) as usize).min(self.dims[a] - 1);
+            let hi = ((b[a] as i64 + reach).max(0) as usize).min(self.dims[a] - 1);
             lo..=hi
         };
-        let (x_lo, x_hi) = range(0).into_inner();
-        for z in range(2) {
-            for y in range(1) {
-                let first = self.starts[self.bucket_index([x_lo, y, z])] as usize;
-                let end = self.starts[self.bucket_index([x_hi, y, z]) + 1] as usize;
-                f(first..end);
+        let (x_lo, x_hi) = range(0, reach).into_inner();
+        let inner = skip_inner.then(|| [0, 1, 2].map(|a| range(a, reach - 1)));
+        for z in range(2, reach) {
+            for y in range(1, reach) {
+                let run = |x0: usize, x1: usize| {
+                    let first = self.starts[self.bucket_index([x0, y, z])] as usize;
+                    first..self.starts[self.bucket_index([x1, y, z]) + 1] as usize
+                };
+                match &inner {
+                    Some([ix, iy, iz]) if iy.contains(&y) && iz.contains(&z) => {
+                        if x_lo < *ix.start() {
+                            f(run(x_lo, ix.start() - 1));
+                        }
+                        if *ix.end() < x_hi {
+                            f(run(ix.end() + 1, x_hi));
+                        }
+                    }
+                    _ => f(run(x_lo, x_hi)),
+                }
             }
         }
     }
 
+    /// A lower bound of the squared distance from `q` (stretched space) to every seed outside
+    /// the buckets within `reach` of `q`'s: to the nearest face of that cube beyond which the
+    /// grid goes on (seeds beyond the grid's edge are counted in its outer buckets), less a
+    /// margin for the roundings of the buckets' edges; infinite if the cube covers the grid.
+    fn beyond_cube(&self, q: Vec3, reach: i64) -> f32 {
+        let b = self.bucket_of(q);
+        let margin = 1e-4 * self.bucket;
+        let mut gap = f32::INFINITY;
+        for a in 0..3 {
+            let lo = b[a] as i64 - reach;
+            if lo > 0 {
+                gap = gap.min(q[a] - (self.lo[a] + lo as f32 * self.bucket) - margin);
+            }
+            let hi = b[a] as i64 + reach;
+            if hi < self.dims[a] as i64 - 1 {
+                gap = gap.min(self.lo[a] + (hi + 1) as f32 * self.bucket - margin - q[a]);
+            }
+        }
+        let gap = gap.max(0.0);
+        gap * gap
+    }
+
     /// Seeds in the buckets within `reach` buckets of `q`'s, bucket by bucket.
     fn for_each_near(&self, q: Vec3, reach: i64, mut f: impl FnMut(u32)) {
-        self.rows_near(q, reach, |run| self.members[run].iter().for_each(|&m| f(m)));
+        self.rows_near(q, reach, false, |run| {
+            self.members[run].iter().for_each(|&m| f(m))
+        });
     }
 
     fn find_neighbours(&mut self) {
@@ -269,18 +307,30 @@ impl Grains {
         let mut best = (f32::INFINITY, 0u32);
         let mut reach = 1;
         loop {
-            // The least power, the least index on a tie: the same whatever the order.
-            self.rows_near(q, reach, |run| {
-                for (&s, &j) in self.packed[run.clone()].iter().zip(&self.members[run]) {
+            // The least power, the least index on a tie: the same whatever the order. The
+            // cube one bucket nearer was searched before.
+            self.rows_near(q, reach, reach > 1, |run| {
+                for (k, &s) in self.packed[run.clone()].iter().enumerate() {
                     let d = (q - s.truncate()).length_squared() - s.w;
-                    if d < best.0 || (d == best.0 && j < best.1) {
-                        best = (d, j);
+                    // The index is read only for a power no larger than the best.
+                    if d <= best.0 {
+                        let j = self.members[run.start + k];
+                        if d < best.0 || j < best.1 {
+                            best = (d, j);
+                        }
                     }
                 }
             });
             // Any seed farther than the searched buckets has power ≥ (reach·bucket)² − w_max.
             let bound = (reach as f32 * self.bucket).powi(2) - self.largest_weight;
             if best.0 <= bound || reach > self.dims.iter().cloned().max().unwrap_or(1) as i64 {
+                return best.1;
+            }
+            // Nor can a wider search change the answer when every seed beyond has a larger
+            // power, as computed: the distance to the cube's open faces shows it more often
+            // (margins far above the f32 roundings).
+            let beyond = self.beyond_cube(q, reach) * (1.0 - 1e-5);
+            if beyond - self.largest_weight * (1.0 + 1e-5) > best.0 {
                 return best.1;
             }
             reach += 1;
