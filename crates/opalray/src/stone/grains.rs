@@ -347,7 +347,7 @@ impl Grains {
         t0: f32,
         t1: f32,
         hint: Option<u32>,
-        visit: &mut dyn FnMut(Span, u32) -> bool,
+        mut visit: impl FnMut(Span, u32) -> bool,
     ) -> bool {
         let o = origin / self.stretch;
         let d = dir / self.stretch;
