@@ -58,7 +58,7 @@ impl SlotTable {
                     coupling: f.coupling,
                     layer_cap: layers_111 * d111 / f.spacing_over_diameter,
                 };
-                std::iter::repeat_n(slot, f.normals.len())
+                std::iter::repeat(slot).take(f.normals.len())
             })
             .collect();
         let two_n = 2.0 * f64::from(n_eff);

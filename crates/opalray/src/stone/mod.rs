@@ -189,7 +189,7 @@ enum Layout {
     Single,
     Balls(Balls),
     Grains {
-        grains: Grains,
+        grains: Box<Grains>,
         /// Per grain, its domain or `None` (potch).
         domain_of: Vec<Option<u32>>,
         /// Ragged outlines (`domains.boundary_roughness` > 0), else the grains' own.
