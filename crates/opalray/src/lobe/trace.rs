@@ -406,12 +406,8 @@ impl<'a> Tracer<'a> {
                         continue;
                     }
                     self.out_lines.clear();
-                    stone.lines(domain, dir, len, &mut self.out_lines);
+                    stone.lines_at(domain, dir, len, wavelength, &mut self.out_lines);
                     for l in &self.out_lines {
-                        let (lo, hi) = l.line.window_nm();
-                        if wavelength <= lo || wavelength >= hi {
-                            continue;
-                        }
                         let r = l.line.reflectance(wavelength) as f32;
                         let again = reflect(dir, l.normal);
                         seen += w * r * self.seen_out(ray.at(span.t0), again, region, sigma);

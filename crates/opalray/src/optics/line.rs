@@ -26,6 +26,14 @@ use std::f64::consts::PI;
 /// line's.
 pub const WINDOW_HALF_WIDTHS: f64 = 40.0;
 
+/// Side lobes (each `λ/N` wide) a thin stack's window keeps at least on either side.
+const WINDOW_SIDE_LOBES: f64 = 8.0;
+
+/// Relative margin of [`BraggLine::window_may_hold`]'s bound over the window's computed
+/// half-width: far above the few roundings of either (~10⁻¹⁵), so the bound never excludes a
+/// wavelength the window holds.
+const WINDOW_BOUND_MARGIN: f64 = 1e-6;
+
 /// A family's first-order Bragg line at one angle, for one finite stack.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BraggLine {
@@ -66,8 +74,31 @@ impl BraggLine {
     pub fn window_nm(&self) -> (f64, f64) {
         // Thin stacks have broad lines: at least a few side lobes (λ/N apart) are kept.
         let half = (WINDOW_HALF_WIDTHS * self.half_width_nm())
-            .max(8.0 * self.center_nm / self.layers.max(1.0));
+            .max(WINDOW_SIDE_LOBES * self.center_nm / self.layers.max(1.0));
         (self.center_nm - half, self.center_nm + half)
+    }
+
+    /// False only if the window ([`BraggLine::window_nm`]) of the line
+    /// `BraggLine::new(coupling, normal_center_nm, cos_theta, layers)` cannot
+    /// hold `wavelength_nm`, without building the line: its half-width is
+    /// `λ_B · max(40 g / 2c², 8 / N)` (the stop band's `ν/(πN) = g/2c²`), bounded here with a
+    /// margin so that every line whose window holds the wavelength passes.
+    #[inline]
+    pub fn window_may_hold(
+        coupling: f64,
+        normal_center_nm: f64,
+        cos_theta: f64,
+        layers: f64,
+        wavelength_nm: f64,
+    ) -> bool {
+        let c = cos_theta.clamp(1e-3, 1.0);
+        let center = normal_center_nm * c;
+        let off = (wavelength_nm - center).abs();
+        let reach = center * (1.0 + WINDOW_BOUND_MARGIN);
+        // Outside when beyond both parts of the half-width (NaN never counts as outside).
+        let beyond_band = off * c * c >= 0.5 * WINDOW_HALF_WIDTHS * coupling * reach;
+        let beyond_lobes = off * layers.max(1.0) >= WINDOW_SIDE_LOBES * reach;
+        !(beyond_band && beyond_lobes)
     }
 
     /// Unpolarised reflectance at `wavelength_nm`.
@@ -198,6 +229,45 @@ mod tests {
             worst_near_zero < 1e-6,
             "largest relative difference near zeros {worst_near_zero:e}"
         );
+    }
+
+    #[test]
+    fn window_bound_keeps_every_wavelength_the_window_holds() {
+        // Lines from thin to thick stacks, weak to strong coupling, face-on to grazing; the
+        // wavelengths at and next to each window's edges, and spread over twice its width.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut held, mut outside, mut excluded) = (0, 0, 0);
+        for _ in 0..20_000 {
+            let g = 10f64.powf(-4.0 + 3.0 * uniform());
+            let normal_center = 300.0 + 900.0 * uniform();
+            let c = 1.05 * uniform();
+            let layers = (10f64.powf(4.0 * uniform())).max(1.0);
+            let line = BraggLine::new(g, normal_center, c, layers);
+            let (lo, hi) = line.window_nm();
+            // At the edges and just inside them (a few ulps).
+            let ulps = |x: f64| 4.0 * x.abs() * f64::EPSILON;
+            let mut wavelengths = vec![lo, hi, lo + ulps(lo), hi - ulps(hi)];
+            wavelengths.extend((0..8).map(|_| lo - 0.5 * (hi - lo) + 2.0 * (hi - lo) * uniform()));
+            for w in wavelengths {
+                let holds = !(w <= lo || w >= hi);
+                let may = BraggLine::window_may_hold(g, normal_center, c, layers, w);
+                assert!(may || !holds, "{line:?} holds {w} in ({lo}, {hi})");
+                held += usize::from(holds);
+                // Beyond the margin, the bound excludes what the window does.
+                if (w - 0.5 * (lo + hi)).abs() > 0.5 * (hi - lo) * (1.0 + 1e-5) {
+                    outside += 1;
+                    excluded += usize::from(!may);
+                }
+            }
+        }
+        assert!(held > 50_000, "{held} held");
+        assert_eq!(excluded, outside, "{excluded} of {outside} excluded");
     }
 
     #[test]

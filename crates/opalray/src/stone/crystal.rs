@@ -7,6 +7,7 @@
 
 use glam::Vec3;
 
+use super::lines::SlotTable;
 use super::{
     diffraction_sigma_rad, domain_width_mm, width_row_cos, Domain, LINE_REACH, WIDTH_ROWS,
 };
@@ -17,12 +18,10 @@ use crate::scene::{FamilyChoice, Scene};
 pub(super) struct Crystal {
     /// The families kept.
     pub families: Families,
-    /// Per domain, every family normal in the stone frame (`slot_kind.len()` per domain).
+    /// Per domain, every family normal in the stone frame (one per slot).
     pub normals: Vec<Vec3>,
-    /// Family kind of each slot.
-    pub slot_kind: Vec<u8>,
-    /// Coherent layers of each kind (the (111) `crystal.layers`, as a thickness).
-    pub layer_cap: Vec<f64>,
+    /// Each slot's family kind and what its lines read of it.
+    pub slots: SlotTable,
     /// Per kind, the lobe's standard deviation (rad) over cos θ.
     pub lobe_sigma: Vec<[f32; WIDTH_ROWS]>,
 }
@@ -31,23 +30,14 @@ impl Crystal {
     /// The crystal of `scene` in each of `domains`.
     pub fn new(scene: &Scene, domains: &[Domain]) -> Crystal {
         let families = kept_families(scene);
-        let slot_kind = families
-            .kinds
-            .iter()
-            .enumerate()
-            .flat_map(|(k, f)| std::iter::repeat(k as u8).take(f.normals.len()))
-            .collect();
-        let d111 = families.kinds[0].spacing_over_diameter;
-        let layers = f64::from(scene.crystal.layers);
-        let layer_cap = families
-            .kinds
-            .iter()
-            .map(|f| layers * d111 / f.spacing_over_diameter)
-            .collect();
         Crystal {
             normals: domain_normals(&families, domains),
-            slot_kind,
-            layer_cap,
+            slots: SlotTable::new(
+                &families,
+                families.n_eff as f32,
+                scene.spectrum.min_nm,
+                f64::from(scene.crystal.layers),
+            ),
             lobe_sigma: lobe_sigmas(scene, &families),
             families,
         }

@@ -8,9 +8,12 @@
 //! a ray's walk from grain to grain is exact (the next boundary is the nearest plane crossing
 //! among the grain's neighbours).
 
-use glam::Vec3;
+use std::ops::Range;
+
+use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
+use super::faces::{Face, Faces};
 use super::{Hint, Span};
 use crate::sampling::Rng;
 
@@ -28,20 +31,13 @@ pub struct Grains {
     dims: [usize; 3],
     starts: Vec<u32>,
     members: Vec<u32>,
-    /// The boundary faces of every grain, all grains' in one array: grain `i`'s are
-    /// `faces[face_start[i]..face_start[i + 1]]`, in the order of its neighbours' indices.
-    faces: Vec<Face>,
-    face_start: Vec<u32>,
+    /// Per member, its seed and weight `(s, w)`, in the order of `members`: the point
+    /// query's data in one run of memory.
+    packed: Vec<Vec4>,
+    /// The boundary faces of every grain, each grain's in the order of its neighbours'
+    /// indices.
+    faces: Faces,
     largest_weight: f32,
-}
-
-/// A face of a grain: the plane `q · m = c` (stretched space) it shares with grain `next`,
-/// `m = s_j − s_i`, `c = (|s_j|² − |s_i|² − w_j + w_i) / 2`.
-#[derive(Clone, Copy, Debug)]
-struct Face {
-    m: Vec3,
-    c: f32,
-    next: u32,
 }
 
 impl Grains {
@@ -88,13 +84,16 @@ impl Grains {
             dims,
             starts: Vec::new(),
             members: Vec::new(),
-            faces: Vec::new(),
-            face_start: Vec::new(),
+            packed: Vec::new(),
+            faces: Faces::default(),
             largest_weight: 0.0,
         };
         grains.largest_weight = grains.weights.iter().cloned().fold(0.0, f32::max);
         grains.fill_buckets();
         grains.find_neighbours();
+        grains.packed = (grains.members.iter())
+            .map(|&m| grains.seeds[m as usize].extend(grains.weights[m as usize]))
+            .collect();
         grains
     }
 
@@ -131,28 +130,67 @@ impl Grains {
         self.members = members;
     }
 
-    /// Seeds in the buckets within `reach` buckets of `q`'s.
-    fn for_each_near(&self, q: Vec3, reach: i64, mut f: impl FnMut(u32)) {
+    /// The buckets within `reach` buckets of `q`'s, as runs of `members`: each row of
+    /// buckets along x is one run (its buckets are consecutive, and so are their members).
+    /// With `skip_inner`, the buckets within `reach − 1` are left out.
+    #[inline]
+    fn rows_near(&self, q: Vec3, reach: i64, skip_inner: bool, mut f: impl FnMut(Range<usize>)) {
         let b = self.bucket_of(q);
-        let range = |a: usize| {
+        let range = |a: usize, reach: i64| {
             let lo = (b[a] as i64 - reach).max(0) as usize;
-            let hi = ((b[a] as i64 + reach) as usize).min(self.dims[a] - 1);
+            let hi = ((b[a] as i64 + reach).max(0) as usize).min(self.dims[a] - 1);
             lo..=hi
         };
-        for z in range(2) {
-            for y in range(1) {
-                for x in range(0) {
-                    let k = self.bucket_index([x, y, z]);
-                    for &m in &self.members[self.starts[k] as usize..self.starts[k + 1] as usize] {
-                        f(m);
+        let (x_lo, x_hi) = range(0, reach).into_inner();
+        let inner = skip_inner.then(|| [0, 1, 2].map(|a| range(a, reach - 1)));
+        for z in range(2, reach) {
+            for y in range(1, reach) {
+                let run = |x0: usize, x1: usize| {
+                    let first = self.starts[self.bucket_index([x0, y, z])] as usize;
+                    first..self.starts[self.bucket_index([x1, y, z]) + 1] as usize
+                };
+                match &inner {
+                    Some([ix, iy, iz]) if iy.contains(&y) && iz.contains(&z) => {
+                        if x_lo < *ix.start() {
+                            f(run(x_lo, ix.start() - 1));
+                        }
+                        if *ix.end() < x_hi {
+                            f(run(ix.end() + 1, x_hi));
+                        }
                     }
+                    _ => f(run(x_lo, x_hi)),
                 }
             }
         }
     }
 
-    fn power(&self, i: u32, q: Vec3) -> f32 {
-        (q - self.seeds[i as usize]).length_squared() - self.weights[i as usize]
+    /// A lower bound of the squared distance from `q` (stretched space) to every seed outside
+    /// the buckets within `reach` of `q`'s: to the nearest face of that cube beyond which the
+    /// grid goes on (seeds beyond the grid's edge are counted in its outer buckets), less a
+    /// margin for the roundings of the buckets' edges; infinite if the cube covers the grid.
+    fn beyond_cube(&self, q: Vec3, reach: i64) -> f32 {
+        let b = self.bucket_of(q);
+        let margin = 1e-4 * self.bucket;
+        let mut gap = f32::INFINITY;
+        for a in 0..3 {
+            let lo = b[a] as i64 - reach;
+            if lo > 0 {
+                gap = gap.min(q[a] - (self.lo[a] + lo as f32 * self.bucket) - margin);
+            }
+            let hi = b[a] as i64 + reach;
+            if hi < self.dims[a] as i64 - 1 {
+                gap = gap.min(self.lo[a] + (hi + 1) as f32 * self.bucket - margin - q[a]);
+            }
+        }
+        let gap = gap.max(0.0);
+        gap * gap
+    }
+
+    /// Seeds in the buckets within `reach` buckets of `q`'s, bucket by bucket.
+    fn for_each_near(&self, q: Vec3, reach: i64, mut f: impl FnMut(u32)) {
+        self.rows_near(q, reach, false, |run| {
+            self.members[run].iter().for_each(|&m| f(m))
+        });
     }
 
     fn find_neighbours(&mut self) {
@@ -199,50 +237,22 @@ impl Grains {
                 kept
             })
             .collect();
-        self.faces = Vec::with_capacity(neighbours.iter().map(Vec::len).sum());
-        self.face_start = Vec::with_capacity(neighbours.len() + 1);
-        self.face_start.push(0);
-        for (i, list) in neighbours.iter().enumerate() {
+        // The plane between grains i and j: `q · m = c`, `m = s_j − s_i`,
+        // `c = (|s_j|² − |s_i|² − w_j + w_i) / 2`.
+        let faces = neighbours.iter().enumerate().map(|(i, list)| {
             let (si, wi) = (self.seeds[i], self.weights[i]);
-            for &j in list {
-                let (sj, wj) = (self.seeds[j as usize], self.weights[j as usize]);
-                self.faces.push(Face {
-                    m: sj - si,
-                    c: 0.5 * (sj.length_squared() - si.length_squared() - wj + wi),
-                    next: j,
-                });
-            }
-            self.face_start.push(self.faces.len() as u32);
-        }
-    }
-
-    /// The faces of grain `i`.
-    #[inline]
-    fn faces_of(&self, i: u32) -> &[Face] {
-        let i = i as usize;
-        &self.faces[self.face_start[i] as usize..self.face_start[i + 1] as usize]
-    }
-
-    /// Whether `q` (stretched space) lies in grain `i`.
-    fn holds(&self, i: u32, q: Vec3) -> bool {
-        self.faces_of(i).iter().all(|f| q.dot(f.m) <= f.c)
-    }
-
-    /// The next boundary of grain `i` that `o + t·d` crosses after `t`, before `t_max`.
-    #[inline]
-    fn next_plane(&self, i: u32, o: Vec3, d: Vec3, t: f32, t_max: f32) -> (f32, Option<u32>) {
-        let mut next = (t_max, None);
-        for f in self.faces_of(i) {
-            let denom = d.dot(f.m);
-            if denom <= 0.0 {
-                continue;
-            }
-            let tc = (f.c - o.dot(f.m)) / denom;
-            if tc > t && tc < next.0 {
-                next = (tc, Some(f.next));
-            }
-        }
-        next
+            list.iter()
+                .map(|&j| {
+                    let (sj, wj) = (self.seeds[j as usize], self.weights[j as usize]);
+                    Face {
+                        m: sj - si,
+                        c: 0.5 * (sj.length_squared() - si.length_squared() - wj + wi),
+                        next: j,
+                    }
+                })
+                .collect()
+        });
+        self.faces = Faces::new(faces);
     }
 
     /// The first plane of `candidates` that the ray `o + t·d` (stretched space) crosses after
@@ -281,11 +291,11 @@ impl Grains {
     pub fn at_with(&self, p: Vec3, hint: Option<u32>) -> u32 {
         if let Some(h) = hint {
             let q = p / self.stretch;
-            if self.holds(h, q) {
+            if self.faces.holds(h, q) {
                 return h;
             }
-            if let Some(f) = self.faces_of(h).iter().find(|f| self.holds(f.next, q)) {
-                return f.next;
+            if let Some(j) = self.faces.neighbours(h).find(|&j| self.faces.holds(j, q)) {
+                return j;
             }
         }
         self.at(p)
@@ -297,15 +307,30 @@ impl Grains {
         let mut best = (f32::INFINITY, 0u32);
         let mut reach = 1;
         loop {
-            self.for_each_near(q, reach, |j| {
-                let d = self.power(j, q);
-                if d < best.0 || (d == best.0 && j < best.1) {
-                    best = (d, j);
+            // The least power, the least index on a tie: the same whatever the order. The
+            // cube one bucket nearer was searched before.
+            self.rows_near(q, reach, reach > 1, |run| {
+                for (k, &s) in self.packed[run.clone()].iter().enumerate() {
+                    let d = (q - s.truncate()).length_squared() - s.w;
+                    // The index is read only for a power no larger than the best.
+                    if d <= best.0 {
+                        let j = self.members[run.start + k];
+                        if d < best.0 || j < best.1 {
+                            best = (d, j);
+                        }
+                    }
                 }
             });
             // Any seed farther than the searched buckets has power ≥ (reach·bucket)² − w_max.
             let bound = (reach as f32 * self.bucket).powi(2) - self.largest_weight;
             if best.0 <= bound || reach > self.dims.iter().cloned().max().unwrap_or(1) as i64 {
+                return best.1;
+            }
+            // Nor can a wider search change the answer when every seed beyond has a larger
+            // power, as computed: the distance to the cube's open faces shows it more often
+            // (margins far above the f32 roundings).
+            let beyond = self.beyond_cube(q, reach) * (1.0 - 1e-5);
+            if beyond - self.largest_weight * (1.0 + 1e-5) > best.0 {
                 return best.1;
             }
             reach += 1;
@@ -322,7 +347,7 @@ impl Grains {
         t0: f32,
         t1: f32,
         hint: Option<u32>,
-        visit: &mut dyn FnMut(Span, u32) -> bool,
+        mut visit: impl FnMut(Span, u32) -> bool,
     ) -> bool {
         let o = origin / self.stretch;
         let d = dir / self.stretch;
@@ -330,7 +355,7 @@ impl Grains {
         let mut current = self.at_with(origin + dir * t0, hint);
         // Guard against a ray stuck on a boundary: at most this many grains per walk.
         for _ in 0..100_000 {
-            let (t_next, next) = self.next_plane(current, o, d, t, t1);
+            let (t_next, next) = self.faces.next_plane(current, o, d, t, t1);
             let go_on = visit(
                 Span {
                     t0: t,
@@ -386,6 +411,11 @@ mod tests {
     use super::*;
     use crate::sampling::stage;
 
+    /// The power distance of `q` (stretched space) to grain `i`'s seed.
+    fn power(g: &Grains, i: u32, q: Vec3) -> f32 {
+        (q - g.seeds[i as usize]).length_squared() - g.weights[i as usize]
+    }
+
     fn grains(spread: f32, stretch: Vec3) -> Grains {
         let mut rng = Rng::new(7, stage::STRUCTURE, 0);
         Grains::new(Vec3::new(10.0, 7.5, 2.5), 2.0, spread, stretch, &mut rng)
@@ -403,7 +433,7 @@ mod tests {
             );
             let q = p / g.stretch;
             let brute = (0..g.seeds.len() as u32)
-                .min_by(|&a, &b| g.power(a, q).total_cmp(&g.power(b, q)))
+                .min_by(|&a, &b| power(&g, a, q).total_cmp(&power(&g, b, q)))
                 .unwrap();
             assert_eq!(g.at(p), brute);
         }
@@ -431,7 +461,7 @@ mod tests {
             let found = g.at_with(p, Some(hint));
             total += 1;
             agree += usize::from(found == exact);
-            let neighbour = g.faces_of(hint).iter().any(|f| f.next == exact);
+            let neighbour = g.faces.neighbours(hint).any(|j| j == exact);
             by_neighbour += usize::from(found == exact && neighbour);
         }
         // The faces found by rays are nearly complete: the answers are the exact ones but for

@@ -107,7 +107,7 @@ fn lay_out_grains(scene: &Scene, axes: Vec3, diameters: &Diameters) -> (Layout, 
         });
     }
     let layout = Layout::Grains {
-        grains,
+        grains: Box::new(grains),
         domain_of,
         outlines: ragged_outlines(scene, axes, laws.stretch),
     };

@@ -16,9 +16,11 @@ pub mod balls;
 pub mod body;
 mod crystal;
 mod cut;
+mod faces;
 pub mod grains;
 mod layout;
 mod light_path;
+mod lines;
 pub mod rough;
 pub mod size_field;
 
@@ -35,6 +37,7 @@ use cut::Surfaces;
 use grains::Grains;
 use layout::lay_out;
 pub use light_path::{angle_between, LOBE_SIGMAS};
+use lines::{normal_blocks, NormalBlock, SlotTable};
 use rough::Outlines;
 
 /// Rows of the rocking-width table over cos θ.
@@ -186,7 +189,7 @@ enum Layout {
     Single,
     Balls(Balls),
     Grains {
-        grains: Grains,
+        grains: Box<Grains>,
         /// Per grain, its domain or `None` (potch).
         domain_of: Vec<Option<u32>>,
         /// Ragged outlines (`domains.boundary_roughness` > 0), else the grains' own.
@@ -216,12 +219,11 @@ pub struct Stone {
     /// The plane families of the crystal.
     pub families: Families,
     layout: Layout,
-    /// Per domain, every family normal in the stone frame (`slots` per domain).
-    normals: Vec<Vec3>,
-    /// Family kind of each slot.
-    slot_kind: Vec<u8>,
-    /// Coherent layers of each kind (the (111) `crystal.layers`, as a thickness).
-    layer_cap: Vec<f64>,
+    /// Per domain, every family normal in the stone frame, four slots to a block
+    /// ([`SlotTable::blocks`] per domain).
+    normals: Vec<NormalBlock>,
+    /// Each slot's family kind and what its lines read of it.
+    slots: SlotTable,
     /// Per kind, the lobe's standard deviation (rad) over cos θ, rocking width and mosaic.
     lobe_sigma: Vec<[f32; WIDTH_ROWS]>,
     /// Wavelength range lines are kept in, nm.
@@ -249,9 +251,8 @@ impl Stone {
             domains,
             families: crystal.families,
             layout,
-            normals: crystal.normals,
-            slot_kind: crystal.slot_kind,
-            layer_cap: crystal.layer_cap,
+            normals: normal_blocks(&crystal.normals, crystal.slots.optics.len()),
+            slots: crystal.slots,
             lobe_sigma: crystal.lobe_sigma,
             range_nm: (scene.spectrum.min_nm, scene.spectrum.max_nm),
         })
@@ -265,7 +266,8 @@ impl Stone {
             orientation,
             sphere_diameter_nm: scene.crystal.sphere_diameter_nm as f32,
         };
-        stone.normals = domain_normals(&stone.families, &[domain]);
+        let normals = domain_normals(&stone.families, &[domain]);
+        stone.normals = normal_blocks(&normals, stone.slots());
         stone.domains = vec![domain];
         stone.layout = Layout::Single;
         Ok(stone)
@@ -273,7 +275,7 @@ impl Stone {
 
     /// Family slots per domain.
     pub fn slots(&self) -> usize {
-        self.slot_kind.len()
+        self.slots.optics.len()
     }
 
     /// The domain at `p` (mm), `None` in potch (or outside the stone, or in a cap).
@@ -510,44 +512,6 @@ impl Stone {
         Some(best)
     }
 
-    /// The lines of domain `domain` that a ray along `dir` (unit) crossing it over `chord_mm`
-    /// meets within the spectral range, pushed onto `out`.
-    pub fn lines(&self, domain: u32, dir: Vec3, chord_mm: f32, out: &mut Vec<ActiveLine>) {
-        let slots = self.slots();
-        let dm = &self.domains[domain as usize];
-        let normals = &self.normals[domain as usize * slots..][..slots];
-        let two_n = 2.0 * f64::from(self.n_eff) * f64::from(dm.sphere_diameter_nm);
-        for (slot, &n) in normals.iter().enumerate() {
-            let dot = n.dot(dir);
-            let c = f64::from(dot.abs());
-            let kind = self.slot_kind[slot];
-            let family = &self.families.kinds[kind as usize];
-            let spacing_nm = family.spacing_over_diameter * f64::from(dm.sphere_diameter_nm);
-            let center = two_n * family.spacing_over_diameter * c;
-            if center < LINE_REACH * self.range_nm.0 || center > 1.05 * self.range_nm.1 {
-                continue;
-            }
-            let layers = (f64::from(chord_mm) * 1e6 * c / spacing_nm)
-                .min(self.layer_cap[kind as usize])
-                .max(1.0);
-            let line = BraggLine::new(
-                family.coupling,
-                two_n * family.spacing_over_diameter,
-                c,
-                layers,
-            );
-            let (lo, hi) = line.window_nm();
-            if hi < self.range_nm.0 || lo > self.range_nm.1 {
-                continue;
-            }
-            out.push(ActiveLine {
-                normal: if dot > 0.0 { -n } else { n },
-                kind,
-                line,
-            });
-        }
-    }
-
     /// Standard deviation (rad) of the reflection lobe of family kind `kind` about its normal
     /// at cos θ `cos_theta`: the mosaic spread and the diffraction of the domain's width
     /// ([`diffraction_sigma_rad`]). A perfect domain (mosaic 0) is a mirror; the stack's
@@ -782,44 +746,6 @@ mod tests {
             });
             assert_eq!(seen, full[..k], "stopped after {k}");
         }
-    }
-
-    #[test]
-    fn face_on_111_line_of_a_250_nm_domain_is_at_588_8_nm() {
-        let mut scene = grains_scene();
-        scene.domains.sphere_diameter_spread = 0.0;
-        let stone = Stone::new(&scene).unwrap();
-        let dm = stone.domains[0];
-        let n111 = dm.orientation * Vec3::splat(1.0).normalize();
-        let mut lines = Vec::new();
-        stone.lines(0, -n111, 1.0, &mut lines);
-        let face_on = lines
-            .iter()
-            .find(|l| l.kind == 0 && l.line.center_nm > 580.0)
-            .unwrap();
-        // DESIGN §4: 588.8 nm for D = 250 nm in cement 1.42.
-        assert!(
-            (face_on.line.center_nm - 588.8).abs() < 0.2,
-            "{}",
-            face_on.line.center_nm
-        );
-        assert!(face_on.normal.dot(-n111) < 0.0);
-    }
-
-    #[test]
-    fn a_corner_chord_meets_few_layers() {
-        let stone = Stone::new(&grains_scene()).unwrap();
-        let n = stone.domains[0].orientation * Vec3::splat(1.0).normalize();
-        let (mut thick, mut thin) = (Vec::new(), Vec::new());
-        stone.lines(0, -n, 1.0, &mut thick);
-        stone.lines(0, -n, 0.004, &mut thin);
-        let peak = |v: &Vec<ActiveLine>| v.iter().map(|l| l.line.peak()).fold(0.0, f64::max);
-        assert!(
-            peak(&thick) > 0.9 && peak(&thin) < 0.2,
-            "{} {}",
-            peak(&thick),
-            peak(&thin)
-        );
     }
 
     #[test]

@@ -83,7 +83,7 @@ impl Outlines {
         t0: f32,
         t1: f32,
         hint: Hint,
-        visit: &mut dyn FnMut(Span, u32) -> bool,
+        mut visit: impl FnMut(Span, u32) -> bool,
     ) -> bool {
         let (origin, dir) = (ray.origin, ray.direction);
         // The grain a column's walk ended in most often holds the next column's start too (the
@@ -95,7 +95,7 @@ impl Outlines {
             t0,
             t1,
             hint.column,
-            &mut |column_span: Span, column| {
+            |column_span: Span, column| {
                 let shifted = origin + self.shift[column as usize];
                 grains.walk(
                     shifted,
@@ -103,7 +103,7 @@ impl Outlines {
                     column_span.t0,
                     column_span.t1,
                     grain,
-                    &mut |span, g| {
+                    |span, g| {
                         grain = Some(g);
                         let hint = Hint {
                             column: Some(column),

@@ -1,0 +1,336 @@
+//! The Bragg lines a ray meets crossing a domain: input a domain, a direction and the chord's
+//! length → output the [`ActiveLine`] of every family slot whose first-order line falls in the
+//! spectral range (`docs/model.md`, the lines and their widths), or only those whose window
+//! holds one wavelength.
+//!
+//! Every crossing of every domain by the eye ray and by the reflections the lobe integrator
+//! follows comes here, 25 slots a domain for all families: the per-slot constants are read
+//! from one flat array, and a wavelength's test rejects a slot before the line is built.
+
+use glam::{Vec3, Vec4};
+
+use super::{ActiveLine, Stone, LINE_REACH};
+use crate::optics::{BraggLine, Families};
+
+/// Relative margin of the slots' first test ([`SlotTable::reach`]) below the exact bound:
+/// far above the f32 roundings of the test (~10⁻⁷), so it never rejects a slot whose line's
+/// centre reaches the range.
+const REACH_MARGIN: f32 = 1e-4;
+
+/// What [`Stone::lines`] reads of one family slot (a normal of one family kind), the same for
+/// every domain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct SlotOptics {
+    /// The family kind (index into [`Families::kinds`]).
+    pub kind: u8,
+    /// The kind's plane spacing over the sphere diameter, `d / D`.
+    pub spacing_over_diameter: f64,
+    /// The kind's relative coupling `g`.
+    pub coupling: f64,
+    /// Coherent layers of the kind (the (111) `crystal.layers`, as a thickness).
+    pub layer_cap: f64,
+}
+
+/// The family slots of every domain, four to a block: per slot its optics; per block the
+/// first test of its four slots and which lanes hold one.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct SlotTable {
+    /// Per slot, in order (kind by kind, each kind's normals in turn).
+    pub optics: Vec<SlotOptics>,
+    /// Per block, per lane, a lower bound of `D · |cos θ|` (`D` the domain's sphere
+    /// diameter, nm) for the line's centre `2 d n̄ |cos θ|` to reach [`LINE_REACH`] × the
+    /// range's short end: a slot under it has no line.
+    reach: Vec<Vec4>,
+    /// Per block, the lanes holding a slot (bit `l` for lane `l`).
+    lanes: Vec<u32>,
+}
+
+impl SlotTable {
+    /// The slots of `families` in a stone of index `n_eff`, lines kept from `range_lo_nm`,
+    /// for `layers_111` coherent (111) layers.
+    pub fn new(families: &Families, n_eff: f32, range_lo_nm: f64, layers_111: f64) -> Self {
+        let d111 = families.kinds[0].spacing_over_diameter;
+        let optics: Vec<SlotOptics> = (families.kinds.iter().enumerate())
+            .flat_map(|(k, f)| {
+                let slot = SlotOptics {
+                    kind: k as u8,
+                    spacing_over_diameter: f.spacing_over_diameter,
+                    coupling: f.coupling,
+                    layer_cap: layers_111 * d111 / f.spacing_over_diameter,
+                };
+                std::iter::repeat(slot).take(f.normals.len())
+            })
+            .collect();
+        let two_n = 2.0 * f64::from(n_eff);
+        let reach_of = |slot: Option<&SlotOptics>| {
+            slot.map_or(0.0, |s| {
+                let exact = LINE_REACH * range_lo_nm / (two_n * s.spacing_over_diameter);
+                exact as f32 * (1.0 - REACH_MARGIN)
+            })
+        };
+        let blocks = optics.len().div_ceil(4);
+        let reach = (0..blocks)
+            .map(|b| Vec4::from_array(std::array::from_fn(|l| reach_of(optics.get(4 * b + l)))))
+            .collect();
+        let lanes = (0..blocks)
+            .map(|b| {
+                (0..4)
+                    .filter(|l| 4 * b + l < optics.len())
+                    .map(|l| 1u32 << l)
+                    .sum()
+            })
+            .collect();
+        SlotTable {
+            optics,
+            reach,
+            lanes,
+        }
+    }
+
+    /// Blocks of four slots per domain.
+    pub fn blocks(&self) -> usize {
+        self.reach.len()
+    }
+}
+
+/// Four slots' unit normals of one domain (stone frame), by coordinate; unused lanes 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct NormalBlock {
+    x: Vec4,
+    y: Vec4,
+    z: Vec4,
+}
+
+/// `normals` (`slots` per domain, domain by domain) in blocks of four per domain.
+pub(super) fn normal_blocks(normals: &[Vec3], slots: usize) -> Vec<NormalBlock> {
+    normals
+        .chunks(slots)
+        .flat_map(|domain| {
+            domain.chunks(4).map(|four| {
+                let lane = |k: usize, f: fn(Vec3) -> f32| four.get(k).map_or(0.0, |&n| f(n));
+                let column =
+                    |f: fn(Vec3) -> f32| Vec4::new(lane(0, f), lane(1, f), lane(2, f), lane(3, f));
+                NormalBlock {
+                    x: column(|n| n.x),
+                    y: column(|n| n.y),
+                    z: column(|n| n.z),
+                }
+            })
+        })
+        .collect()
+}
+
+impl Stone {
+    /// The lines of domain `domain` that a ray along `dir` (unit) crossing it over `chord_mm`
+    /// meets within the spectral range, pushed onto `out` in slot order.
+    pub fn lines(&self, domain: u32, dir: Vec3, chord_mm: f32, out: &mut Vec<ActiveLine>) {
+        self.push_lines(domain, dir, chord_mm, None, out);
+    }
+
+    /// The lines of [`Stone::lines`] whose window ([`BraggLine::window_nm`]) holds
+    /// `wavelength_nm` (strictly inside it), pushed onto `out`: the same lines in the same
+    /// order as filtering `lines`' output, at a fraction of its cost (most slots are rejected
+    /// before their line is built).
+    pub fn lines_at(
+        &self,
+        domain: u32,
+        dir: Vec3,
+        chord_mm: f32,
+        wavelength_nm: f64,
+        out: &mut Vec<ActiveLine>,
+    ) {
+        self.push_lines(domain, dir, chord_mm, Some(wavelength_nm), out);
+    }
+
+    /// [`Stone::lines`], keeping only the lines whose window holds `wavelength_nm` if given.
+    /// Four slots at a time are tested against their reach ([`SlotTable`]); the few left are
+    /// built one by one.
+    #[inline(always)]
+    fn push_lines(
+        &self,
+        domain: u32,
+        dir: Vec3,
+        chord_mm: f32,
+        wavelength_nm: Option<f64>,
+        out: &mut Vec<ActiveLine>,
+    ) {
+        let table = &self.slots;
+        let blocks = &self.normals[domain as usize * table.blocks()..][..table.blocks()];
+        let diameter = self.domains[domain as usize].sphere_diameter_nm;
+        let per_diameter = Vec4::splat(1.0 / diameter);
+        let (dx, dy, dz) = (Vec4::splat(dir.x), Vec4::splat(dir.y), Vec4::splat(dir.z));
+        let lines = LineArgs {
+            diameter_nm: f64::from(diameter),
+            two_n: 2.0 * f64::from(self.n_eff) * f64::from(diameter),
+            chord_nm: f64::from(chord_mm) * 1e6,
+            wavelength_nm,
+        };
+        for (b, n) in blocks.iter().enumerate() {
+            // `n · dir` lane by lane, summed as `Vec3::dot` sums.
+            let dot = n.x * dx + n.y * dy + n.z * dz;
+            // Short of its reach (NaN is not), a slot has no line.
+            let short = dot.abs().cmplt(table.reach[b] * per_diameter).bitmask();
+            let mut left = !short & table.lanes[b];
+            let dots = dot.to_array();
+            while left != 0 {
+                let l = left.trailing_zeros() as usize;
+                left &= left - 1;
+                let normal = Vec3::new(n.x[l], n.y[l], n.z[l]);
+                self.push_line(&table.optics[4 * b + l], normal, dots[l], &lines, out);
+            }
+        }
+    }
+
+    /// The line of one slot of normal `normal` met at `dot = normal · dir`, pushed onto `out`
+    /// if it falls in the range (and its window holds `args.wavelength_nm`, if given).
+    #[inline(always)]
+    fn push_line(
+        &self,
+        slot: &SlotOptics,
+        normal: Vec3,
+        dot: f32,
+        args: &LineArgs,
+        out: &mut Vec<ActiveLine>,
+    ) {
+        let (range_lo, range_hi) = self.range_nm;
+        let c = f64::from(dot.abs());
+        // 2 d n̄: the line's centre face-on.
+        let normal_center_nm = args.two_n * slot.spacing_over_diameter;
+        let center = normal_center_nm * c;
+        if center < LINE_REACH * range_lo || center > 1.05 * range_hi {
+            return;
+        }
+        let spacing_nm = slot.spacing_over_diameter * args.diameter_nm;
+        let layers = (args.chord_nm * c / spacing_nm)
+            .min(slot.layer_cap)
+            .max(1.0);
+        if let Some(w) = args.wavelength_nm {
+            if !BraggLine::window_may_hold(slot.coupling, normal_center_nm, c, layers, w) {
+                return;
+            }
+        }
+        let line = BraggLine::new(slot.coupling, normal_center_nm, c, layers);
+        let (lo, hi) = line.window_nm();
+        if hi < range_lo || lo > range_hi {
+            return;
+        }
+        if let Some(w) = args.wavelength_nm {
+            if w <= lo || w >= hi {
+                return;
+            }
+        }
+        out.push(ActiveLine {
+            normal: if dot > 0.0 { -normal } else { normal },
+            kind: slot.kind,
+            line,
+        });
+    }
+}
+
+/// What every slot's line of one crossing shares.
+struct LineArgs {
+    /// The domain's sphere diameter, nm.
+    diameter_nm: f64,
+    /// `2 n̄ D`, nm.
+    two_n: f64,
+    /// The chord's length, nm.
+    chord_nm: f64,
+    /// The wavelength the windows must hold, if any.
+    wavelength_nm: Option<f64>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::{stage, Rng};
+    use crate::scene::{Pattern, Scene};
+
+    fn grains_scene() -> Scene {
+        let mut scene = Scene::default();
+        scene.domains.pattern = Pattern::Grains;
+        scene
+    }
+
+    #[test]
+    fn face_on_111_line_of_a_250_nm_domain_is_at_588_8_nm() {
+        let mut scene = grains_scene();
+        scene.domains.sphere_diameter_spread = 0.0;
+        let stone = Stone::new(&scene).unwrap();
+        let dm = stone.domains[0];
+        let n111 = dm.orientation * Vec3::splat(1.0).normalize();
+        let mut lines = Vec::new();
+        stone.lines(0, -n111, 1.0, &mut lines);
+        let face_on = lines
+            .iter()
+            .find(|l| l.kind == 0 && l.line.center_nm > 580.0)
+            .unwrap();
+        // DESIGN §4: 588.8 nm for D = 250 nm in cement 1.42.
+        assert!(
+            (face_on.line.center_nm - 588.8).abs() < 0.2,
+            "{}",
+            face_on.line.center_nm
+        );
+        assert!(face_on.normal.dot(-n111) < 0.0);
+    }
+
+    #[test]
+    fn a_corner_chord_meets_few_layers() {
+        let stone = Stone::new(&grains_scene()).unwrap();
+        let n = stone.domains[0].orientation * Vec3::splat(1.0).normalize();
+        let (mut thick, mut thin) = (Vec::new(), Vec::new());
+        stone.lines(0, -n, 1.0, &mut thick);
+        stone.lines(0, -n, 0.004, &mut thin);
+        let peak = |v: &Vec<ActiveLine>| v.iter().map(|l| l.line.peak()).fold(0.0, f64::max);
+        assert!(
+            peak(&thick) > 0.9 && peak(&thin) < 0.2,
+            "{} {}",
+            peak(&thick),
+            peak(&thin)
+        );
+    }
+
+    #[test]
+    fn lines_at_a_wavelength_are_the_lines_whose_window_holds_it() {
+        // The default stone (all families): random domains, directions and chords (corner
+        // chords of a few layers to a colour bar's width), at the centres of the lines met
+        // and at wavelengths over the range, against `lines` filtered by the window.
+        let stone = Stone::new(&crate::scene::preset("black-opal").unwrap()).unwrap();
+        let mut rng = Rng::new(11, stage::STONE, 96);
+        let (mut kept, mut checked) = (0, 0);
+        let (mut all, mut at) = (Vec::new(), Vec::new());
+        for _ in 0..4000 {
+            let domain = (rng.uniform_f32() * stone.domains.len() as f32) as u32;
+            let domain = domain.min(stone.domains.len() as u32 - 1);
+            let dir = Vec3::new(
+                rng.uniform_f32() - 0.5,
+                rng.uniform_f32() - 0.5,
+                rng.uniform_f32() - 0.5,
+            )
+            .normalize();
+            let chord_mm = 10f32.powf(-3.0 + 3.5 * rng.uniform_f32());
+            all.clear();
+            stone.lines(domain, dir, chord_mm, &mut all);
+            let mut wavelengths: Vec<f64> = all.iter().map(|l| l.line.center_nm).collect();
+            wavelengths.extend((0..4).map(|_| 350.0 + 450.0 * rng.uniform()));
+            for w in wavelengths {
+                let expected: Vec<ActiveLine> = all
+                    .iter()
+                    .filter(|l| {
+                        let (lo, hi) = l.line.window_nm();
+                        !(w <= lo || w >= hi)
+                    })
+                    .copied()
+                    .collect();
+                at.clear();
+                stone.lines_at(domain, dir, chord_mm, w, &mut at);
+                assert_eq!(
+                    at, expected,
+                    "domain {domain}, {dir}, {chord_mm} mm, {w} nm"
+                );
+                kept += expected.len();
+                checked += 1;
+            }
+        }
+        assert!(kept > checked, "{kept} lines kept at {checked} wavelengths");
+    }
+}
