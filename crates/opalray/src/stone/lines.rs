@@ -243,13 +243,7 @@ struct LineArgs {
 mod tests {
     use super::*;
     use crate::sampling::{stage, Rng};
-    use crate::scene::{Pattern, Scene};
-
-    fn grains_scene() -> Scene {
-        let mut scene = Scene::default();
-        scene.domains.pattern = Pattern::Grains;
-        scene
-    }
+    use crate::stone::tests::grains_scene;
 
     #[test]
     fn face_on_111_line_of_a_250_nm_domain_is_at_588_8_nm() {

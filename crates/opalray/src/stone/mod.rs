@@ -588,7 +588,8 @@ mod tests {
     use crate::scene::OrientationLaw;
     use crate::structure::AXIS_111;
 
-    fn grains_scene() -> Scene {
+    /// The default scene with its domains as grains.
+    pub(super) fn grains_scene() -> Scene {
         let mut scene = Scene::default();
         scene.domains.pattern = Pattern::Grains;
         scene
