@@ -330,16 +330,10 @@ impl BackingLight {
         stone.back?;
         let axes = stone.shape.semi_axes();
         let half = (axes.x, axes.y);
-        let (nx, ny) = BACKING_GRID;
-        let read = read_points(BACKING_GRID, READ_RADIUS);
-        let mut values = vec![0.0f32; nx * ny];
-        values.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
-            let mut tracer =
-                trace::Tracer::new(stone, setup, colours, irradiance, trace::Lit::default());
-            for (i, v) in row.iter_mut().enumerate() {
-                if !read[j * nx + i] {
-                    continue;
-                }
+        let values = fill_table(
+            BACKING_GRID,
+            || trace::Tracer::new(stone, setup, colours, irradiance, trace::Lit::default()),
+            |tracer, i, j| {
                 let (x, y) = grid_point(half, i, j);
                 // Inside the girdle (a point outside it is moved in: the edge's cells are
                 // read by the pixels just inside it).
@@ -349,11 +343,12 @@ impl BackingLight {
                     origin: Vec3::new(x * pull, y * pull, -1e3),
                     direction: Vec3::Z,
                 };
-                if let Some((t0, _)) = stone.shape.intersect(&up) {
-                    *v = tracer.light_on_backing(up.at(t0));
-                }
-            }
-        });
+                stone
+                    .shape
+                    .intersect(&up)
+                    .map_or(0.0, |(t0, _)| tracer.light_on_backing(up.at(t0)))
+            },
+        );
         Some(BackingLight { half, values })
     }
 
@@ -394,6 +389,28 @@ fn read_points(grid: (usize, usize), radius: f32) -> Vec<bool> {
         }
     }
     read
+}
+
+/// A table over `grid` (row-major, x fastest) whose point `(i, j)` is `value(tracer, i, j)`,
+/// rows in parallel (each with its own tracer from `tracer`); the points no read inside the
+/// footprint reaches ([`read_points`]) are left at 0.
+fn fill_table<T>(
+    grid: (usize, usize),
+    tracer: impl Fn() -> T + Sync,
+    value: impl Fn(&mut T, usize, usize) -> f32 + Sync,
+) -> Vec<f32> {
+    let (nx, ny) = grid;
+    let read = read_points(grid, READ_RADIUS);
+    let mut values = vec![0.0f32; nx * ny];
+    values.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+        let mut t = tracer();
+        for (i, v) in row.iter_mut().enumerate() {
+            if read[j * nx + i] {
+                *v = value(&mut t, i, j);
+            }
+        }
+    });
+    values
 }
 
 /// A table of `grid.0 × grid.1` values over `[−1, 1]²` (row-major, x fastest) read

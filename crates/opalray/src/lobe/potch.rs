@@ -3,7 +3,6 @@
 //! point the eye ray entered.
 
 use glam::Vec3;
-use rayon::prelude::*;
 
 use super::{trace, Irradiance, LineColours, LobeSetup};
 use crate::geometry::{fresnel_dielectric, Ellipsoid};
@@ -43,22 +42,15 @@ impl PotchLight {
         irradiance: &Irradiance,
     ) -> Option<Self> {
         let (inner, centre) = stone.bar_surface()?;
-        let (nx, ny) = GRID;
         let entering = 1.0 - hemispherical_fresnel(stone.n_eff);
-        let read = super::read_points(GRID, super::READ_RADIUS);
-        let mut values = vec![0.0f32; nx * ny];
-        values.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
-            let mut tracer =
-                trace::Tracer::new(stone, setup, colours, irradiance, trace::Lit::default());
-            for (i, v) in row.iter_mut().enumerate() {
-                if !read[j * nx + i] {
-                    continue;
-                }
+        let values = super::fill_table(
+            GRID,
+            || trace::Tracer::new(stone, setup, colours, irradiance, trace::Lit::default()),
+            |tracer, i, j| {
                 let (p, normal) = point(&inner, centre, i, j);
-                *v = tracer.light_on(p + normal * 1e-3, normal, DIRECTIONS, trace::Dim::Potch)
-                    / entering;
-            }
-        });
+                tracer.light_on(p + normal * 1e-3, normal, DIRECTIONS, trace::Dim::Potch) / entering
+            },
+        );
         Some(PotchLight {
             inner,
             centre,
