@@ -2,12 +2,14 @@
 //! hold all the stone's light and nothing else, and where the physics says which class the
 //! light must be in, it is there.
 
-use glam::{Quat, Vec3};
+mod common;
+
+use glam::Vec3;
 use opalray::geometry::Camera;
 use opalray::lights::{AreaLight, Environment};
 use opalray::path::SpectralSampler;
 use opalray::path::{trace_passes, trace_paths, BraggOrders, Passes, PathImage, PathSetup};
-use opalray::scene::{preset, EnvironmentConfig, EnvironmentKind, FamilyChoice, Scene};
+use opalray::scene::{preset, EnvironmentConfig, EnvironmentKind, Scene};
 use opalray::stone::Stone;
 
 /// Index in [`BraggOrders::summary`] of each name (the JSON's `summary` keys, in order).
@@ -158,15 +160,8 @@ fn a_single_crystals_flash_is_one_bragg_reflection() {
     // same planes turns it back towards the eye; without them it leaves through the base into
     // the dark). So the light is one Bragg reflection's, less what reaches the ball after a
     // reflection at the surface (a few % by Fresnel, and most of that misses the ball).
-    let mut scene = Scene::default();
-    scene.domains.mosaic_spread_deg = 0.0;
-    scene.domains.sphere_diameter_spread = 0.0;
-    scene.domains.families = FamilyChoice::Only111;
-    scene.body.domain_haze = 0.0;
     let tilt = 5f32.to_radians();
-    let planes = Vec3::new(tilt.sin(), 0.0, tilt.cos());
-    let q = Quat::from_rotation_arc(Vec3::splat(1.0).normalize(), planes);
-    let stone = Stone::single_crystal(&scene, q).unwrap();
+    let (scene, stone) = common::tilted_crystal(tilt);
     let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
     let mirror = (stone.n_eff * (2.0 * tilt).sin()).asin();
     let center = Vec3::new(mirror.sin(), 0.0, mirror.cos()) * 1000.0;
@@ -191,15 +186,8 @@ fn a_crystal_lit_from_below_shows_its_flash_after_an_internal_reflection_on_one_
     // inside; reflected at the base first, then by the planes on its way up, it leaves 10°
     // towards −x (the mirror of +z about n). A ball on the −x side sees only a Bragg event
     // after an internal reflection; on the +x side, only one before it.
-    let mut scene = Scene::default();
-    scene.domains.mosaic_spread_deg = 0.0;
-    scene.domains.sphere_diameter_spread = 0.0;
-    scene.domains.families = FamilyChoice::Only111;
-    scene.body.domain_haze = 0.0;
     let tilt = 5f32.to_radians();
-    let planes = Vec3::new(tilt.sin(), 0.0, tilt.cos());
-    let q = Quat::from_rotation_arc(Vec3::splat(1.0).normalize(), planes);
-    let mut stone = Stone::single_crystal(&scene, q).unwrap();
+    let (scene, mut stone) = common::tilted_crystal(tilt);
     stone.back = None;
     let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
     let mirror = (stone.n_eff * (2.0 * tilt).sin()).asin();

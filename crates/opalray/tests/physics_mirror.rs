@@ -4,11 +4,12 @@
 //! directions. Seen in the mirror, a small distant light flashes over its own disc as the light
 //! is swept in angle, as it does in a polished face.
 
-use glam::{Quat, Vec3};
+mod common;
+
+use glam::Vec3;
 use opalray::geometry::Camera;
 use opalray::lights::{AreaLight, Environment};
 use opalray::path::{trace_paths, PathSetup, SpectralSampler};
-use opalray::scene::{FamilyChoice, Scene};
 use opalray::stone::Stone;
 
 /// Distance of the light from the stone, mm.
@@ -47,15 +48,8 @@ fn a_perfect_domain_flashes_over_the_lights_disc_not_its_rocking_width() {
     // Mosaic 0, one sphere size, the (111) family alone, its planes tilted by 5° from the top
     // (towards +x), so that their mirror image of the light lies away from the surfaces' own
     // (the back face's Fresnel reflection, on the normal).
-    let mut scene = Scene::default();
-    scene.domains.mosaic_spread_deg = 0.0;
-    scene.domains.sphere_diameter_spread = 0.0;
-    scene.domains.families = FamilyChoice::Only111;
-    scene.body.domain_haze = 0.0;
     let tilt = 5f32.to_radians();
-    let planes = Vec3::new(tilt.sin(), 0.0, tilt.cos());
-    let q = Quat::from_rotation_arc(Vec3::splat(1.0).normalize(), planes);
-    let stone = Stone::single_crystal(&scene, q).unwrap();
+    let (scene, stone) = common::tilted_crystal(tilt);
     let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
     // The eye's ray, straight down, is mirrored by the planes to 2 × 5° from the normal inside,
     // asin(n̄ sin 10°) outside: the light there shows in the mirror.
