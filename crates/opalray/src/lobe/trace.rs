@@ -12,7 +12,7 @@ use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
 use crate::lights::emitters::seen;
 use crate::optics::BraggLine;
 use crate::scene::Backing;
-use crate::stone::{ActiveLine, Boundary, Hint, Region, Span, Stone};
+use crate::stone::{ActiveLine, Boundary, Hint, PathToLight, Region, Span, Stone};
 
 /// Most segments of a ray inside the stone between surface events (its refraction in or its
 /// reflection, then up to seven internal reflections: light caught by total reflection in a
@@ -604,12 +604,15 @@ impl<'a> Tracer<'a> {
         let at_h = stone.line_at(domain, line, cos_h);
         let wavelength = at_h.center_nm;
         let mut notches = 1.0f64;
-        let kept = stone.towards_light(
+        let path = PathToLight {
             x,
             to_light,
             distance,
-            Hint::default(),
-            Some(domain),
+            hint: Hint::default(),
+            skip: Some(domain),
+        };
+        let kept = stone.towards_light(
+            path,
             &mut self.out_spans,
             &mut self.out_lines,
             &mut |_, l| {
@@ -744,12 +747,15 @@ impl<'a> Tracer<'a> {
         let Some((to_light, irradiance, distance)) = stone.light_entry(&light.source, x) else {
             return 0.0;
         };
-        let kept = stone.towards_light(
+        let path = PathToLight {
             x,
             to_light,
             distance,
-            Hint::default(),
-            None,
+            hint: Hint::default(),
+            skip: None,
+        };
+        let kept = stone.towards_light(
+            path,
             &mut self.out_spans,
             &mut self.out_lines,
             &mut |_, _| {},

@@ -77,7 +77,7 @@ use crate::lights::{AreaLight, Environment};
 use crate::optics::BraggLine;
 use crate::spectrum::SpectralImage;
 use crate::stone::body::{hg_cos, hg_phase};
-use crate::stone::{ActiveLine, Hint, Region, Span, Stone};
+use crate::stone::{ActiveLine, Hint, PathToLight, Region, Span, Stone};
 use glam::Vec3;
 
 pub use method::PathTracer;
@@ -535,12 +535,15 @@ impl<'a> Tracer<'a> {
         skip: Option<u32>,
     ) -> Option<(f32, Vec<BraggLine>)> {
         let mut notches = Vec::new();
-        let t = self.stone.towards_light(
+        let path = PathToLight {
             x,
             to_light,
             distance,
-            self.nee_hint,
+            hint: self.nee_hint,
             skip,
+        };
+        let t = self.stone.towards_light(
+            path,
             &mut self.light_spans,
             &mut self.light_lines,
             &mut |_, line| notches.push(line),

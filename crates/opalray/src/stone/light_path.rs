@@ -22,6 +22,22 @@ const BACK_EPSILON_MM: f32 = 1e-4;
 /// The lobe is treated as zero beyond this many standard deviations.
 pub const LOBE_SIGMAS: f32 = 4.0;
 
+/// The straight path inside the stone from a point to the light's entry point, as
+/// [`Stone::towards_light`] walks it.
+#[derive(Clone, Copy, Debug)]
+pub struct PathToLight {
+    /// The start, mm (inside the opal).
+    pub x: Vec3,
+    /// The unit direction towards the light, inside.
+    pub to_light: Vec3,
+    /// The distance from `x` to the entry point, mm ([`Stone::light_entry`]).
+    pub distance: f32,
+    /// The cells likely to hold `x` ([`Stone::walk`]); the default for none.
+    pub hint: Hint,
+    /// The domain whose lines are not handed on (the one the path starts in), or `None`.
+    pub skip: Option<u32>,
+}
+
 impl Stone {
     /// The light of `source` reaching `x` (inside the opal) straight: `(direction towards the
     /// light inside, irradiance across the beam relative to the light's at the stone's centre,
@@ -107,23 +123,24 @@ impl Stone {
         }
     }
 
-    /// What lies between `x` and the light's entry point `distance` mm along `to_light`: the
+    /// What lies along `path` between its start and the light's entry point: the
     /// transmittance of the potch and of the domains' haze (returned), and the line of every
-    /// family of every domain crossed (except `skip`), handed to `notch` with its domain, in
-    /// order from `x`. `hint`: the cells likely to hold `x` ([`Stone::walk`]). `spans` and
-    /// `lines` are scratch buffers.
-    #[allow(clippy::too_many_arguments)]
+    /// family of every domain crossed (except `path.skip`), handed to `notch` with its domain,
+    /// in order from the start. `spans` and `lines` are scratch buffers.
     pub fn towards_light(
         &self,
-        x: Vec3,
-        to_light: Vec3,
-        distance: f32,
-        hint: Hint,
-        skip: Option<u32>,
+        path: PathToLight,
         spans: &mut Vec<Span>,
         lines: &mut Vec<ActiveLine>,
         notch: &mut dyn FnMut(u32, BraggLine),
     ) -> f32 {
+        let PathToLight {
+            x,
+            to_light,
+            distance,
+            hint,
+            skip,
+        } = path;
         spans.clear();
         self.walk(x, to_light, 0.0, distance, hint, &mut |s| {
             spans.push(s);

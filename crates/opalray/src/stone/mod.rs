@@ -36,7 +36,7 @@ use crystal::{domain_normals, Crystal};
 use cut::Surfaces;
 use grains::Grains;
 use layout::lay_out;
-pub use light_path::{angle_between, LOBE_SIGMAS};
+pub use light_path::{angle_between, PathToLight, LOBE_SIGMAS};
 use lines::{normal_blocks, NormalBlock, SlotTable};
 use rough::Outlines;
 

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use crate::geometry::LightSource;
 use crate::optics::BraggLine;
-use crate::stone::{ActiveLine, Hint, Span, Stone};
+use crate::stone::{ActiveLine, Hint, PathToLight, Span, Stone};
 
 /// A grid point outside the stone.
 const OUTSIDE: u32 = u32::MAX;
@@ -206,12 +206,15 @@ impl StoredLight {
         notch: &mut dyn FnMut(Notch),
     ) -> Option<Arrival> {
         let (to_light, irradiance, distance) = stone.light_entry(&self.source, x)?;
-        let transmitted = stone.towards_light(
+        let path = PathToLight {
             x,
             to_light,
             distance,
-            Hint::default(),
-            None,
+            hint: Hint::default(),
+            skip: None,
+        };
+        let transmitted = stone.towards_light(
+            path,
             &mut scratch.spans,
             &mut scratch.lines,
             &mut |d, line| notch(Notch::new(d, line)),
