@@ -157,7 +157,8 @@ fn wrap(a: f32) -> f32 {
 }
 
 /// The soft membership of a studio strip light: azimuth within `half_width` of `centre`,
-/// elevation 10°–25° (as [`super::strip`]); distances in azimuth shrink by cos elevation.
+/// elevation 10°–25° (as `strip` in [`super::built_in`]); distances in azimuth shrink by
+/// cos elevation.
 fn band(azimuth: f32, centre: f32, half_width: f32, elevation: f32, sigma: f32) -> f32 {
     let across = (half_width - wrap(azimuth - centre).abs()) * elevation.cos();
     let (lo, hi) = (10f32.to_radians(), 25f32.to_radians());
