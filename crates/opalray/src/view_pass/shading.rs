@@ -8,6 +8,10 @@ use rayon::prelude::*;
 use crate::light_pass::{ClusterOptics, LightField, StoneCells, LOBES, NO_PATCH, NO_SLOT};
 use crate::structure::{Cell, Structure};
 
+mod slot;
+
+use slot::{shade_slot, ShadeSources, Slot};
+
 /// Phong lobes below this fraction of their peak are skipped.
 pub const LOBE_CUTOFF: f32 = 1e-3;
 /// Diffuse spectra whose largest value is below this are skipped: 10⁻⁶ per bin is a
@@ -153,36 +157,8 @@ impl Shading {
         body_albedo: f32,
     ) -> Self {
         let bins = light.grid.bins;
-        let slots = light.directions.len() / LOBES;
-        let cell_of_slot = &cells.cell_of_slot;
         // Where each cluster's stored light reflects, and how wide: no spectra yet.
-        let mut clusters = vec![NO_SHADE; slots];
-        clusters
-            .par_iter_mut()
-            .enumerate()
-            .for_each(|(slot, shade)| {
-                let cell = cell_of_slot[slot];
-                if structure.cells[cell] != Cell::Cluster {
-                    return;
-                }
-                let normal = cells.normal(cell);
-                shade.patch = cells.patch(cell);
-                for (lobe, out) in shade.lobes.iter_mut().enumerate() {
-                    let w = light.directions[slot * LOBES + lobe];
-                    if w == Vec3::ZERO || w.dot(normal).abs() < MIN_SPECULAR_COS {
-                        continue;
-                    }
-                    let rho = light.concentration[slot * LOBES + lobe];
-                    let n = phong_exponent;
-                    let exponent =
-                        (rho * n / (rho + n * (1.0 - rho)).max(f32::MIN_POSITIVE)).max(1e-3);
-                    *out = Lobe {
-                        mirror: crate::geometry::reflect(w, normal),
-                        cos_min: LOBE_CUTOFF.powf(1.0 / exponent),
-                        exponent,
-                    };
-                }
-            });
+        let mut clusters = place_lobes(structure, cells, light, phong_exponent);
         // The specular spectra of the lobes that have one, packed in slot and lobe order.
         let mut packed = 0u32;
         for shade in &mut clusters {
@@ -190,51 +166,14 @@ impl Shading {
             packed += shade.lobes.iter().filter(|l| l.has_spectrum()).count() as u32;
         }
         let mut specular = crate::spectrum::zeroed(packed as usize * bins);
-        let mut diffuse = crate::spectrum::zeroed(slots * bins);
-        // Runs of `RUN` slots, each with its share of the packed spectra.
-        const RUN: usize = 256;
-        let mut runs = Vec::with_capacity(slots.div_ceil(RUN));
-        let mut rest = specular.as_mut_slice();
-        for (k, run) in clusters.chunks(RUN).enumerate() {
-            let end = clusters
-                .get((k + 1) * RUN)
-                .map_or(packed, |next| next.first);
-            let (head, tail) = rest.split_at_mut((end - run[0].first) as usize * bins);
-            runs.push(head);
-            rest = tail;
-        }
+        let mut diffuse = crate::spectrum::zeroed(clusters.len() * bins);
         let stored = ShadeSources {
             optics,
             light,
             body_albedo,
         };
-        runs.into_par_iter()
-            .zip(diffuse.par_chunks_mut(RUN * bins))
-            .enumerate()
-            .for_each_init(
-                || vec![0.0f32; bins],
-                // Each run's spectral loops in the copy compiled for the processor's vector
-                // level (`simd`).
-                |d, (k, (spec, glows))| {
-                    crate::simd::widest(
-                        #[inline(always)]
-                        || {
-                            let mut spec = spec.chunks_exact_mut(bins);
-                            for (j, glow) in glows.chunks_exact_mut(bins).enumerate() {
-                                let slot = k * RUN + j;
-                                let shade = &clusters[slot];
-                                let cell = cell_of_slot[slot];
-                                let at = Slot {
-                                    index: slot,
-                                    cell: structure.cells[cell],
-                                    normal: cells.normal(cell),
-                                };
-                                shade_slot(at, shade, &stored, glow, &mut spec, d);
-                            }
-                        },
-                    )
-                },
-            );
+        let grid = Grid { structure, cells };
+        shade_runs(grid, &clusters, &stored, &mut specular, &mut diffuse);
         let tags = structure
             .cells
             .par_iter()
@@ -258,97 +197,107 @@ impl Shading {
     }
 }
 
-/// One stored slot as the shading reads it.
-#[derive(Clone, Copy)]
-struct Slot {
-    /// Its index in the light's slots.
-    index: usize,
-    /// Its cell: a cluster or a void.
-    cell: Cell,
-    /// The cell's (111) normal (a cluster's).
-    normal: Vec3,
-}
-
-/// What every slot is shaded from: the clusters' optics, the stored light and the body's
-/// albedo (voids).
-struct ShadeSources<'a> {
-    optics: &'a ClusterOptics<'a>,
-    light: &'a LightField,
-    body_albedo: f32,
-}
-
-/// The glow of `at` into `glow`, and the specular spectra of its lobes that have one, each
-/// into the next chunk of `spec`; `d` is scratch space of `bins` values.
-#[inline(always)]
-fn shade_slot<'s>(
-    at: Slot,
-    shade: &ClusterShade,
-    stored: &ShadeSources,
-    glow: &mut [f32],
-    spec: &mut impl Iterator<Item = &'s mut [f32]>,
-    d: &mut [f32],
-) {
-    let ShadeSources {
-        optics,
-        light,
-        body_albedo,
-    } = *stored;
-    let (slot, normal) = (at.index, at.normal);
-    match at.cell {
-        Cell::Cluster => {
-            for (lobe, l) in shade.lobes.iter().enumerate() {
+/// Each cluster slot's patch and specular lobes (where its stored light reflects, and how
+/// wide: the Phong exponent `n'` from the stored light's concentration ρ and `n`); voids
+/// and outside cells keep [`NO_SHADE`].
+fn place_lobes(
+    structure: &Structure,
+    cells: &StoneCells,
+    light: &LightField,
+    phong_exponent: f32,
+) -> Vec<ClusterShade> {
+    let slots = light.directions.len() / LOBES;
+    let cell_of_slot = &cells.cell_of_slot;
+    let mut clusters = vec![NO_SHADE; slots];
+    clusters
+        .par_iter_mut()
+        .enumerate()
+        .for_each(|(slot, shade)| {
+            let cell = cell_of_slot[slot];
+            if structure.cells[cell] != Cell::Cluster {
+                return;
+            }
+            let normal = cells.normal(cell);
+            shade.patch = cells.patch(cell);
+            for (lobe, out) in shade.lobes.iter_mut().enumerate() {
                 let w = light.directions[slot * LOBES + lobe];
-                if w == Vec3::ZERO {
+                if w == Vec3::ZERO || w.dot(normal).abs() < MIN_SPECULAR_COS {
                     continue;
                 }
-                let e = light.fluence(slot, lobe);
-                let cos = w.dot(normal).abs();
-                match optics.diffuse(cos, d) {
-                    // Flat rows: away from the stop band D is about 10⁻⁵.
-                    Some(d) if d * cos < GLOW_FLOOR => {}
-                    Some(d) => {
-                        for (g, &e) in glow.iter_mut().zip(e) {
-                            *g += e * d * cos;
-                        }
-                    }
-                    None => {
-                        for ((g, &e), &d) in glow.iter_mut().zip(e).zip(d.iter()) {
-                            *g += e * d * cos;
-                        }
-                    }
-                }
-                if !l.has_spectrum() {
-                    continue;
-                }
-                let peak = 0.5 * (l.exponent + 2.0);
-                let spec = spec
-                    .next()
-                    .expect("a packed spectrum per lobe that has one");
-                // `d` is free again: it takes the reflectance.
-                match optics.reflectance(cos, d) {
-                    Some(r) => {
-                        for (s, &e) in spec.iter_mut().zip(e) {
-                            *s = e * r * peak;
-                        }
-                    }
-                    None => {
-                        for ((s, &e), &r) in spec.iter_mut().zip(e).zip(d.iter()) {
-                            *s = e * r * peak;
-                        }
-                    }
-                }
+                let rho = light.concentration[slot * LOBES + lobe];
+                let n = phong_exponent;
+                let exponent = (rho * n / (rho + n * (1.0 - rho)).max(f32::MIN_POSITIVE)).max(1e-3);
+                *out = Lobe {
+                    mirror: crate::geometry::reflect(w, normal),
+                    cos_min: LOBE_CUTOFF.powf(1.0 / exponent),
+                    exponent,
+                };
             }
-        }
-        Cell::Void => {
-            for lobe in 0..LOBES {
-                let e = light.fluence(slot, lobe);
-                for (g, &e) in glow.iter_mut().zip(e) {
-                    *g += 0.25 * body_albedo * e;
-                }
-            }
-        }
-        Cell::Outside => {}
+        });
+    clusters
+}
+
+/// Slots shaded together, each run with its share of the packed specular spectra.
+const RUN: usize = 256;
+
+/// The grid the slots lie in: the cells' kinds and their layout.
+#[derive(Clone, Copy)]
+struct Grid<'a> {
+    structure: &'a Structure,
+    cells: &'a StoneCells,
+}
+
+/// Every slot's glow into `diffuse` and its lobes' specular spectra into `specular` (packed
+/// as [`ClusterShade::first`] says), in runs of [`RUN`] slots in parallel: each run writes
+/// only its own slices, so the values do not depend on the thread count.
+fn shade_runs(
+    grid: Grid,
+    clusters: &[ClusterShade],
+    stored: &ShadeSources,
+    specular: &mut [f32],
+    diffuse: &mut [f32],
+) {
+    let Grid { structure, cells } = grid;
+    let bins = stored.light.grid.bins;
+    let packed = (specular.len() / bins.max(1)) as u32;
+    let cell_of_slot = &cells.cell_of_slot;
+    let mut runs = Vec::with_capacity(clusters.len().div_ceil(RUN));
+    let mut rest = specular;
+    for (k, run) in clusters.chunks(RUN).enumerate() {
+        let end = clusters
+            .get((k + 1) * RUN)
+            .map_or(packed, |next| next.first);
+        let (head, tail) = rest.split_at_mut((end - run[0].first) as usize * bins);
+        runs.push(head);
+        rest = tail;
     }
+    runs.into_par_iter()
+        .zip(diffuse.par_chunks_mut(RUN * bins))
+        .enumerate()
+        .for_each_init(
+            || vec![0.0f32; bins],
+            // Each run's spectral loops in the copy compiled for the processor's vector
+            // level (`simd`).
+            |d, (k, (spec, glows))| {
+                crate::simd::widest(
+                    #[inline(always)]
+                    || {
+                        let mut spec = spec.chunks_exact_mut(bins);
+                        for (j, glow) in glows.chunks_exact_mut(bins).enumerate() {
+                            let slot = k * RUN + j;
+                            let shade = &clusters[slot];
+                            let cell = cell_of_slot[slot];
+                            let at = Slot {
+                                index: slot,
+                                cell: structure.cells[cell],
+                                normal: cells.normal(cell),
+                            };
+                            shade_slot(at, shade, stored, glow, &mut spec, d);
+                        }
+                    },
+                )
+            },
+        );
 }
 
 #[cfg(test)]
