@@ -2,20 +2,25 @@
 //! by cell: store the light crossing each cell, split it at clusters into the Bragg-reflected
 //! branch, the transmitted ray and the diffuse part; attenuate it in voids; reflect it
 //! internally (Fresnel, total internal reflection) at the surface until it leaves or fades.
+//! The walk is an outline; its steps, and the one place its energy is booked, are in
+//! `walk/steps.rs`.
 
 use glam::Vec3;
 
 use super::accumulate::TileSums;
 use super::cells::{Site, StoneCells};
 use super::interaction::{ClusterOptics, Split};
-use super::shape::{filter_window, reflected_shape, window_sums};
 use super::source::{LightSource, RayLattice};
-use super::{EnergyLedger, LightSetup, Termination, NO_PATCH, SCATTERED_LOBES, TILE};
-use crate::geometry::{fresnel_dielectric, reflect, refract, CellGrid, Ellipsoid, Ray};
+use super::{EnergyLedger, LightSetup, Termination, NO_PATCH, TILE};
+use crate::geometry::{fresnel_dielectric, refract, CellGrid, Ellipsoid, Ray};
 use crate::optics::OpticsTables;
 use crate::sampling::{stage, Rng};
 use crate::spectrum;
 use crate::structure::Cell;
+
+mod steps;
+
+use steps::{Booking, Budget, Carried, Fractions, PatchSplit};
 
 /// Surface interactions after which a branch is ended (light trapped by total internal
 /// reflection); its power is booked as truncated.
@@ -228,8 +233,10 @@ impl Walker<'_> {
         let weight = share * self.lattice.power_per_ray * self.source.irradiance_at(p);
         let p_in = self.power(self.spectrum) * weight;
         let fresnel = fresnel_dielectric(-ray.direction.dot(normal), 1.0, self.n_eff);
-        ledger.emitted += f64::from(p_in);
-        ledger.reflected += f64::from(p_in * fresnel);
+        ledger.book(Booking::Entered {
+            emitted: p_in,
+            reflected: p_in * fresnel,
+        });
         let Some(direction) = refract(ray.direction, normal, 1.0, self.n_eff) else {
             return;
         };
@@ -249,46 +256,57 @@ impl Walker<'_> {
             bounces: 0,
             lobe: DIRECT,
         });
+        let mut budget = Budget {
+            threshold,
+            rng,
+            ledger,
+        };
         while let Some(branch) = scratch.stack.pop() {
-            self.walk::<ROULETTE>(branch, threshold, acc, ledger, scratch, rng);
+            self.walk::<ROULETTE>(branch, acc, &mut budget, scratch);
         }
     }
 
-    /// Follow one branch from its origin to where it leaves the stone or fades.
+    /// Follow one branch from its origin to where it leaves the stone or fades: cell by cell
+    /// (store, attenuate or split, roulette), then leave or reflect at the surface.
     #[inline(always)]
     fn walk<const ROULETTE: bool>(
         &self,
         branch: Branch,
-        threshold: f32,
         acc: &mut TileSums,
-        ledger: &mut EnergyLedger,
+        budget: &mut Budget,
         scratch: &mut Scratch,
-        rng: &mut Rng,
     ) {
         let Branch {
             origin,
             direction,
-            mut shape,
-            mut scale,
-            mut power,
+            shape,
+            scale,
+            power,
             bounces,
             lobe: kind,
         } = branch;
         let lobe = lobe_of(kind, direction);
         let ray = Ray { origin, direction };
         let Some((t0, t1)) = self.shape.intersect(&ray) else {
-            ledger.escaped += f64::from(power);
+            budget.ledger.book(Booking::Escaped(power));
             scratch.pool.push(shape);
             return;
         };
-        ledger.branches += 1;
+        budget.ledger.branches += 1;
+        let mut carried = Carried {
+            shape,
+            scale,
+            power,
+        };
         let mut alive = true;
-        let mut last_patch = NO_PATCH;
-        let mut normal = Vec3::ZERO;
-        let mut last_split = Split::Flat {
-            r: 0.0,
-            t: 1.0,
-            d: 0.0,
+        let mut last = PatchSplit {
+            patch: NO_PATCH,
+            normal: Vec3::ZERO,
+            split: Split::Flat {
+                r: 0.0,
+                t: 1.0,
+                d: 0.0,
+            },
         };
         let Scratch {
             r,
@@ -297,184 +315,57 @@ impl Walker<'_> {
             stack,
             pool,
         } = scratch;
+        let mut fractions = Fractions { r, t, d };
         self.grid.traverse(
             &ray,
             t0.max(0.0),
             t1,
             #[inline(always)]
             |seg| {
-                let length = seg.t_exit - seg.t_enter;
-                ledger.cells_crossed += 1;
+                budget.ledger.cells_crossed += 1;
                 let site = self.sites[seg.index];
-                let slot = site.slot();
                 let cell = site.cell();
-                // The light's track through the cell: the chord in a cluster; in a void (potch)
-                // ∫₀ˡ e^(−σs) ds under exponential attenuation, and its limit ℓ for a clear body.
-                let sigma = self.body_extinction_per_mm;
-                let (track, kept) = match cell {
-                    Cell::Outside => return true,
-                    Cell::Cluster => (length, 1.0),
-                    Cell::Void => {
-                        let kept = (-sigma * length).exp();
-                        if sigma * length > 1e-4 {
-                            ((1.0 - kept) / sigma, kept)
-                        } else {
-                            (length, kept)
-                        }
-                    }
+                let Some((track, kept)) = self.track(cell, seg.t_exit - seg.t_enter) else {
+                    return true;
                 };
-                // The direct light is computed per cell (`direct.rs`), not stored.
                 if kind != DIRECT {
-                    let inv_volume = if site.whole() {
-                        self.whole_inv_volume
-                    } else {
-                        self.inv_volume[slot]
-                    };
-                    acc.deposit(
-                        slot * SCATTERED_LOBES + lobe - 1,
-                        &shape,
-                        scale * track * inv_volume,
-                        direction,
-                        power * track * inv_volume,
-                    );
+                    let at = (site.slot(), site.whole());
+                    self.deposit(acc, at, lobe, &carried, (track, direction));
                 }
-                match cell {
-                    Cell::Outside => {}
-                    Cell::Void => {
-                        let lost = f64::from(power * (1.0 - kept));
-                        ledger.stored += f64::from(self.body_albedo) * lost;
-                        ledger.absorbed += f64::from(1.0 - self.body_albedo) * lost;
-                        scale *= kept;
-                        power *= kept;
+                if cell == Cell::Void {
+                    self.attenuate(&mut carried, kept, budget.ledger);
+                } else {
+                    if site.patch() != last.patch {
+                        last.patch = site.patch();
+                        last.normal = self.patch_normals[last.patch as usize];
+                        let cos = direction.dot(last.normal).abs();
+                        let f = &mut fractions;
+                        last.split = self.optics.split(cos, f.r, f.t, f.d);
                     }
-                    Cell::Cluster => {
-                        // Cells of one patch, met one after another, split the light alike:
-                        // `r`, `t`, `d` still hold the last split's window.
-                        if site.patch() != last_patch {
-                            last_patch = site.patch();
-                            normal = self.patch_normals[last_patch as usize];
-                            last_split = self.optics.split(direction.dot(normal).abs(), r, t, d);
-                        }
-                        // Split into the Bragg-reflected branch (followed only if strong
-                        // enough), the diffuse part (stored here) and the transmitted ray.
-                        let (p_r, p_d, p_t);
-                        let mut reflected: Option<(Vec<f32>, f32, f32)> = None;
-                        match last_split {
-                            Split::Flat { r, t, d } => {
-                                p_r = power * r;
-                                p_d = power * d;
-                                p_t = power * t;
-                                if let Some(boost) = Self::carry_on::<ROULETTE>(p_r, threshold, rng)
-                                {
-                                    let (v, _) = reflected_shape(pool, &shape, None, false);
-                                    reflected = Some((v, scale * r * boost, p_r * boost));
-                                }
-                                scale *= t;
-                            }
-                            Split::Window {
-                                lo,
-                                hi,
-                                r: rb,
-                                t: tb,
-                                d: db,
-                            } => {
-                                let bw = self.bin_width_nm;
-                                let (r, t, d) = (&r[lo..hi], &t[lo..hi], &d[lo..hi]);
-                                let inside = &shape[lo..hi];
-                                let k = scale * bw;
-                                let [s_in, s_r, s_d, s_t] = window_sums(inside, r, d, t);
-                                let p_out = power - s_in * k;
-                                p_r = rb * p_out + s_r * k;
-                                p_d = db * p_out + s_d * k;
-                                p_t = tb * p_out + s_t * k;
-                                if let Some(boost) = Self::carry_on::<ROULETTE>(p_r, threshold, rng)
-                                {
-                                    // Chains of Bragg reflections that roulette keeps would
-                                    // grow the shape without bound: it is renormalised.
-                                    let (v, k) = reflected_shape(
-                                        pool,
-                                        &shape,
-                                        Some((lo, r, rb)),
-                                        boost != 1.0,
-                                    );
-                                    reflected = Some((v, scale * k * boost, p_r * boost));
-                                }
-                                scale *= filter_window(&mut shape, lo, t, tb);
-                            }
-                        }
-                        ledger.stored += f64::from(p_d);
-                        ledger.absorbed += f64::from(power - p_r - p_d - p_t);
-                        power = p_t;
-                        match reflected {
-                            Some((v, k, p)) => {
-                                if ROULETTE {
-                                    ledger.truncated -= f64::from(p) - f64::from(p_r);
-                                }
-                                stack.push(Branch {
-                                    origin: ray.at(0.5 * (seg.t_enter + seg.t_exit)),
-                                    direction: reflect(direction, normal),
-                                    shape: v,
-                                    scale: k,
-                                    power: p,
-                                    bounces,
-                                    lobe: SCATTERED,
-                                });
-                            }
-                            None => ledger.truncated += f64::from(p_r),
-                        }
+                    let split = last.split;
+                    let f = &fractions;
+                    if let Some(reflected) =
+                        self.split_at_cluster::<ROULETTE>(&mut carried, split, f, pool, budget)
+                    {
+                        let cell_span = (seg.t_enter, seg.t_exit);
+                        let normal = last.normal;
+                        stack.push(Self::reflected_branch(
+                            &ray, cell_span, normal, reflected, bounces,
+                        ));
                     }
                 }
-                if power < threshold {
-                    match Self::roulette::<ROULETTE>(power, threshold, rng) {
-                        Some(boost) => {
-                            ledger.truncated -= f64::from(power * boost) - f64::from(power);
-                            scale *= boost;
-                            power *= boost;
-                        }
-                        None => {
-                            ledger.truncated += f64::from(power);
-                            alive = false;
-                        }
-                    }
-                }
+                alive = Self::survives::<ROULETTE>(&mut carried, budget);
                 alive
             },
         );
         if !alive {
-            pool.push(shape);
+            pool.push(carried.shape);
             return;
         }
-        // Leave through the surface, or reflect internally (totally beyond the critical angle).
-        let exit = ray.at(t1);
-        let normal = self.shape.normal(exit);
-        let fresnel = fresnel_dielectric(direction.dot(normal), self.n_eff, 1.0);
-        ledger.escaped += f64::from(power * (1.0 - fresnel));
-        let inner = power * fresnel;
-        if fresnel <= 0.0 {
-            pool.push(shape);
-            return;
+        let exit = (ray.at(t1), direction);
+        if let Some(next) = self.leave_or_reflect::<ROULETTE>(exit, carried, bounces, pool, budget)
+        {
+            stack.push(next);
         }
-        if bounces >= MAX_SURFACE_BOUNCES {
-            ledger.truncated += f64::from(inner);
-            pool.push(shape);
-            return;
-        }
-        let Some(boost) = Self::carry_on::<ROULETTE>(inner, threshold, rng) else {
-            ledger.truncated += f64::from(inner);
-            pool.push(shape);
-            return;
-        };
-        if ROULETTE {
-            ledger.truncated -= f64::from(inner * boost) - f64::from(inner);
-        }
-        stack.push(Branch {
-            origin: exit,
-            direction: reflect(direction, normal),
-            shape,
-            scale: scale * fresnel * boost,
-            power: inner * boost,
-            bounces: bounces + 1,
-            lobe: SCATTERED,
-        });
     }
 }
