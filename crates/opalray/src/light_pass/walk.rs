@@ -9,9 +9,9 @@ use glam::Vec3;
 
 use super::accumulate::TileSums;
 use super::cells::{Site, StoneCells};
-use super::interaction::{ClusterOptics, Split};
+use super::interaction::ClusterOptics;
 use super::source::{LightSource, RayLattice};
-use super::{EnergyLedger, LightSetup, Termination, NO_PATCH, TILE};
+use super::{EnergyLedger, LightSetup, Termination, TILE};
 use crate::geometry::{fresnel_dielectric, refract, CellGrid, Ellipsoid, Ray};
 use crate::optics::OpticsTables;
 use crate::sampling::{stage, Rng};
@@ -299,15 +299,7 @@ impl Walker<'_> {
             power,
         };
         let mut alive = true;
-        let mut last = PatchSplit {
-            patch: NO_PATCH,
-            normal: Vec3::ZERO,
-            split: Split::Flat {
-                r: 0.0,
-                t: 1.0,
-                d: 0.0,
-            },
-        };
+        let mut last = PatchSplit::NONE;
         let Scratch {
             r,
             t,
@@ -336,21 +328,19 @@ impl Walker<'_> {
                     self.attenuate(&mut carried, kept, budget.ledger);
                 } else {
                     if site.patch() != last.patch {
-                        last.patch = site.patch();
-                        last.normal = self.patch_normals[last.patch as usize];
-                        let cos = direction.dot(last.normal).abs();
-                        let f = &mut fractions;
-                        last.split = self.optics.split(cos, f.r, f.t, f.d);
+                        last = self.split_for(site.patch(), direction, &mut fractions);
                     }
-                    let split = last.split;
                     let f = &fractions;
                     if let Some(reflected) =
-                        self.split_at_cluster::<ROULETTE>(&mut carried, split, f, pool, budget)
+                        self.split_at_cluster::<ROULETTE>(&mut carried, last.split, f, pool, budget)
                     {
-                        let cell_span = (seg.t_enter, seg.t_exit);
-                        let normal = last.normal;
+                        let span = (seg.t_enter, seg.t_exit);
                         stack.push(Self::reflected_branch(
-                            &ray, cell_span, normal, reflected, bounces,
+                            &ray,
+                            span,
+                            last.normal,
+                            reflected,
+                            bounces,
                         ));
                     }
                 }

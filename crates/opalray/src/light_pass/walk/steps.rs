@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::super::accumulate::TileSums;
 use super::super::interaction::Split;
 use super::super::shape::{filter_window, reflected_shape, window_sums};
-use super::super::{EnergyLedger, SCATTERED_LOBES};
+use super::super::{EnergyLedger, NO_PATCH, SCATTERED_LOBES};
 use super::{Branch, Walker, MAX_SURFACE_BOUNCES, SCATTERED};
 use crate::geometry::{fresnel_dielectric, reflect, Ray};
 use crate::sampling::Rng;
@@ -90,6 +90,19 @@ pub(super) struct PatchSplit {
     pub split: Split,
 }
 
+impl PatchSplit {
+    /// No patch met yet.
+    pub const NONE: PatchSplit = PatchSplit {
+        patch: NO_PATCH,
+        normal: Vec3::ZERO,
+        split: Split::Flat {
+            r: 0.0,
+            t: 1.0,
+            d: 0.0,
+        },
+    };
+}
+
 /// The per-bin split fractions of the last window, the walk's scratch.
 pub(super) struct Fractions<'s> {
     /// Specular reflectance per bin.
@@ -104,6 +117,20 @@ pub(super) struct Fractions<'s> {
 type Reflected = (Vec<f32>, f32, f32);
 
 impl Walker<'_> {
+    /// The split of light travelling along `direction` at the planes of `patch`, its
+    /// window's fractions written into `f`.
+    #[inline(always)]
+    pub(super) fn split_for(&self, patch: u32, direction: Vec3, f: &mut Fractions) -> PatchSplit {
+        let normal = self.patch_normals[patch as usize];
+        let cos = direction.dot(normal).abs();
+        let split = self.optics.split(cos, f.r, f.t, f.d);
+        PatchSplit {
+            patch,
+            normal,
+            split,
+        }
+    }
+
     /// The light's track through a cell of `length` mm and the fraction of it kept: the chord
     /// in a cluster; in a void (potch) ∫₀ˡ e^(−σs) ds under exponential attenuation, and its
     /// limit ℓ for a clear body. `None` outside the stone.
