@@ -98,22 +98,29 @@ fn the_documented_largest_image_is_refused_at_once_here() {
     assert!(took < Duration::from_secs(5));
 }
 
-/// The black opal with grains near `MAX_GRAINS` (about 240 000 of 0.4 mm): seconds to grow
-/// on any machine.
-fn slow_stone(dir: &std::path::Path) {
-    let out = common::opalray(dir, &["render", "--preset", "black-opal", "--show-scene"]);
-    assert!(out.status.success());
-    let text = String::from_utf8(out.stdout).unwrap();
-    assert!(text.contains("grain_size_mm = 2.0"), "{text}");
-    let text = text.replace("grain_size_mm = 2.0", "grain_size_mm = 0.4");
-    std::fs::write(dir.join("slow.toml"), text).unwrap();
+/// The user's file the time-limit tests ask to overwrite: it must be left as it is.
+const USERS_FILE: &[u8] = b"the user's file";
+
+/// A folder holding `slow.toml`, the black opal with grains near `MAX_GRAINS` (about
+/// 240 000 of 0.4 mm: seconds to grow on any machine), and the user's `keep.png`.
+fn slow_stone_beside_a_users_file() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let grains = ("grain_size_mm = 2.0", "grain_size_mm = 0.4");
+    common::write_preset_with(dir.path(), "black-opal", grains, "slow.toml");
+    std::fs::write(dir.path().join("keep.png"), USERS_FILE).unwrap();
+    dir
+}
+
+/// Nothing written in `dir` by a command refused in its preparation: `keep.png` as it was,
+/// no other file beside `slow.toml`.
+fn assert_nothing_written(dir: &std::path::Path) {
+    assert_eq!(std::fs::read(dir.join("keep.png")).unwrap(), USERS_FILE);
+    assert_eq!(common::files_in(dir), ["keep.png", "slow.toml"]);
 }
 
 #[test]
 fn the_time_limit_stops_a_slow_preparation_in_time_and_writes_nothing() {
-    let dir = tempfile::tempdir().unwrap();
-    slow_stone(dir.path());
-    std::fs::write(dir.path().join("keep.png"), b"the user's file").unwrap();
+    let dir = slow_stone_beside_a_users_file();
     for method in ["path", "lobe"] {
         let start = Instant::now();
         let out = common::opalray(
@@ -135,21 +142,12 @@ fn the_time_limit_stops_a_slow_preparation_in_time_and_writes_nothing() {
                 "stats.json",
             ],
         );
-        let took = start.elapsed();
-        let err = stderr(&out);
-        assert_eq!(out.status.code(), Some(2), "{method}: {err}");
-        let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error:")).collect();
-        assert_eq!(errors.len(), 1, "{method}: {err}");
+        let error = refused_in_time(&out, start.elapsed(), 5);
         assert!(
-            errors[0].contains("--time-limit 0.2: the limit passed during the stone's preparation"),
-            "{method}: {err}"
+            error.contains("--time-limit 0.2: the limit passed during the stone's preparation"),
+            "{method}: {error}"
         );
-        assert!(took < Duration::from_secs(5), "{method}: took {took:?}");
-        assert_eq!(
-            std::fs::read(dir.path().join("keep.png")).unwrap(),
-            b"the user's file"
-        );
-        assert_eq!(common::files_in(dir.path()), ["keep.png", "slow.toml"]);
+        assert_nothing_written(dir.path());
     }
 }
 
@@ -254,9 +252,7 @@ fn refused_in_time(out: &std::process::Output, took: Duration, seconds: u64) -> 
 
 #[test]
 fn a_sweeps_time_limit_stops_its_preparation_and_writes_nothing() {
-    let dir = tempfile::tempdir().unwrap();
-    slow_stone(dir.path());
-    std::fs::write(dir.path().join("keep.png"), b"the user's file").unwrap();
+    let dir = slow_stone_beside_a_users_file();
     let start = Instant::now();
     let out = common::opalray(
         dir.path(),
@@ -285,11 +281,7 @@ fn a_sweeps_time_limit_stops_its_preparation_and_writes_nothing() {
         "{error}"
     );
     assert!(error.contains("nothing was written"), "{error}");
-    assert_eq!(
-        std::fs::read(dir.path().join("keep.png")).unwrap(),
-        b"the user's file"
-    );
-    assert_eq!(common::files_in(dir.path()), ["keep.png", "slow.toml"]);
+    assert_nothing_written(dir.path());
 }
 
 #[test]

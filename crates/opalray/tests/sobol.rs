@@ -13,27 +13,20 @@
 //! lamp, a 0.5° disc about 430 times white seen by a few per cent of two pixels' rays, is a
 //! lottery at these sample counts that would swamp the standard error of all else.
 
-use opalray::path::{Passes, Sampling};
-use opalray::render::prepare;
-use opalray::scene::{preset, LightKind};
+mod common;
+
+use common::{path_image, preset_at};
+use opalray::path::Sampling;
+use opalray::scene::{IntegratorConfig, LightKind, Method};
 
 /// Mean luminance (Y) over the stone's pixels and its standard error, rendered with
 /// `sampling`.
 fn mean_y(kind: LightKind, sampling: Sampling) -> (f64, f64) {
-    let mut scene = preset("paper-path").unwrap();
-    scene.render.width = 48;
-    scene.render.height = 36;
+    let mut scene = preset_at("paper-path", 48, 36);
     scene.render.gloss = 0.0;
     scene.light.kind = kind;
     scene.integrator.set_spp(SPP);
-    let prepared = prepare(&scene).unwrap();
-    let passes = Passes {
-        sampling,
-        ..Passes::default()
-    };
-    let (image, _) = prepared
-        .render_path_image(scene.light.angle_deg, &passes)
-        .expect("a path-traced scene");
+    let image = path_image(&scene, sampling);
     let (mut sum, mut variance, mut n) = (0.0f64, 0.0f64, 0usize);
     for ((xyz, v), on) in image.xyz.iter().zip(&image.variance).zip(&image.on_stone) {
         if *on {
@@ -79,25 +72,16 @@ fn sobol_points_and_independent_streams_agree_under_a_point_light() {
 /// Σ ((a + b)/2)²) over the pixels where `a + b` > 0.01; and the two images' means of Y.
 fn noise_between_seeds(name: &str, point: bool, sampling: Sampling) -> (f64, f64, f64) {
     let render = |seed: u64| {
-        let mut scene = preset(name).unwrap();
-        scene.render.width = 160;
-        scene.render.height = 120;
+        let mut scene = preset_at(name, 160, 120);
         if point {
             scene.light.kind = LightKind::Point;
         }
-        scene.integrator = opalray::scene::IntegratorConfig::of(opalray::scene::Method::Path);
-        if let opalray::scene::IntegratorConfig::Path(c) = &mut scene.integrator {
+        scene.integrator = IntegratorConfig::of(Method::Path);
+        if let IntegratorConfig::Path(c) = &mut scene.integrator {
             c.spp = 16;
             c.seed = seed;
         }
-        let prepared = prepare(&scene).unwrap();
-        let passes = Passes {
-            sampling,
-            ..Passes::default()
-        };
-        let (image, _) = prepared
-            .render_path_image(scene.light.angle_deg, &passes)
-            .unwrap();
+        let image = path_image(&scene, sampling);
         image
             .xyz
             .iter()

@@ -41,3 +41,13 @@ pub fn files_in(dir: &Path) -> Vec<String> {
     names.sort();
     names
 }
+
+/// Write the complete scene of preset `name` (as `--show-scene` prints it) into `dir/file`,
+/// with the text `from` (which it must hold) replaced by `to`.
+pub fn write_preset_with(dir: &Path, name: &str, (from, to): (&str, &str), file: &str) {
+    let out = opalray(dir, &["render", "--preset", name, "--show-scene"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains(from), "{text}");
+    std::fs::write(dir.join(file), text.replace(from, to)).unwrap();
+}

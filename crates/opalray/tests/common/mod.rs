@@ -1,7 +1,12 @@
 //! Set-ups shared by the integration tests.
 
+// Each test file compiles this module and uses some of it.
+#![allow(dead_code)]
+
 use glam::{Quat, Vec3};
-use opalray::scene::{FamilyChoice, Scene};
+use opalray::path::{Passes, PathImage, Sampling};
+use opalray::render::prepare;
+use opalray::scene::{preset, FamilyChoice, Scene};
 use opalray::stone::Stone;
 
 /// A perfect crystal (mosaic 0, one sphere size, the (111) family alone, no haze) whose (111)
@@ -17,4 +22,26 @@ pub fn tilted_crystal(tilt: f32) -> (Scene, Stone) {
     let q = Quat::from_rotation_arc(Vec3::splat(1.0).normalize(), planes);
     let stone = Stone::single_crystal(&scene, q).unwrap();
     (scene, stone)
+}
+
+/// The preset `name` rendered at `width × height` pixels, its other fields as they are.
+pub fn preset_at(name: &str, width: u32, height: u32) -> Scene {
+    let mut scene = preset(name).unwrap();
+    scene.render.width = width;
+    scene.render.height = height;
+    scene
+}
+
+/// The path integrator's image of `scene` (a path-traced scene) at its light angle, its
+/// samples drawn by `sampling`.
+pub fn path_image(scene: &Scene, sampling: Sampling) -> PathImage {
+    let prepared = prepare(scene).unwrap();
+    let passes = Passes {
+        sampling,
+        ..Passes::default()
+    };
+    let (image, _) = prepared
+        .render_path_image(scene.light.angle_deg, &passes)
+        .expect("a path-traced scene");
+    image
 }
