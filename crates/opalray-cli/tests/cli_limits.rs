@@ -118,36 +118,41 @@ fn assert_nothing_written(dir: &std::path::Path) {
     assert_eq!(common::files_in(dir), ["keep.png", "slow.toml"]);
 }
 
+/// Run `opalray ARGS` (with `--time-limit 0.2`) in `dir`: refused in time during the stone's
+/// preparation, nothing written. Returns the error line.
+fn refused_in_preparation(dir: &std::path::Path, args: &[&str]) -> String {
+    let start = Instant::now();
+    let out = common::opalray(dir, args);
+    let error = refused_in_time(&out, start.elapsed(), 5);
+    assert!(
+        error.contains("--time-limit 0.2: the limit passed during the stone's preparation"),
+        "{args:?}: {error}"
+    );
+    assert_nothing_written(dir);
+    error
+}
+
 #[test]
 fn the_time_limit_stops_a_slow_preparation_in_time_and_writes_nothing() {
     let dir = slow_stone_beside_a_users_file();
     for method in ["path", "lobe"] {
-        let start = Instant::now();
-        let out = common::opalray(
-            dir.path(),
-            &[
-                "render",
-                "slow.toml",
-                "--method",
-                method,
-                "--width",
-                "8",
-                "--height",
-                "6",
-                "--time-limit",
-                "0.2",
-                "--output",
-                "keep.png",
-                "--stats",
-                "stats.json",
-            ],
-        );
-        let error = refused_in_time(&out, start.elapsed(), 5);
-        assert!(
-            error.contains("--time-limit 0.2: the limit passed during the stone's preparation"),
-            "{method}: {error}"
-        );
-        assert_nothing_written(dir.path());
+        let args = [
+            "render",
+            "slow.toml",
+            "--method",
+            method,
+            "--width",
+            "8",
+            "--height",
+            "6",
+            "--time-limit",
+            "0.2",
+            "--output",
+            "keep.png",
+            "--stats",
+            "stats.json",
+        ];
+        refused_in_preparation(dir.path(), &args);
     }
 }
 
@@ -253,35 +258,26 @@ fn refused_in_time(out: &std::process::Output, took: Duration, seconds: u64) -> 
 #[test]
 fn a_sweeps_time_limit_stops_its_preparation_and_writes_nothing() {
     let dir = slow_stone_beside_a_users_file();
-    let start = Instant::now();
-    let out = common::opalray(
-        dir.path(),
-        &[
-            "sweep",
-            "slow.toml",
-            "--frames",
-            "3",
-            "--width",
-            "8",
-            "--height",
-            "6",
-            "--time-limit",
-            "0.2",
-            "--sheet",
-            "keep.png",
-            "--animation",
-            "a.gif",
-            "--stats",
-            "stats.json",
-        ],
-    );
-    let error = refused_in_time(&out, start.elapsed(), 5);
-    assert!(
-        error.contains("--time-limit 0.2: the limit passed during the stone's preparation"),
-        "{error}"
-    );
+    let args = [
+        "sweep",
+        "slow.toml",
+        "--frames",
+        "3",
+        "--width",
+        "8",
+        "--height",
+        "6",
+        "--time-limit",
+        "0.2",
+        "--sheet",
+        "keep.png",
+        "--animation",
+        "a.gif",
+        "--stats",
+        "stats.json",
+    ];
+    let error = refused_in_preparation(dir.path(), &args);
     assert!(error.contains("nothing was written"), "{error}");
-    assert_nothing_written(dir.path());
 }
 
 #[test]
