@@ -202,21 +202,45 @@ impl Walker<'_> {
         budget: &mut Budget,
     ) -> Option<Reflected> {
         let power = carried.power;
-        let (p_r, p_d, p_t, reflected) = match split {
+        let (p_r, p_d, p_t);
+        let mut reflected: Option<Reflected> = None;
+        match split {
             Split::Flat { r, t, d } => {
-                let (p_r, p_d, p_t) = (power * r, power * d, power * t);
-                let mut reflected = None;
+                p_r = power * r;
+                p_d = power * d;
+                p_t = power * t;
                 if let Some(boost) = Self::carry_on::<ROULETTE>(p_r, budget.threshold, budget.rng) {
                     let (v, _) = reflected_shape(pool, &carried.shape, None, false);
                     reflected = Some((v, carried.scale * r * boost, p_r * boost));
                 }
                 carried.scale *= t;
-                (p_r, p_d, p_t, reflected)
             }
-            Split::Window { lo, hi, r, t, d } => {
-                self.split_window::<ROULETTE>(carried, (lo, hi, [r, t, d]), f, pool, budget)
+            Split::Window {
+                lo,
+                hi,
+                r: rb,
+                t: tb,
+                d: db,
+            } => {
+                let bw = self.bin_width_nm;
+                let (r, t, d) = (&f.r[lo..hi], &f.t[lo..hi], &f.d[lo..hi]);
+                let inside = &carried.shape[lo..hi];
+                let k = carried.scale * bw;
+                let [s_in, s_r, s_d, s_t] = window_sums(inside, r, d, t);
+                let p_out = power - s_in * k;
+                p_r = rb * p_out + s_r * k;
+                p_d = db * p_out + s_d * k;
+                p_t = tb * p_out + s_t * k;
+                if let Some(boost) = Self::carry_on::<ROULETTE>(p_r, budget.threshold, budget.rng) {
+                    // Chains of Bragg reflections that roulette keeps would grow the shape
+                    // without bound: it is renormalised.
+                    let window = Some((lo, r, rb));
+                    let (v, k) = reflected_shape(pool, &carried.shape, window, boost != 1.0);
+                    reflected = Some((v, carried.scale * k * boost, p_r * boost));
+                }
+                carried.scale *= filter_window(&mut carried.shape, lo, t, tb);
             }
-        };
+        }
         budget.ledger.book(Booking::Cluster {
             diffuse: p_d,
             absorbed: power - p_r - p_d - p_t,
@@ -237,39 +261,6 @@ impl Walker<'_> {
                 None
             }
         }
-    }
-
-    /// [`Walker::split_at_cluster`] where the fractions vary in the bins `lo..hi` (the
-    /// Bragg line; `flat` = `[r, t, d]` outside): the reflected, diffuse and transmitted
-    /// powers and the reflected branch (its shape renormalised where roulette raised it:
-    /// chains of Bragg reflections would grow it without bound).
-    #[inline(always)]
-    fn split_window<const ROULETTE: bool>(
-        &self,
-        carried: &mut Carried,
-        (lo, hi, [rb, tb, db]): (usize, usize, [f32; 3]),
-        f: &Fractions,
-        pool: &mut Vec<Vec<f32>>,
-        budget: &mut Budget,
-    ) -> (f32, f32, f32, Option<Reflected>) {
-        let power = carried.power;
-        let bw = self.bin_width_nm;
-        let (r, t, d) = (&f.r[lo..hi], &f.t[lo..hi], &f.d[lo..hi]);
-        let inside = &carried.shape[lo..hi];
-        let k = carried.scale * bw;
-        let [s_in, s_r, s_d, s_t] = window_sums(inside, r, d, t);
-        let p_out = power - s_in * k;
-        let p_r = rb * p_out + s_r * k;
-        let p_d = db * p_out + s_d * k;
-        let p_t = tb * p_out + s_t * k;
-        let mut reflected = None;
-        if let Some(boost) = Self::carry_on::<ROULETTE>(p_r, budget.threshold, budget.rng) {
-            let window = Some((lo, r, rb));
-            let (v, k) = reflected_shape(pool, &carried.shape, window, boost != 1.0);
-            reflected = Some((v, carried.scale * k * boost, p_r * boost));
-        }
-        carried.scale *= filter_window(&mut carried.shape, lo, t, tb);
-        (p_r, p_d, p_t, reflected)
     }
 
     /// After a cell: light below the threshold plays roulette (raised, or ended and booked
