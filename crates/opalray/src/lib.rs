@@ -5,9 +5,12 @@
 //!
 //! ```text
 //! spectrum geometry sampling error   foundations, no scene
-//! scene (TOML | preset = scenes/*.toml)  ->  color, optics (R, T, Bragg lines), structure (growth)
-//!   -> stone (the stone model)  +  lights (environment, its file reader, area lights)
-//!   -> an integrator: light_pass + view_pass (paper, on cells) | path (+ denoise) | stored
+//! scene (TOML | preset = scenes/*.toml; parse, validate)  ->  color, optics (R, T, Bragg lines),
+//!   structure (growth)
+//!   -> stone (the stone model; the path to a light)  +  lights (environment and its built-in
+//!      kinds, the .hdr / .exr readers, area lights)
+//!   -> an integrator: light_pass + view_pass (paper, on cells; the light's walk in named
+//!      steps, its energy booked in one place) | path (+ denoise) | stored
 //!      | lobe, each with a method.rs implementing integrator::Integrator (one table)
 //!   -> render.rs: prepare(scene) (integrator::check, then its prepare), render -> Frame
 //!   -> to_rgb (CIE 1931 -> XYZ -> RGB, gamut-mapped) -> output (PNG | EXR | spectral EXR)
