@@ -7,9 +7,9 @@
 //! spectrum, and the map scales it.
 //!
 //! This file picks the reader by the extension and checks what every map must be (a regular
-//! file, a size within the limits, some light); the readers are [`hdr`] (Radiance's RGBE,
-//! bounded throughout) and [`openexr`] (the `exr` crate's, its size read from the header
-//! first).
+//! file, a size within the limits, some light); the readers are `env_map/hdr.rs` (Radiance's
+//! RGBE, bounded throughout) and `env_map/openexr.rs` (the `exr` crate's, its size read from
+//! the header first).
 
 mod hdr;
 mod openexr;
