@@ -79,147 +79,213 @@ pub(crate) fn smooth_sums(
     stone: &StoneCells,
     width_per_lobe: usize,
 ) -> (Vec<Vec3>, Vec<f32>) {
-    let [nx, ny, nz] = stone.grid.n;
-    let plane = nx * ny;
-    let (cell_of_slot, sites, patch_normals) =
-        (&stone.cell_of_slot, &stone.sites, &stone.patch_normals);
-    // One 8-byte site per cell tells its kind, slot and patch; two clusters of different
-    // patches may still share a patch here if their normals are that close.
-    let same_patch = |a: Site, b: Site| match (a.cell(), b.cell()) {
-        (Cell::Void, Cell::Void) => true,
-        (Cell::Cluster, Cell::Cluster) => {
-            a.patch() == b.patch()
-                || patch_normals[a.patch() as usize]
-                    .dot(patch_normals[b.patch() as usize])
-                    .abs()
-                    >= SAME_PATCH_COS
+    let grid = Grid::new(stone, LOBES * width_per_lobe);
+    grid.blend_xy(fluence);
+    grid.blend_z(fluence, width_per_lobe)
+}
+
+/// The stored cells as the kernel walks them: the grid's size, each slot's cell, each cell's
+/// site, the patches' normals, and where each plane's slots begin.
+struct Grid<'a> {
+    /// Cells along x, y, z.
+    n: [usize; 3],
+    /// Cells of a plane (`nx × ny`).
+    plane: usize,
+    /// Values per slot (every lobe's spectrum and direction sums).
+    width: usize,
+    /// Per slot, its cell.
+    cell_of_slot: &'a [usize],
+    /// Per cell, its kind, slot and patch.
+    sites: &'a [Site],
+    /// The (111) normal of each patch.
+    patch_normals: &'a [Vec3],
+    /// The first slot of each plane, and one past the last plane's.
+    plane_start: Vec<usize>,
+}
+
+impl<'a> Grid<'a> {
+    fn new(stone: &'a StoneCells, width: usize) -> Self {
+        let [nx, ny, nz] = stone.grid.n;
+        let mut grid = Grid {
+            n: [nx, ny, nz],
+            plane: nx * ny,
+            width,
+            cell_of_slot: &stone.cell_of_slot,
+            sites: &stone.sites,
+            patch_normals: &stone.patch_normals,
+            plane_start: Vec::new(),
+        };
+        grid.plane_start = (0..=nz).map(|z| grid.first_slot(z * grid.plane)).collect();
+        grid
+    }
+
+    /// The first slot at or after `cell`: slots are numbered in cell order, so each plane's
+    /// and each row's are consecutive.
+    #[inline(always)]
+    fn first_slot(&self, cell: usize) -> usize {
+        self.cell_of_slot.partition_point(|&c| c < cell)
+    }
+
+    /// Whether two cells' light is blended: both voids, or clusters of one patch (or of two
+    /// whose normals are that close). One 8-byte site per cell tells its kind and patch.
+    #[inline(always)]
+    fn same_patch(&self, a: Site, b: Site) -> bool {
+        match (a.cell(), b.cell()) {
+            (Cell::Void, Cell::Void) => true,
+            (Cell::Cluster, Cell::Cluster) => {
+                a.patch() == b.patch()
+                    || self.patch_normals[a.patch() as usize]
+                        .dot(self.patch_normals[b.patch() as usize])
+                        .abs()
+                        >= SAME_PATCH_COS
+            }
+            _ => false,
         }
-        _ => false,
-    };
-    // The slot of the neighbour `cell ± step` along an axis (on which `cell` has coordinate
-    // `coord` of `n`), if it is stored and in the same patch.
-    let neighbour = |cell: usize, coord: usize, n: usize, step: usize, after: bool| {
+    }
+
+    /// The slot of the neighbour `cell ± step` along an axis (on which `cell` has coordinate
+    /// `coord` of `n`), if it is stored and in the same patch.
+    #[inline(always)]
+    fn neighbour(
+        &self,
+        cell: usize,
+        (coord, n, step): (usize, usize, usize),
+        after: bool,
+    ) -> Option<usize> {
         let other = if after {
             (coord + 1 < n).then(|| cell + step)
         } else {
             (coord > 0).then(|| cell - step)
         }?;
-        let site = sites[other];
-        (site.cell() != Cell::Outside && same_patch(sites[cell], site)).then(|| site.slot())
-    };
-    let width = LOBES * width_per_lobe;
-    // Slots are numbered in cell order, so each plane's and each row's are consecutive.
-    let first_slot = |cell: usize| cell_of_slot.partition_point(|&c| c < cell);
-    let plane_start: Vec<usize> = (0..=nz).map(|z| first_slot(z * plane)).collect();
-
-    // x, then y, within each plane, in one sweep: each row is blended along x, and then the
-    // row before it along y (whose neighbour after it is that row, blended along x already);
-    // the planes in parallel.
-    let mut planes = Vec::with_capacity(nz);
-    let mut rest = &mut *fluence;
-    for z in 0..nz {
-        let (values, after) = rest.split_at_mut((plane_start[z + 1] - plane_start[z]) * width);
-        planes.push((z, plane_start[z], values));
-        rest = after;
+        let site = self.sites[other];
+        (site.cell() != Cell::Outside && self.same_patch(self.sites[cell], site))
+            .then(|| site.slot())
     }
-    planes.into_par_iter().for_each(|(z, first, values)| {
-        crate::simd::widest(
-            #[inline(always)]
-            || {
-                let mut out = vec![0.0f32; width];
-                // Original values of the previous cell (x), and of the previous row by x (y).
-                let mut previous = vec![0.0f32; width];
-                let mut row = vec![0.0f32; nx * width];
-                // Rows of slots: blend each along x, then the one before it along y.
-                let mut before = first..first;
-                for y in 0..=ny {
-                    let start = before.end;
-                    let end = if y < ny {
-                        first_slot(z * plane + (y + 1) * nx)
-                    } else {
-                        start
-                    };
-                    for (axis, range) in [(0, start..end), (1, before)] {
-                        for slot in range {
-                            let k = slot - first;
-                            let cell = cell_of_slot[slot];
-                            let x = cell % nx;
-                            let (coord, n, step) = match axis {
-                                0 => (x, nx, 1),
-                                _ => (cell / nx % ny, ny, nx),
-                            };
-                            let kept = match axis {
-                                0 => &mut previous[..],
-                                _ => &mut row[x * width..(x + 1) * width],
-                            };
-                            let lower = neighbour(cell, coord, n, step, false).map(|_| &*kept);
-                            let upper = neighbour(cell, coord, n, step, true)
-                                .map(|s| &values[(s - first) * width..][..width]);
-                            let own = &values[k * width..][..width];
-                            blend(&mut out, own, lower, upper);
-                            kept.copy_from_slice(own);
-                            values[k * width..][..width].copy_from_slice(&out);
-                        }
-                    }
-                    before = start..end;
-                }
-            },
-        )
-    });
 
-    // z: the planes in order, the rows of each in parallel, with the original values of the
-    // previous plane by row and x; each cell's directions are formed from its final values.
-    let slots = stone.slots();
-    let mut directions = vec![Vec3::ZERO; slots * LOBES];
-    let mut concentration = vec![0.0f32; slots * LOBES];
-    let mut below = vec![0.0f32; plane * width];
-    for z in 0..nz {
-        let (before, after) = fluence.split_at_mut(plane_start[z + 1] * width);
-        let next: &[f32] = after;
-        let mut rows = Vec::with_capacity(ny);
-        let mut rest = &mut before[plane_start[z] * width..];
-        let mut found = (
-            &mut directions[plane_start[z] * LOBES..],
-            &mut concentration[plane_start[z] * LOBES..],
-        );
-        let mut start = plane_start[z];
-        for y in 0..ny {
-            let end = first_slot(z * plane + (y + 1) * nx);
-            let (values, after) = rest.split_at_mut((end - start) * width);
-            let (dirs, dirs_after) = found.0.split_at_mut((end - start) * LOBES);
-            let (concs, concs_after) = found.1.split_at_mut((end - start) * LOBES);
-            rows.push((start, values, dirs, concs));
+    /// x, then y, within each plane, in one sweep: each row is blended along x, and then the
+    /// row before it along y (whose neighbour after it is that row, blended along x already);
+    /// the planes in parallel.
+    fn blend_xy(&self, fluence: &mut [f32]) {
+        let (nz, width) = (self.n[2], self.width);
+        let mut planes = Vec::with_capacity(nz);
+        let mut rest = fluence;
+        for z in 0..nz {
+            let slots = self.plane_start[z + 1] - self.plane_start[z];
+            let (values, after) = rest.split_at_mut(slots * width);
+            planes.push((z, self.plane_start[z], values));
             rest = after;
-            found = (dirs_after, concs_after);
-            start = end;
         }
-        rows.into_par_iter()
-            .zip(below.par_chunks_mut(nx * width))
-            .for_each(|((first, values, dirs, concs), below)| {
-                crate::simd::widest(
-                    #[inline(always)]
-                    || {
-                        let mut out = vec![0.0f32; width];
-                        for (k, slot) in (first..first + values.len() / width).enumerate() {
-                            let cell = cell_of_slot[slot];
-                            let kept = &mut below[cell % nx * width..][..width];
-                            let lower = neighbour(cell, z, nz, plane, false).map(|_| &*kept);
-                            let upper = neighbour(cell, z, nz, plane, true)
-                                .map(|s| &next[(s - plane_start[z + 1]) * width..][..width]);
-                            let own = &values[k * width..][..width];
-                            blend(&mut out, own, lower, upper);
-                            kept.copy_from_slice(own);
-                            values[k * width..][..width].copy_from_slice(&out);
-                            for (lobe, sums) in out.chunks_exact(width_per_lobe).enumerate() {
-                                (dirs[k * LOBES + lobe], concs[k * LOBES + lobe]) =
-                                    mean_direction(&sums[width_per_lobe - 4..]);
-                            }
-                        }
-                    },
-                )
-            });
+        planes.into_par_iter().for_each(|(z, first, values)| {
+            crate::simd::widest(
+                #[inline(always)]
+                || self.blend_plane(z, first, values),
+            )
+        });
     }
-    (directions, concentration)
+
+    /// [`Grid::blend_xy`] of plane `z`, whose slots from `first` hold `values`.
+    #[inline(always)]
+    fn blend_plane(&self, z: usize, first: usize, values: &mut [f32]) {
+        let ([nx, ny, _], width) = (self.n, self.width);
+        let mut out = vec![0.0f32; width];
+        // Original values of the previous cell (x), and of the previous row by x (y).
+        let mut previous = vec![0.0f32; width];
+        let mut row = vec![0.0f32; nx * width];
+        // Rows of slots: blend each along x, then the one before it along y.
+        let mut before = first..first;
+        for y in 0..=ny {
+            let start = before.end;
+            let end = if y < ny {
+                self.first_slot(z * self.plane + (y + 1) * nx)
+            } else {
+                start
+            };
+            for (axis, range) in [(0, start..end), (1, before)] {
+                for slot in range {
+                    let k = slot - first;
+                    let cell = self.cell_of_slot[slot];
+                    let x = cell % nx;
+                    let along = match axis {
+                        0 => (x, nx, 1),
+                        _ => (cell / nx % ny, ny, nx),
+                    };
+                    let kept = match axis {
+                        0 => &mut previous[..],
+                        _ => &mut row[x * width..(x + 1) * width],
+                    };
+                    let lower = self.neighbour(cell, along, false).map(|_| &*kept);
+                    let upper = self
+                        .neighbour(cell, along, true)
+                        .map(|s| &values[(s - first) * width..][..width]);
+                    let own = &values[k * width..][..width];
+                    blend(&mut out, own, lower, upper);
+                    kept.copy_from_slice(own);
+                    values[k * width..][..width].copy_from_slice(&out);
+                }
+            }
+            before = start..end;
+        }
+    }
+
+    /// z: the planes in order, the rows of each in parallel, with the original values of the
+    /// previous plane by row and x; each cell's directions are formed from its final values.
+    fn blend_z(&self, fluence: &mut [f32], width_per_lobe: usize) -> (Vec<Vec3>, Vec<f32>) {
+        let ([nx, ny, nz], width) = (self.n, self.width);
+        let plane_start = &self.plane_start;
+        let slots = self.cell_of_slot.len();
+        let mut directions = vec![Vec3::ZERO; slots * LOBES];
+        let mut concentration = vec![0.0f32; slots * LOBES];
+        let mut below = vec![0.0f32; self.plane * width];
+        for z in 0..nz {
+            let (before, after) = fluence.split_at_mut(plane_start[z + 1] * width);
+            let next: &[f32] = after;
+            let mut rows = Vec::with_capacity(ny);
+            let mut rest = &mut before[plane_start[z] * width..];
+            let mut found = (
+                &mut directions[plane_start[z] * LOBES..],
+                &mut concentration[plane_start[z] * LOBES..],
+            );
+            let mut start = plane_start[z];
+            for y in 0..ny {
+                let end = self.first_slot(z * self.plane + (y + 1) * nx);
+                let (values, after) = rest.split_at_mut((end - start) * width);
+                let (dirs, dirs_after) = found.0.split_at_mut((end - start) * LOBES);
+                let (concs, concs_after) = found.1.split_at_mut((end - start) * LOBES);
+                rows.push((start, values, dirs, concs));
+                rest = after;
+                found = (dirs_after, concs_after);
+                start = end;
+            }
+            let along = (z, nz, self.plane);
+            rows.into_par_iter()
+                .zip(below.par_chunks_mut(nx * width))
+                .for_each(|((first, values, dirs, concs), below)| {
+                    crate::simd::widest(
+                        #[inline(always)]
+                        || {
+                            let mut out = vec![0.0f32; width];
+                            for (k, slot) in (first..first + values.len() / width).enumerate() {
+                                let cell = self.cell_of_slot[slot];
+                                let kept = &mut below[cell % nx * width..][..width];
+                                let lower = self.neighbour(cell, along, false).map(|_| &*kept);
+                                let upper = self
+                                    .neighbour(cell, along, true)
+                                    .map(|s| &next[(s - plane_start[z + 1]) * width..][..width]);
+                                let own = &values[k * width..][..width];
+                                blend(&mut out, own, lower, upper);
+                                kept.copy_from_slice(own);
+                                values[k * width..][..width].copy_from_slice(&out);
+                                for (lobe, sums) in out.chunks_exact(width_per_lobe).enumerate() {
+                                    (dirs[k * LOBES + lobe], concs[k * LOBES + lobe]) =
+                                        mean_direction(&sums[width_per_lobe - 4..]);
+                                }
+                            }
+                        },
+                    )
+                });
+        }
+        (directions, concentration)
+    }
 }
 
 #[cfg(test)]
