@@ -5,6 +5,7 @@
 
 use glam::Vec3;
 
+use super::{CellTag, ClusterShade};
 use super::{Deferred, Path, View, SHARED_REFLECTION};
 use crate::geometry::{fresnel_dielectric, reflect, Ray};
 use crate::light_pass::{Transmission, NO_PATCH};
@@ -95,30 +96,8 @@ impl View<'_> {
                                 }
                                 Cell::Cluster => {
                                     let shade = &self.shading.clusters[slot];
-                                    // The packed spectrum of the next lobe that has one.
-                                    let mut entry = shade.first as usize;
-                                    for l in &shade.lobes {
-                                        let c = l.mirror.dot(to_eye);
-                                        if c > l.cos_min {
-                                            // Eq. (2)'s specular term: E · R(θ) · peak ·
-                                            // cosⁿ' θ'.
-                                            let at = entry * self.bins;
-                                            let spectrum =
-                                                &self.shading.specular[at..at + self.bins];
-                                            add_filtered(
-                                                pixel,
-                                                shape_thr,
-                                                spectrum,
-                                                scale * c.powf(l.exponent),
-                                            );
-                                        }
-                                        entry += usize::from(l.has_spectrum());
-                                    }
-                                    if tag.glows() {
-                                        let glow = &self.shading.diffuse
-                                            [slot * self.bins..(slot + 1) * self.bins];
-                                        add_filtered(pixel, shape_thr, glow, scale);
-                                    }
+                                    let seen = (&mut *pixel, &*shape_thr);
+                                    self.add_cluster((tag, shade), to_eye, seen, scale);
                                     if shade.patch != last_patch {
                                         last_patch = shade.patch;
                                         let normal =
@@ -137,10 +116,7 @@ impl View<'_> {
                     }
                     // Far surface: the backdrop through the stone, and internal reflection.
                     let q = inner.at(t1);
-                    let n_q = self.shape.normal(q);
-                    let f_out = fresnel_dielectric(dir.dot(n_q), self.n_eff, 1.0);
-                    let seen = (1.0 - f_out) * self.n_eff * self.n_eff * self.setup.background;
-                    add_filtered(pixel, shape_thr, self.setup.light_spectrum, scale * seen);
+                    let (f_out, n_q) = self.far_surface(q, dir, (&mut *pixel, &*shape_thr), scale);
                     scale *= f_out;
                     dir = reflect(dir, n_q);
                     origin = q;
@@ -159,6 +135,56 @@ impl View<'_> {
                 None
             },
         )
+    }
+}
+
+impl View<'_> {
+    /// Add to `seen`'s pixel what the cluster cell of `tag` (shaded as `shade`) shows towards
+    /// the eye (`to_eye`), filtered by `seen`'s throughput shape times `scale`: eq. (2)'s
+    /// specular term `E · R(θ) · peak · cosⁿ' θ'` of each lobe within its cut-off, and its
+    /// glow where it glows.
+    #[inline(always)]
+    fn add_cluster(
+        &self,
+        (tag, shade): (CellTag, &ClusterShade),
+        to_eye: Vec3,
+        (pixel, shape_thr): (&mut [f32], &[f32]),
+        scale: f32,
+    ) {
+        let slot = tag.slot();
+        // The packed spectrum of the next lobe that has one.
+        let mut entry = shade.first as usize;
+        for l in &shade.lobes {
+            let c = l.mirror.dot(to_eye);
+            if c > l.cos_min {
+                let at = entry * self.bins;
+                let spectrum = &self.shading.specular[at..at + self.bins];
+                add_filtered(pixel, shape_thr, spectrum, scale * c.powf(l.exponent));
+            }
+            entry += usize::from(l.has_spectrum());
+        }
+        if tag.glows() {
+            let glow = &self.shading.diffuse[slot * self.bins..(slot + 1) * self.bins];
+            add_filtered(pixel, shape_thr, glow, scale);
+        }
+    }
+
+    /// At the far surface point `q` of a ray travelling along `dir` with throughput `scale ×`
+    /// `seen`'s shape: add to `seen`'s pixel the backdrop seen through the surface; return the
+    /// surface's internal reflectance and its normal at `q`.
+    #[inline(always)]
+    fn far_surface(
+        &self,
+        q: Vec3,
+        dir: Vec3,
+        (pixel, shape_thr): (&mut [f32], &[f32]),
+        scale: f32,
+    ) -> (f32, Vec3) {
+        let n_q = self.shape.normal(q);
+        let f_out = fresnel_dielectric(dir.dot(n_q), self.n_eff, 1.0);
+        let seen = (1.0 - f_out) * self.n_eff * self.n_eff * self.setup.background;
+        add_filtered(pixel, shape_thr, self.setup.light_spectrum, scale * seen);
+        (f_out, n_q)
     }
 }
 
