@@ -2,7 +2,7 @@
 """The lobe integrator against the path tracer, preset by preset.
 
     scripts/lobe-vs-path.py [--width 64] [--height 48] [--spp 256] [--bin target/release/opalray]
-                            [--keep DIR [--reuse]] PRESET|SCENE.toml [...]
+                            [--keep DIR [--reuse]] [--floor] PRESET|SCENE.toml [...]
 
 For each preset (or scene file): the same stone rendered by the lobe integrator (the preset's own method) and
 by the path tracer (`--method path`, raw: not denoised, `--spp` samples per pixel), both as
@@ -14,6 +14,10 @@ stone's face (scripts/look-metrics.py's ellipse of the pixels that differ from t
   percentile;
 - colour coverage (look-metrics' share of the face at saturation > 0.5 and value > 0.25) of
   each, unblurred, and their difference.
+
+With `--floor`, the path tracer is run a second time with another `integrator.seed` (the same
+stone) and the same figures are given between its two images: the reference's own noise,
+the floor under which a difference from the lobe integrator cannot be told from it.
 
 Prints one line per preset. Needs numpy and Pillow.
 """
@@ -99,6 +103,31 @@ def coverage(srgb8, face):
     return float(((sat > 0.5) & (mx > 0.25) & face).sum() / max(face.sum(), 1))
 
 
+def reseeded(binary, preset, folder):
+    """A scene file of `preset` with `integrator.seed = 1` (the same stone)."""
+    scene = [preset] if preset.endswith(".toml") else ["--preset", preset]
+    text = subprocess.run([binary, "scene"] + scene, check=True, capture_output=True,
+                          text=True).stdout
+    head, sep, tail = text.partition("[integrator]")
+    if not sep:
+        sys.exit(f"error: {preset}: no [integrator] section in `opalray scene`'s output")
+    lines = [l for l in tail.splitlines() if not l.startswith("seed =")]
+    lines.insert(1, "seed = 1")
+    name = os.path.splitext(os.path.basename(preset))[0]
+    out = os.path.join(folder, f"{name}-seed1.toml")
+    with open(out, "w") as f:
+        f.write(head + sep + "\n".join(lines) + "\n")
+    return out
+
+
+def compare(lobe8, path8, face):
+    """Mean-luminance ratio, ΔE00 median and 90th percentile of two 8-bit images."""
+    lo, pa = blur(linear(lobe8)), blur(linear(path8))
+    y = lambda rgb: (rgb @ M[1])[face].mean()
+    de = ciede2000(lab(lo), lab(pa))[face]
+    return y(lo) / y(pa), np.median(de), np.percentile(de, 90)
+
+
 def render(binary, preset, out, extra):
     scene = [preset] if preset.endswith(".toml") else ["--preset", preset]
     subprocess.run([binary, "render"] + scene + ["--output", out] + extra,
@@ -116,11 +145,14 @@ def main():
     p.add_argument("--keep", help="folder to keep both renders in")
     p.add_argument("--reuse", action="store_true",
                    help="take the path tracer's image from --keep where one of this size is there")
+    p.add_argument("--floor", action="store_true",
+                   help="also run the path tracer with integrator.seed = 1 and compare its two images")
     a = p.parse_args()
     size = ["--width", str(a.width), "--height", str(a.height)]
     folder = a.keep or tempfile.mkdtemp()
     os.makedirs(folder, exist_ok=True)
-    print("preset  Y(lobe)/Y(path)  dE00 median  dE00 p90  colour lobe  colour path")
+    print("preset  Y(lobe)/Y(path)  dE00 median  dE00 p90  colour lobe  colour path"
+          + ("  | floor: Y ratio  dE00 median  dE00 p90" if a.floor else ""))
     for preset in a.presets:
         name = os.path.splitext(os.path.basename(preset))[0]
         lobe8 = render(a.bin, preset, os.path.join(folder, f"{name}-lobe.png"),
@@ -131,11 +163,19 @@ def main():
             path8 = render(a.bin, preset, kept,
                            size + ["--method", "path", "--no-denoise", "--spp", str(a.spp)])
         face = look.face_mask(lobe8.astype(np.float64) / 255.0)
-        lo, pa = blur(linear(lobe8)), blur(linear(path8))
-        y = lambda rgb: (rgb @ M[1])[face].mean()
-        de = ciede2000(lab(lo), lab(pa))[face]
-        print(f"{preset}  {y(lo) / y(pa):.3f}  {np.median(de):.2f}  {np.percentile(de, 90):.2f}  "
-              f"{coverage(lobe8, face):.3f}  {coverage(path8, face):.3f}", flush=True)
+        ratio, median, p90 = compare(lobe8, path8, face)
+        line = (f"{preset}  {ratio:.3f}  {median:.2f}  {p90:.2f}  "
+                f"{coverage(lobe8, face):.3f}  {coverage(path8, face):.3f}")
+        if a.floor:
+            kept1 = os.path.join(folder, f"{name}-path-seed1.png")
+            other = None
+            if a.reuse and os.path.exists(kept1):
+                other = np.asarray(Image.open(kept1).convert("RGB"))
+            if other is None or other.shape != lobe8.shape:
+                other = render(a.bin, reseeded(a.bin, preset, folder), kept1,
+                               size + ["--method", "path", "--no-denoise", "--spp", str(a.spp)])
+            line += "  | {:.3f}  {:.2f}  {:.2f}".format(*compare(other, path8, face))
+        print(line, flush=True)
 
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@
 //! (`docs/architecture.md`; the physics as built: `docs/model.md`):
 //!
 //! ```text
-//! spectrum geometry sampling error   foundations, no scene
+//! spectrum geometry sampling scatter error   foundations, no scene
 //! scene (TOML | preset = scenes/*.toml; parse, validate)  ->  color, optics (R, T, Bragg lines),
 //!   structure (growth)
 //!   -> stone (the stone model; the path to a light)  +  lights (environment and its built-in
@@ -30,6 +30,7 @@ pub mod output;
 pub mod path;
 pub mod render;
 pub mod sampling;
+pub mod scatter;
 pub mod scene;
 pub mod simd;
 pub mod spectrum;

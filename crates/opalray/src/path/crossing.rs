@@ -7,9 +7,10 @@ use glam::Vec3;
 use super::sampler::PathSampler;
 use super::spectral::{PathSpectrum, MAX_DRAWS};
 use super::vertex::{AfterBranch, Branched, Vertex};
-use super::{sample_lobe, CameraSample, Estimate, Tracer, EPSILON_MM, MIN_FOLLOW};
+use super::{CameraSample, Estimate, Tracer, EPSILON_MM, MIN_FOLLOW};
 use crate::geometry::{reflect, refract, Ray};
 use crate::optics::BraggLine;
+use crate::scatter::{Mosaic, Scatter};
 use crate::stone::{ActiveLine, Boundary, Hint, Region};
 
 /// Most lines one domain crossing can have (one per family normal: 4 + 6 + 12 + 3).
@@ -404,7 +405,11 @@ impl Tracer<'_> {
         draws: &mut PathSampler,
     ) -> Option<(Vec3, BraggLine)> {
         let sigma = self.stone.lobe_sigma(line.kind, -dir.dot(line.normal));
-        let h = sample_lobe(line.normal, sigma, draws);
+        let h = Mosaic {
+            normal: line.normal,
+            sigma,
+        }
+        .sample(draws);
         let cos_h = -dir.dot(h);
         (cos_h > 0.0).then(|| (reflect(dir, h), self.line_at(domain, line, cos_h)))
     }

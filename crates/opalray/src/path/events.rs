@@ -2,20 +2,15 @@
 //! milky domain's haze, the surface from inside, a backing, a triplet's cap plane (the domain
 //! crossings in [`super::crossing`]; the loop over them in [`super::vertex`]).
 
-use std::f32::consts::PI;
-
 use glam::Vec3;
 
 use super::nee::Drawn;
 use super::sampler::PathSampler;
 use super::vertex::{Segment, Step, Vertex, Waiting, WaitingAt};
-use super::{
-    cosine_about_z, sample_hg, scattering_split, CameraSample, Estimate, Tracer, EPSILON_MM,
-    MIN_REACH,
-};
+use super::{scattering_split, CameraSample, Estimate, Tracer, EPSILON_MM, MIN_REACH};
 use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
+use crate::scatter::{Lambert, Phase, Scatter};
 use crate::scene::Backing;
-use crate::stone::body::hg_phase;
 use crate::stone::{Hint, Region};
 
 /// A scattering at `from`: `remaining` directions to follow as branches, then the path's own.
@@ -31,10 +26,18 @@ pub(super) struct Scattering {
 }
 
 impl Scattering {
+    /// The phase function it draws from.
+    fn phase(&self) -> Phase {
+        Phase {
+            incoming: self.incoming,
+            g: self.g,
+        }
+    }
+
     /// How a direction `d` drawn from the phase was drawn, for its escape's balance.
     fn drawn(&self, d: Vec3) -> Option<Drawn> {
         self.estimated.then(|| Drawn {
-            density: hg_phase(self.g, d.dot(self.incoming)),
+            density: self.phase().density(d),
             from: self.from,
             environment: true,
         })
@@ -69,7 +72,8 @@ impl Tracer<'_> {
         // skipped and the scattering's own draw weighs alone.
         let estimated = stone.cap.is_none() && stone.reach_bound(v.pos) >= MIN_REACH;
         if estimated {
-            let phase = |to: Vec3| hg_phase(g, to.dot(incoming));
+            let law = Phase { incoming, g };
+            let phase = |to: Vec3| law.eval(to);
             self.environment_at(&at, &phase, s);
             self.area_at(&at, &phase, s);
         }
@@ -100,7 +104,7 @@ impl Tracer<'_> {
     ) -> Step {
         if sc.remaining > 0 {
             sc.remaining -= 1;
-            let d = sample_hg(sc.incoming, sc.g, s.draws);
+            let d = sc.phase().sample(s.draws);
             let child = Vertex {
                 pos: v.pos,
                 dir: d,
@@ -120,7 +124,11 @@ impl Tracer<'_> {
                 at: WaitingAt::Scattering(sc),
             }));
         }
-        let dir = sample_hg(v.dir, sc.g, s.draws);
+        let dir = Phase {
+            incoming: v.dir,
+            g: sc.g,
+        }
+        .sample(s.draws);
         v.drawn = sc.drawn(dir);
         v.dir = dir;
         self.go_on(v, s.draws)
@@ -193,14 +201,16 @@ impl Tracer<'_> {
         };
         self.light_at_back(&at, s);
         let estimated = self.stone.cap.is_none();
+        // The backing's reflectance is in the weight already.
+        let law = Lambert { albedo: 1.0 };
         if estimated {
-            let lambert = |to: Vec3| to.z.max(0.0) / PI;
+            let lambert = |to: Vec3| law.eval(to);
             self.environment_at(&at, &lambert, s);
             self.area_at(&at, &lambert, s);
         }
-        v.dir = cosine_about_z(s.draws);
+        v.dir = law.sample(s.draws);
         v.drawn = estimated.then(|| Drawn {
-            density: v.dir.z / PI,
+            density: law.density(v.dir),
             from: v.pos,
             environment: true,
         });

@@ -75,8 +75,8 @@ use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, Ray};
 use crate::lights::emitters;
 use crate::lights::{AreaLight, Environment};
 use crate::optics::BraggLine;
+use crate::scatter::{Phase, Scatter};
 use crate::spectrum::SpectralImage;
-use crate::stone::body::{hg_cos, hg_phase};
 use crate::stone::{ActiveLine, Hint, PathToLight, Region, Span, Stone};
 use glam::Vec3;
 
@@ -492,7 +492,11 @@ impl<'a> Tracer<'a> {
             return;
         };
         // π × E × phase: light travelling along −to_light turned into −dir.
-        let phase = hg_phase(self.stone.potch.anisotropy, to_light.dot(dir));
+        let phase = Phase {
+            incoming: dir,
+            g: self.stone.potch.anisotropy,
+        }
+        .eval(to_light);
         self.add_towards(
             at,
             to_light,
@@ -550,32 +554,6 @@ impl<'a> Tracer<'a> {
         );
         (t > 1e-6).then_some((t, notches))
     }
-}
-
-/// A new direction after scattering a path travelling along `dir` by the Henyey–Greenstein
-/// phase of anisotropy `g`.
-fn sample_hg(dir: Vec3, g: f32, sampler: &mut PathSampler) -> Vec3 {
-    let cos = hg_cos(f64::from(g), sampler.uniform()) as f32;
-    let sin = (1.0 - cos * cos).max(0.0).sqrt();
-    let phi = 2.0 * PI * sampler.uniform_f32();
-    let (t, b) = dir.any_orthonormal_pair();
-    (dir * cos + (t * phi.cos() + b * phi.sin()) * sin).normalize()
-}
-
-/// A direction drawn with density `cos θ / π` about +z.
-fn cosine_about_z(sampler: &mut PathSampler) -> Vec3 {
-    let r = sampler.uniform_f32().sqrt();
-    let phi = 2.0 * PI * sampler.uniform_f32();
-    Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - r * r).max(0.0).sqrt())
-}
-
-/// A normal drawn about `n` with a Gaussian tilt of standard deviation `sigma` (radians).
-fn sample_lobe(n: Vec3, sigma: f32, sampler: &mut PathSampler) -> Vec3 {
-    let u = (1.0 - sampler.uniform_f32()).max(1e-12);
-    let alpha = sigma * (-2.0 * u.ln()).sqrt();
-    let phi = 2.0 * PI * sampler.uniform_f32();
-    let (t, b) = n.any_orthonormal_pair();
-    (n * alpha.cos() + (t * phi.cos() + b * phi.sin()) * alpha.sin()).normalize()
 }
 
 #[cfg(test)]

@@ -28,7 +28,8 @@ use super::{CameraSample, Estimate, Tracer, EPSILON_MM};
 use crate::geometry::fresnel_dielectric;
 use crate::geometry::refracted_entry;
 use crate::geometry::LightSource;
-use crate::stone::{angle_between, ActiveLine};
+use crate::scatter::{Mosaic, Scatter};
+use crate::stone::ActiveLine;
 
 use crate::lights::AreaLight;
 
@@ -57,18 +58,6 @@ pub(super) struct Drawn {
     pub from: Vec3,
     /// Whether the environment was also sampled there.
     pub environment: bool,
-}
-
-/// The density over normals (per steradian) of [`super::sample_lobe`] at angle `alpha` from
-/// the family normal: the Rayleigh law of the tilt over `2π sin α`.
-pub(super) fn lobe_density(alpha: f32, sigma: f32) -> f32 {
-    let gauss =
-        (-0.5 * (alpha / sigma).powi(2)).exp() / (2.0 * std::f32::consts::PI * sigma * sigma);
-    if alpha > 1e-4 {
-        gauss * alpha / alpha.sin()
-    } else {
-        gauss
-    }
 }
 
 impl Tracer<'_> {
@@ -225,9 +214,12 @@ impl Tracer<'_> {
         for (line, &p_pick) in lines.iter().zip(pick) {
             // The branch's own law: the lobe about the normal at the incidence's angle.
             let sigma = self.stone.lobe_sigma(line.kind, -dir.dot(line.normal));
-            let alpha = angle_between(h, line.normal);
+            let law = Mosaic {
+                normal: line.normal,
+                sigma,
+            };
             // The reflected direction's density: over normals, over 4 cos θ_h.
-            let lobe = lobe_density(alpha, sigma) / (4.0 * cos_h);
+            let lobe = law.density(h) / (4.0 * cos_h);
             if lobe <= 0.0 {
                 continue;
             }
@@ -295,9 +287,12 @@ impl Tracer<'_> {
             return None;
         }
         let sigma = self.stone.lobe_sigma(line.kind, -dir.dot(line.normal));
-        let alpha = angle_between(h, line.normal);
+        let law = Mosaic {
+            normal: line.normal,
+            sigma,
+        };
         Some(Drawn {
-            density: p_pick as f32 * lobe_density(alpha, sigma) / (4.0 * cos_h),
+            density: p_pick as f32 * law.density(h) / (4.0 * cos_h),
             from,
             environment: false,
         })

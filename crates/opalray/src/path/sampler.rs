@@ -24,6 +24,7 @@
 //! [`Sampling::Independent`] (the images of the PCG streams the Sobol points replaced).
 
 use crate::sampling::{mix64, stage, Rng};
+use crate::scatter::Draws;
 
 /// Most samples per pixel a sequence holds (`sobol_burley`'s length).
 pub const MAX_SAMPLES: u32 = 1 << 16;
@@ -70,6 +71,16 @@ pub struct PathSampler {
     at: Mark,
     /// The independent stream.
     stream: Rng,
+}
+
+impl Draws for PathSampler {
+    fn uniform_f32(&mut self) -> f32 {
+        PathSampler::uniform_f32(self)
+    }
+
+    fn uniform(&mut self) -> f64 {
+        PathSampler::uniform(self)
+    }
 }
 
 impl PathSampler {

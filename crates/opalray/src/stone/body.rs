@@ -23,6 +23,7 @@ use std::sync::{Mutex, OnceLock};
 
 use crate::geometry::fresnel_dielectric;
 use crate::sampling::{stage, Rng};
+pub use crate::scatter::{hg_cos, hg_phase};
 
 /// Walks of the stored calibration: R's standard error is below 0.5/√N = 0.0025.
 #[cfg(test)]
@@ -144,22 +145,6 @@ pub fn potch_albedo(tone: u8, g: f64, n: f64) -> f32 {
         c.insert(key, albedo);
     }
     albedo
-}
-
-/// A cosine of the scattering angle drawn from the Henyey–Greenstein phase function of
-/// anisotropy `g` by inversion (`u` uniform in [0, 1)).
-pub fn hg_cos(g: f64, u: f64) -> f64 {
-    if g.abs() < 1e-4 {
-        return 1.0 - 2.0 * u;
-    }
-    let s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
-    ((1.0 + g * g - s * s) / (2.0 * g)).clamp(-1.0, 1.0)
-}
-
-/// The Henyey–Greenstein phase function of anisotropy `g` at cosine `cos`, per steradian.
-pub fn hg_phase(g: f32, cos: f32) -> f32 {
-    let denom = (1.0 + g * g - 2.0 * g * cos).max(1e-6);
-    (1.0 - g * g) / (4.0 * std::f32::consts::PI * denom * denom.sqrt())
 }
 
 #[cfg(test)]

@@ -7,8 +7,6 @@
 //! The path tracer's next-event estimation and the stored method's light pass call the same
 //! functions.
 
-use std::f32::consts::PI;
-
 use glam::Vec3;
 
 use super::{ActiveLine, Hint, Span, Stone};
@@ -16,6 +14,7 @@ use crate::geometry::refracted_entry;
 use crate::geometry::LightSource;
 use crate::geometry::{fresnel_dielectric, refract, Ray};
 use crate::optics::BraggLine;
+use crate::scatter::Mosaic;
 
 /// Offset kept between the back plane and an entry point that counts as from above, mm.
 const BACK_EPSILON_MM: f32 = 1e-4;
@@ -214,7 +213,11 @@ impl Stone {
     /// the Gaussian holds `1 − e^(−sigmas²/2)` of the lobe within them).
     pub fn lobe_density_within(&self, line: &ActiveLine, h: Vec3, cos_h: f32, sigmas: f32) -> f32 {
         let sigma = self.lobe_sigma(line.kind, cos_h);
-        gaussian_density(angle_between(h, line.normal), sigma, sigmas)
+        Mosaic {
+            normal: line.normal,
+            sigma,
+        }
+        .small_angle_density(h, sigmas)
     }
 
     /// [`Stone::lobe_density`] for a lamp of angular radius `lamp_radius_rad` (outside): the
@@ -231,22 +234,10 @@ impl Stone {
     ) -> f32 {
         let lamp = 0.25 * lamp_radius_rad / self.n_eff;
         let sigma = self.lobe_sigma(line.kind, cos_h).hypot(lamp);
-        gaussian_density(angle_between(h, line.normal), sigma, LOBE_SIGMAS)
-    }
-}
-
-/// The angle between the unit vectors `a` and `b`, radians, accurate near 0 (`2 asin(|a − b|/2)`;
-/// `acos` of the dot product loses everything under ~3·10⁻⁴ rad in f32).
-pub fn angle_between(a: Vec3, b: Vec3) -> f32 {
-    2.0 * (0.5 * (a - b).length()).min(1.0).asin()
-}
-
-/// The density over normals (per steradian) of a Gaussian tilt of standard deviation `sigma`
-/// at angle `alpha`, in the small-angle form `e^(−α²/2σ²) / (2πσ²)`; zero beyond `sigmas` σ.
-fn gaussian_density(alpha: f32, sigma: f32, sigmas: f32) -> f32 {
-    if alpha < sigmas * sigma {
-        (-0.5 * (alpha / sigma).powi(2)).exp() / (2.0 * PI * sigma * sigma)
-    } else {
-        0.0
+        Mosaic {
+            normal: line.normal,
+            sigma,
+        }
+        .small_angle_density(h, LOBE_SIGMAS)
     }
 }

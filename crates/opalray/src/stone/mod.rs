@@ -31,12 +31,13 @@ use crate::geometry::{Ellipsoid, Outline, Ray};
 use crate::optics::{BraggLine, Families};
 use crate::scene::{Backing, Pattern, Scene};
 
+pub use crate::scatter::angle_between;
 use balls::Balls;
 use crystal::{domain_normals, Crystal};
 use cut::Surfaces;
 use grains::Grains;
 use layout::lay_out;
-pub use light_path::{angle_between, PathToLight, LOBE_SIGMAS};
+pub use light_path::{PathToLight, LOBE_SIGMAS};
 use lines::{normal_blocks, NormalBlock, SlotTable};
 use rough::Outlines;
 

@@ -34,8 +34,8 @@ use super::StoredSetup;
 use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
 use crate::optics::BraggLine;
 use crate::path::Lines;
+use crate::scatter::{Phase, Scatter};
 use crate::scene::Backing;
-use crate::stone::body::hg_phase;
 use crate::stone::{ActiveLine, Boundary, Hint, Region, Span, Stone};
 
 /// Offset of a point past a domain's face, mm (0.1 µm).
@@ -240,7 +240,11 @@ impl<'a> Gather<'a> {
                 // The share scattered in this piece, e^−τ (1 − e^−σΔ), of which `albedo`
                 // survives; π E p: light along −to_light turned into −dir.
                 let share = (-tau).exp() * (1.0 - (-depth).exp()) * albedo;
-                let phase = hg_phase(g, a.to_light.dot(ray.direction));
+                let law = Phase {
+                    incoming: ray.direction,
+                    g,
+                };
+                let phase = law.eval(a.to_light);
                 sums.white += f64::from(weight * share * PI * a.irradiance * phase);
             }
             tau += depth;
