@@ -13,7 +13,7 @@ pub use ellipsoid::Ellipsoid;
 pub use grid::{CellGrid, Segment};
 pub use light::{refracted_entry, LightSource};
 pub use outline::{Cabochon, Outline, Surface};
-pub use surface::{fresnel_dielectric, reflect, refract};
+pub use surface::{fresnel_dielectric, fresnel_dielectric_sp, reflect, refract};
 
 use glam::Vec3;
 

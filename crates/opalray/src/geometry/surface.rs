@@ -25,15 +25,23 @@ pub fn refract(d: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> Option<Vec3> {
 /// Unpolarised Fresnel reflectance `(R_s + R_p) / 2` for light meeting the interface at
 /// `cos_i = |cos θ_i|` from index `eta_i` into `eta_t`; 1 beyond the critical angle.
 pub fn fresnel_dielectric(cos_i: f32, eta_i: f32, eta_t: f32) -> f32 {
+    let (rs, rp) = fresnel_dielectric_sp(cos_i, eta_i, eta_t);
+    0.5 * (rs + rp)
+}
+
+/// Fresnel reflectances `(R_s, R_p)` of s- and p-polarised light (relative to the plane of
+/// incidence) meeting the interface at `cos_i = |cos θ_i|` from index `eta_i` into `eta_t`;
+/// both 1 beyond the critical angle. The transmittances are `1 − R_s`, `1 − R_p`.
+pub fn fresnel_dielectric_sp(cos_i: f32, eta_i: f32, eta_t: f32) -> (f32, f32) {
     let cos_i = cos_i.clamp(0.0, 1.0);
     let sin2_t = (eta_i / eta_t).powi(2) * (1.0 - cos_i * cos_i);
     if sin2_t >= 1.0 {
-        return 1.0;
+        return (1.0, 1.0);
     }
     let cos_t = (1.0 - sin2_t).sqrt();
     let rs = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
     let rp = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
-    0.5 * (rs * rs + rp * rp)
+    (rs * rs, rp * rp)
 }
 
 #[cfg(test)]
@@ -55,6 +63,16 @@ mod tests {
         let expected = 0.5 * (2.0 * theta_b).cos().powi(2);
         let r = fresnel_dielectric(theta_b.cos(), 1.0, 1.5);
         assert!((r - expected).abs() < 1e-5, "{r} vs {expected}");
+    }
+
+    #[test]
+    fn brewster_angle_splits_into_s_and_p() {
+        // At tan θ_B = n2/n1: R_p = 0 and R_s = ((n² − 1)/(n² + 1))² (Born & Wolf §1.5.3),
+        // 0.147929 for n = 1.5.
+        let theta_b = (1.5f32).atan();
+        let (rs, rp) = fresnel_dielectric_sp(theta_b.cos(), 1.0, 1.5);
+        assert!(rp < 1e-7, "R_p {rp}");
+        assert!((rs - 0.147_929).abs() < 1e-5, "R_s {rs}");
     }
 
     #[test]

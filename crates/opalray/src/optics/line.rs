@@ -101,12 +101,24 @@ impl BraggLine {
         !(beyond_band && beyond_lobes)
     }
 
-    /// Unpolarised reflectance at `wavelength_nm`.
+    /// Unpolarised reflectance at `wavelength_nm`: the mean of
+    /// [`BraggLine::reflectance_sp`]'s two.
     #[inline]
     pub fn reflectance(&self, wavelength_nm: f64) -> f64 {
+        let (rs, rp) = self.reflectance_sp(wavelength_nm);
+        0.5 * (rs + rp)
+    }
+
+    /// Reflectances of s- and p-polarised light at `wavelength_nm`, `(R_s, R_p)`, each in
+    /// [0, 1] (relative to the plane holding the incident direction and the planes' normal).
+    #[inline]
+    pub fn reflectance_sp(&self, wavelength_nm: f64) -> (f64, f64) {
         let ratio = self.center_nm / wavelength_nm;
         let sigma = PI * self.layers * (ratio - 1.0);
-        0.5 * (grating_r(self.nu_s * ratio, sigma) + grating_r(self.nu_p * ratio, sigma))
+        (
+            grating_r(self.nu_s * ratio, sigma),
+            grating_r(self.nu_p * ratio, sigma),
+        )
     }
 
     /// Peak reflectance (unpolarised), `(tanh² ν_s + tanh² ν_p)/2`.

@@ -63,6 +63,7 @@ pub mod noise;
 mod notches;
 pub mod orders;
 pub mod passes;
+pub mod polar;
 pub mod sampler;
 pub mod spectral;
 mod vertex;
