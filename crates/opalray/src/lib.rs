@@ -14,6 +14,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod cancel;
 pub mod color;
 pub mod denoise;
 pub mod error;
