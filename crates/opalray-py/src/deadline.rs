@@ -118,7 +118,8 @@ impl Stage {
 }
 
 /// Run `job` on a new thread and wait for it without the GIL, checking for signals: a
-/// `KeyboardInterrupt` returns at once (the job finishes in the background and is dropped).
+/// `KeyboardInterrupt` returns at once (the job's stages are [cancelled](Stage::cancel) and it
+/// is dropped).
 pub(crate) fn run_detached<T: Send + 'static>(
     py: Python<'_>,
     job: impl FnOnce() -> T + Send + 'static,
