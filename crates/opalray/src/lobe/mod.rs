@@ -410,7 +410,12 @@ fn fill_table<T>(
     let (nx, ny) = grid;
     let read = read_points(grid, READ_RADIUS);
     let mut values = vec![0.0f32; nx * ny];
+    // A stopped render fills no more rows (its table is never read).
+    let cancel = crate::cancel::Cancel::current();
     values.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+        if cancel.is_cancelled() {
+            return;
+        }
         let mut t = tracer();
         for (i, v) in row.iter_mut().enumerate() {
             if read[j * nx + i] {
