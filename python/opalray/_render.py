@@ -324,9 +324,9 @@ def render(
     ``TimeoutError`` naming it, except the path integrator's passes after the first, which stop
     after the pass in which the time has passed; the path integrator then renders up to 65536
     samples per pixel unless ``overrides`` set ``integrator={"spp": N}``, and
-    ``image.stats["path"]`` says how many it reached. An overrun stage cannot be stopped: it
-    finishes in the background, on the cores, and is dropped. The GIL is released while the
-    core works; Ctrl-C interrupts the wait.
+    ``image.stats["path"]`` says how many it reached. An overrun stage is stopped within a
+    fraction of a second (its cores freed) and dropped. The GIL is released while the core
+    works; Ctrl-C interrupts the wait and stops the work the same way.
     """
     scene = as_scene(scene, **overrides)
     path = scene["integrator"]["method"] == "path"

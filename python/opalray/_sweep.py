@@ -17,7 +17,7 @@ import numpy as np
 
 from . import _opalray
 from ._notebook import animation_html
-from ._render import Progress, Stages, _progress_of, prepare
+from ._render import Progress, Stages, _progress_of
 from ._scene import Scene, as_scene
 
 __all__ = ["Sweep", "sweep", "map", "sweep_angles"]
@@ -32,12 +32,14 @@ _prepared_lock = threading.Lock()
 _PREPARED_KEPT = 4
 
 
-def _stages_for(scene: Scene) -> Stages:
+def _stages_for(scene: Scene, time_left: float | None = None) -> Stages:
+    """The prepared ``scene`` of this process, prepared now (within ``time_left`` seconds,
+    ``TimeoutError`` past them) if it is not kept."""
     key = scene.to_toml()
     with _prepared_lock:
         stages = _prepared.get(key)
     if stages is None:
-        stages = prepare(scene)
+        stages = Stages(_opalray.prepare(scene.to_dict(), time_left), scene)
         with _prepared_lock:
             while len(_prepared) >= _PREPARED_KEPT:
                 _prepared.pop(next(iter(_prepared)))
@@ -167,11 +169,98 @@ class _Deadline:
             raise self.passed(stage) from None
 
 
-def _render_frame(scene: Scene, moves: str, value: float, threads: int | None = None) -> bytes:
+@dataclass(frozen=True)
+class _Stopped:
+    """A Dask task's answer when the sweep's limit passed before or during it (an answer, not
+    an error, so that the workers log nothing); ``in_preparation``: it passed while the task
+    prepared the stone."""
+
+    in_preparation: bool
+
+
+def _time_left(deadline_s: float | None) -> float | None:
+    """Seconds left to ``deadline_s`` (``time.time()`` seconds; None: no limit); raises
+    ``TimeoutError`` if none are."""
+    if deadline_s is None:
+        return None
+    left = deadline_s - time.time()
+    if left <= 0:
+        raise TimeoutError("the limit passed before the stage began")
+    return left
+
+
+def _render_frame(
+    scene: Scene, moves: str, value: float, threads: int | None = None, deadline_s: float | None = None
+) -> bytes | _Stopped:
     """One sweep frame's display codes: a Dask task. It renders on ``threads`` threads, by
     default as many as its worker has, so that single-threaded workers run one frame per
-    core instead of each spreading its frame over every core of the machine."""
-    return _render_posed(_stages_for(scene), moves, value, threads or _worker_threads())
+    core instead of each spreading its frame over every core of the machine. Under a
+    ``time_limit`` the task is given the time left to the sweep's ``deadline_s`` (wall-clock
+    seconds, ``time.time()``) for its preparation and for its frame: past it, its stage stops
+    (freeing the worker's cores) and it answers ``_Stopped``."""
+    try:
+        stages = _stages_for(scene, _time_left(deadline_s))
+    except TimeoutError:
+        return _Stopped(in_preparation=True)
+    try:
+        return _render_posed(stages, moves, value, threads or _worker_threads(), _time_left(deadline_s))
+    except TimeoutError:
+        return _Stopped(in_preparation=False)
+
+
+def _sweep_on_dask(
+    client: Any, scene: Scene, moves: str, angles: list[float], missing: list[int],
+    deadline: _Deadline, finish: Callable[[int, bytes], None],
+) -> None:
+    """Render the ``missing`` frames on ``client``'s cluster, one task per frame, each handed
+    to ``finish`` as it completes. Under ``deadline``'s limit each task gets the time left, and
+    past it the frames not finished are cancelled and ``TimeoutError`` names the stage
+    (the stone's preparation where the first task to stop stopped in it, else the first
+    frame not finished)."""
+    from dask.distributed import as_completed
+    from distributed import TimeoutError as DaskTimeoutError
+
+    n = len(angles)
+    left = deadline.left("the stone's preparation")
+    deadline_s = None if left is None else time.time() + left
+    # A key of its own (hash=False): a content-hashed key can name data that the last
+    # sweep's release is still deleting ("lost dependencies").
+    scene_future = client.scatter(scene, broadcast=True, hash=False)
+    tail, tail_threads = _tail_split(client, len(missing))
+    body = missing[: len(missing) - tail]
+    futures = {
+        client.submit(_render_frame, scene_future, moves, angles[k], None, deadline_s, pure=False): k
+        for k in body
+    }
+    # The tail after the rest (a lower priority), each frame on more threads.
+    futures.update({
+        client.submit(_render_frame, scene_future, moves, angles[k], tail_threads, deadline_s, pure=False,
+                      priority=-1): k
+        for k in missing[len(body):]
+    })
+    pending = set(futures.values())
+    stopped: str | None = None  # the stage the limit passed in
+    try:
+        for future in as_completed(futures, timeout=None if left is None else left + _DASK_GRACE_S):
+            k = futures[future]
+            codes = future.result()
+            if isinstance(codes, _Stopped):
+                first = f"frame {min(pending) + 1} of {n}"
+                stopped = "the stone's preparation" if codes.in_preparation else first
+                break
+            pending.discard(k)
+            finish(k, codes)
+    except DaskTimeoutError:  # no task answered in time
+        stopped = f"frame {min(pending) + 1} of {n}"
+    finally:
+        client.cancel([f for f, k in futures.items() if k in pending])
+    if stopped is not None:
+        raise deadline.passed(stopped)
+
+
+# How long past the limit a Dask sweep waits for its tasks' own TimeoutError (which names the
+# stage) before it names the first unfinished frame itself.
+_DASK_GRACE_S = 0.5
 
 
 def _tail_split(client: Any, frames: int) -> tuple[int, int | None]:
@@ -381,9 +470,10 @@ def sweep(
     an animation (``.gif``, or ``.png`` for APNG), byte for byte those of ``opalray sweep``.
     ``progress``: a callable ``(stage, done, total)`` per frame, or ``True`` for a tqdm bar.
     ``time_limit``: seconds, counted from the call, bounding the stone's preparation and every
-    frame (as ``opalray sweep --time-limit``; not with ``client``): past it ``TimeoutError``
-    names the stage, no sheet or animation is written, and the frames finished in ``out_dir``
-    stay there for the same call to reuse.
+    frame (as ``opalray sweep --time-limit``; with ``client`` each task is given the time
+    left, and the frames not finished when it is spent are cancelled): past it
+    ``TimeoutError`` names the stage, no sheet or animation is written, and the frames
+    finished in ``out_dir`` stay there for the same call to reuse.
     """
     start = time.perf_counter()
     scene = as_scene(scene, **overrides)
@@ -394,8 +484,6 @@ def sweep(
     width, height = scene["render"]["width"], scene["render"]["height"]
     n = len(angles)
     deadline = _Deadline(time_limit, start, None if out_dir is None else os.fspath(out_dir))
-    if time_limit is not None and client is not None:
-        raise ValueError("time_limit: not with client= (the cluster schedules the frames); drop one of them")
 
     # Where the files go, and which frames are already there.
     frame_paths: list[str] = []
@@ -450,24 +538,7 @@ def sweep(
                     )
                     finish(k, codes)
         elif missing:
-            from dask.distributed import as_completed
-
-            # A key of its own (hash=False): a content-hashed key can name data that the last
-            # sweep's release is still deleting ("lost dependencies").
-            scene_future = client.scatter(scene, broadcast=True, hash=False)
-            tail, tail_threads = _tail_split(client, len(missing))
-            body = missing[: len(missing) - tail]
-            futures = {
-                client.submit(_render_frame, scene_future, moves, angles[k], pure=False): k for k in body
-            }
-            # The tail after the rest (a lower priority), each frame on more threads.
-            futures.update({
-                client.submit(_render_frame, scene_future, moves, angles[k], tail_threads, pure=False,
-                              priority=-1): k
-                for k in missing[len(body):]
-            })
-            for future in as_completed(futures):
-                finish(futures[future], future.result())
+            _sweep_on_dask(client, scene, moves, angles, missing, deadline, finish)
     finally:
         close()
 

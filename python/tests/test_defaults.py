@@ -1,7 +1,9 @@
 """What a new user meets first: one default scene in Python and in every command, the list of
 presets, progress per pass and a time limit."""
 
+import _thread
 import subprocess
+import threading
 import time
 
 import numpy as np
@@ -81,3 +83,32 @@ def test_a_time_limit_bounds_every_method_and_the_stones_preparation():
     # bytes it renders without it.
     paper = opalray.Scene.preset("paper").replace(render={"width": 16, "height": 12})
     np.testing.assert_array_equal(opalray.render(paper, time_limit=60).srgb8, opalray.render(paper).srgb8)
+
+
+def test_a_stage_stopped_by_its_time_limit_frees_the_cores():
+    # Orientations correlated over 0.25 mm: some 140 000 parent grains, many seconds of
+    # growth on every core; the limit passes early in it.
+    slow = opalray.Scene.preset("black-opal").replace(
+        render={"width": 8, "height": 6},
+        domains={"orientation": "correlated", "correlation_mm": 0.25},
+    )
+    with pytest.raises(TimeoutError):
+        opalray.render(slow, integrator={"method": "lobe"}, time_limit=0.3)
+    _assert_idle_after_the_stop()
+    # Ctrl-C stops it the same way.
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        opalray.render(slow, integrator={"method": "lobe"})
+    timer.join()
+    _assert_idle_after_the_stop()
+
+
+def _assert_idle_after_the_stop():
+    """The stopped work returns within a fraction of a second; after that the process spends
+    no more CPU time (a growth running on would spend about a second per core)."""
+    time.sleep(0.3)
+    before = time.process_time()
+    time.sleep(1.0)
+    used = time.process_time() - before
+    assert used < 0.2, f"{used:.2f} s of CPU time in the second after the stop"

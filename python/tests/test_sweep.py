@@ -265,3 +265,34 @@ def test_a_time_limit_bounds_the_sweep_and_keeps_the_finished_frames(tmp_path, s
         with pytest.raises(ValueError, match="time_limit"):
             opalray.sweep(small, ANGLES, time_limit=bad, out_dir=tmp_path / "never")
     assert not (tmp_path / "never").exists()
+
+
+def test_a_time_limit_bounds_a_dask_sweep_and_keeps_the_finished_frames(tmp_path, dask_client):
+    import os
+    import time
+
+    # Path-traced frames of a fraction of a second each, on two single-threaded workers: the
+    # limit passes while some are rendering (or, on a busy machine, in the preparation).
+    gem = opalray.Scene.preset("black-opal").replace(
+        render={"width": 8, "height": 6}, integrator={"method": "path", "spp": 16}
+    )
+    tilts = [-40.0 + 7.0 * k for k in range(12)]
+    start = time.monotonic()
+    with pytest.raises(TimeoutError, match=r"^time_limit 2\.0: the limit passed during (frame|the stone)") as err:
+        opalray.sweep(gem, tilt_deg=tilts, time_limit=2.0, client=dask_client, out_dir=tmp_path / "gem")
+    assert time.monotonic() - start < 3.5, err.value
+    assert "\n" not in str(err.value) and "--" not in str(err.value), err.value
+    kept = sorted(os.listdir(tmp_path / "gem"))
+    assert "sweep.png" not in kept and len(kept) < 2 + len(tilts), kept
+    # The workers' tasks were given the time left: nothing runs on after the limit.
+    time.sleep(0.3)
+    before = time.process_time()
+    time.sleep(1.0)
+    assert time.process_time() - before < 0.3
+    # The frames kept are whole: the same call renders only the rest, and gives the frames
+    # of a local sweep never stopped.
+    resumed = opalray.sweep(gem, tilt_deg=tilts, client=dask_client, out_dir=tmp_path / "gem")
+    assert len(resumed.rendered) == 2 + len(tilts) - len(kept)
+    whole = opalray.sweep(gem, tilt_deg=tilts)
+    for a, b in zip(resumed.frames, whole.frames):
+        np.testing.assert_array_equal(a, b)

@@ -6,14 +6,17 @@
 //! ([`Stage::enter`]) and when what is left keeps to the limit itself ([`Stage::release`]: the
 //! path tracer's passes after the first). A stage not done by the deadline raises
 //! `TimeoutError` naming the stage and the fix. An abandoned work (the deadline, or Ctrl-C)
-//! cannot be stopped from outside: it finishes in the background, its result dropped, and
-//! calls back into Python no more ([`Stage::abandoned`]).
+//! is stopped: the work runs under the call's [`Cancel`] flag, set when the caller gives up,
+//! and the core's stages look at it per grain, row or tile, so the work returns within a
+//! fraction of a second and frees its cores; its result is dropped, and it calls back into
+//! Python no more ([`Stage::abandoned`]).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{channel, RecvTimeoutError};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use opalray::cancel::Cancel;
 use pyo3::exceptions::{PyRuntimeError, PyTimeoutError, PyValueError};
 use pyo3::prelude::*;
 
@@ -72,6 +75,8 @@ struct Shared {
     released: AtomicBool,
     /// The caller has stopped waiting: the result will be dropped.
     abandoned: AtomicBool,
+    /// Set with `abandoned`: stops the core's stages.
+    cancel: Cancel,
 }
 
 /// The work's side: tells the waiting thread where the work stands.
@@ -95,13 +100,26 @@ impl Stage {
         self.0.abandoned.load(Ordering::SeqCst)
     }
 
+    /// The flag that stops the work (set when the caller stops waiting); the work already
+    /// runs under it on its own thread, a pool it hands work to must [scope](Cancel::scope) it.
+    pub fn cancel(&self) -> &Cancel {
+        &self.0.cancel
+    }
+
+    /// The caller stops waiting: the work calls back no more and its stages stop.
+    fn abandon(&self) {
+        self.0.abandoned.store(true, Ordering::SeqCst);
+        self.0.cancel.cancel();
+    }
+
     fn name(&self) -> &'static str {
         *self.0.stage.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
 
 /// Run `job` on a new thread and wait for it without the GIL, checking for signals: a
-/// `KeyboardInterrupt` returns at once (the job finishes in the background and is dropped).
+/// `KeyboardInterrupt` returns at once (the job's stages are [cancelled](Stage::cancel) and it
+/// is dropped).
 pub(crate) fn run_detached<T: Send + 'static>(
     py: Python<'_>,
     job: impl FnOnce() -> T + Send + 'static,
@@ -122,12 +140,14 @@ pub(crate) fn run_within<T: Send + 'static>(
         stage: Mutex::new(first),
         released: AtomicBool::new(false),
         abandoned: AtomicBool::new(false),
+        cancel: Cancel::new(),
     }));
     let (tx, rx) = channel();
     let worker = stage.clone();
     std::thread::spawn(move || {
         // The receiver is gone only if the caller stopped waiting: nothing to report to.
-        let _ = tx.send(job(&worker));
+        let cancel = worker.cancel().clone();
+        let _ = tx.send(cancel.scope(|| job(&worker)));
     });
     let mut rx = rx;
     loop {
@@ -140,12 +160,12 @@ pub(crate) fn run_within<T: Send + 'static>(
             Ok(value) => return Ok(value),
             Err(RecvTimeoutError::Timeout) => {
                 if let Err(interrupt) = py.check_signals() {
-                    stage.0.abandoned.store(true, Ordering::SeqCst);
+                    stage.abandon();
                     return Err(interrupt);
                 }
                 let released = stage.0.released.load(Ordering::SeqCst);
                 if let Some(l) = bounded.filter(|l| !released && l.left().is_zero()) {
-                    stage.0.abandoned.store(true, Ordering::SeqCst);
+                    stage.abandon();
                     return Err(PyTimeoutError::new_err(format!(
                         "time_limit {}: the limit passed during {} (it counts from the call, \
                          the stone's preparation included); {FIX}",

@@ -46,7 +46,11 @@ fn run_on<T: Send + 'static>(
                 .num_threads(n.max(1))
                 .build()
                 .map_err(|e| PyRuntimeError::new_err(format!("threads {n}: {e}")))?;
-            run_within(py, limit, FRAME, move |_| pool.install(job))
+            // The pool's threads look at the call's cancel flag too.
+            run_within(py, limit, FRAME, move |stage| {
+                let cancel = stage.cancel().clone();
+                pool.install(move || cancel.scope(job))
+            })
         }
     }
 }

@@ -58,6 +58,9 @@ pub enum Error {
         /// The encoder's message.
         message: String,
     },
+    /// The caller stopped the work (a time limit passed, or an interrupt): nothing was made.
+    #[error("cancelled: the work was stopped before it ended")]
+    Cancelled,
 }
 
 /// Result with the core [`Error`].

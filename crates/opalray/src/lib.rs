@@ -17,6 +17,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod cancel;
 pub mod color;
 pub mod denoise;
 pub mod error;

@@ -311,6 +311,20 @@ impl Prepared {
         self.integrator().render(self, light_angle_deg, passes)
     }
 
+    /// [`Prepared::render_progressive`] under `cancel` (see [`crate::cancel`]): the frame, or
+    /// [`Error::Cancelled`](crate::error::Error::Cancelled) soon after `cancel` is set from
+    /// another thread (the rows, tiles and passes not yet begun are skipped).
+    pub fn render_cancellable(
+        &self,
+        light_angle_deg: f64,
+        passes: &Passes,
+        cancel: &crate::cancel::Cancel,
+    ) -> Result<Frame> {
+        let frame = cancel.scope(|| self.render_progressive(light_angle_deg, passes));
+        cancel.check()?;
+        Ok(frame)
+    }
+
     /// The scene's integrator.
     pub fn integrator(&self) -> &'static dyn crate::integrator::Integrator {
         crate::integrator::of(self.scene.integrator.method())

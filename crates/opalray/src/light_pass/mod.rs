@@ -218,6 +218,8 @@ pub fn trace_light(
     };
     // Each tile keeps its own ledger, and the ledgers are added in task order: the energy
     // figures, like the image, are the same at any thread count.
+    // A stopped pass takes no more tiles (its sums are never used).
+    let cancel = crate::cancel::Cancel::current();
     let mut ledgers: Vec<(u64, EnergyLedger)> = (0..rayon::current_num_threads())
         .into_par_iter()
         .map(|_| {
@@ -226,7 +228,7 @@ pub fn trace_light(
             let mut scratch = Scratch::default();
             loop {
                 let task = next_task.fetch_add(1, Ordering::Relaxed);
-                if task >= tasks {
+                if task >= tasks || cancel.is_cancelled() {
                     break;
                 }
                 let mut tile = spare

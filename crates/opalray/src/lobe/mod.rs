@@ -110,11 +110,16 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
     let mut xyz = vec![[0.0f32; 3]; w * h];
     let mut spectral = SpectralImage::new(w, h, grid);
     let spp = setup.spp.max(1) as usize;
+    // A stopped render traces no more rows (its image is never shown).
+    let cancel = crate::cancel::Cancel::current();
     // Every pixel's centre.
     xyz.par_chunks_mut(w)
         .zip(spectral.data.par_chunks_mut(w * bins))
         .enumerate()
         .for_each(|(y, (xyz_row, bins_row))| {
+            if cancel.is_cancelled() {
+                return;
+            }
             let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance, lit);
             for (x, (out, out_bins)) in xyz_row
                 .iter_mut()
@@ -135,6 +140,9 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
         .zip(edges.par_chunks(w))
         .enumerate()
         .for_each(|(y, ((xyz_row, bins_row), edge_row))| {
+            if cancel.is_cancelled() {
+                return;
+            }
             let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance, lit);
             // The centre's ray counts as one of the pixel's `spp`.
             let mut positions = vec![(0.0f32, 0.0f32); spp - 1];
@@ -402,7 +410,12 @@ fn fill_table<T>(
     let (nx, ny) = grid;
     let read = read_points(grid, READ_RADIUS);
     let mut values = vec![0.0f32; nx * ny];
+    // A stopped render fills no more rows (its table is never read).
+    let cancel = crate::cancel::Cancel::current();
     values.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+        if cancel.is_cancelled() {
+            return;
+        }
         let mut t = tracer();
         for (i, v) in row.iter_mut().enumerate() {
             if read[j * nx + i] {

@@ -187,10 +187,15 @@ fn trace_pass(
     let w = setup.width;
     let orders = Mutex::new(OrderSums::default());
     let bins = setup.spectral.grid.bins;
+    // A stopped pass traces no more rows (its image is never shown).
+    let cancel = crate::cancel::Cancel::current();
     sums.par_chunks_mut(w)
         .zip(spectral.par_chunks_mut(w * bins))
         .enumerate()
         .for_each(|(y, (row, row_bins))| {
+            if cancel.is_cancelled() {
+                return;
+            }
             let mut tracer = Tracer::new(stone, setup);
             let mut row_orders = OrderSums::default();
             for (x, px) in row.iter_mut().enumerate() {

@@ -197,8 +197,13 @@ impl Grains {
         // Weights no larger than 0.45 × the squared distance to the nearest other seed keep
         // every seed inside its own cell (w_i − w_j < |s_i − s_j|²), so no cell is empty.
         let reach = 2;
+        // A stopped growth skips the rest of its grains (its stone is never used).
+        let cancel = crate::cancel::Cancel::current();
         let nearest: Vec<f32> = (0..self.seeds.len() as u32)
             .map(|i| {
+                if cancel.is_cancelled() {
+                    return f32::INFINITY;
+                }
                 let s = self.seeds[i as usize];
                 let mut best = f32::INFINITY;
                 self.for_each_near(s, reach, |j| {
@@ -221,6 +226,9 @@ impl Grains {
         let neighbours: Vec<Vec<u32>> = (0..self.seeds.len() as u32)
             .into_par_iter()
             .map(|i| {
+                if cancel.is_cancelled() {
+                    return Vec::new();
+                }
                 let s = self.seeds[i as usize];
                 let mut candidates = Vec::new();
                 self.for_each_near(s, reach + 1, |j| {

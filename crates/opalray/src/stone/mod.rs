@@ -238,6 +238,7 @@ impl Stone {
         let semi_axes_mm = scene.body.box_semi_axes(scene.structure.semi_axes_mm);
         let axes = Vec3::from_array(semi_axes_mm.map(|v| v as f32));
         let (layout, domains) = lay_out(scene, axes)?;
+        crate::cancel::Cancel::check_current()?;
         let crystal = Crystal::new(scene, &domains);
         let surfaces = Surfaces::new(scene, axes);
         let n_eff = crystal.families.n_eff as f32;

@@ -149,7 +149,8 @@ impl StoredLight {
             cells: Vec::new(),
             notches: Vec::new(),
         };
-        // One row along x per task, in row order.
+        // One row along x per task, in row order; a stopped pass stores no more rows.
+        let cancel = crate::cancel::Cancel::current();
         let rows: Vec<Row> = (0..dims[1] * dims[2])
             .into_par_iter()
             .map_init(Scratch::default, |scratch, row| {
@@ -157,6 +158,9 @@ impl StoredLight {
                 let mut cells = Vec::new();
                 let mut notches = Vec::new();
                 for x in 0..dims[0] {
+                    if cancel.is_cancelled() {
+                        break;
+                    }
                     let p = light.centre([x, y, z]);
                     if !stone.shape.contains(p) {
                         continue;

@@ -95,10 +95,15 @@ pub fn gather_view(stone: &Stone, light: &StoredLight, setup: &StoredSetup) -> S
     let spp = setup.spp.max(1) as usize;
     let white_xyz = setup.spectral.white_xyz;
     let white_bins = &setup.spectral.white_bins;
+    // A stopped render gathers no more rows (its image is never shown).
+    let cancel = crate::cancel::Cancel::current();
     xyz.par_chunks_mut(w)
         .zip(spectral.data.par_chunks_mut(w * bins))
         .enumerate()
         .for_each(|(y, (xyz_row, bins_row))| {
+            if cancel.is_cancelled() {
+                return;
+            }
             let mut gather = Gather::new(stone, light, setup);
             let mut order = vec![0usize; spp];
             for (x, (out, out_bins)) in xyz_row

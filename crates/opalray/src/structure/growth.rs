@@ -239,13 +239,24 @@ impl Growth {
     }
 }
 
+/// Growth steps between two looks at the cancel flag (a step is a ball of a few hundred cells).
+pub const STEPS_PER_POLL: u32 = 64;
+
 /// Grow the cluster/void structure of `config` (paper §2.4): step until the void ratio is
 /// below `config.void_ratio`. Deterministic in `config` (seed included), at any thread
-/// count. Errors: an invalid `config`, named by its field.
+/// count. Errors: an invalid `config`, named by its field; [`Error::Cancelled`]
+/// (crate::error::Error::Cancelled) once this thread's [`Cancel`](crate::cancel::Cancel) is set
+/// (looked at every [`STEPS_PER_POLL`] steps).
 pub fn grow_structure(config: &StructureConfig) -> Result<Structure> {
+    let cancel = crate::cancel::Cancel::current();
     let mut growth = Growth::new(config)?;
+    let mut steps = 0u32;
     while !growth.is_done() {
         growth.step();
+        steps = steps.wrapping_add(1);
+        if steps % STEPS_PER_POLL == 0 {
+            cancel.check()?;
+        }
     }
     Ok(growth.finish())
 }

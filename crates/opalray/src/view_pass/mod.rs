@@ -80,6 +80,8 @@ pub fn trace_view(
     let mut image = SpectralImage::new(setup.width, setup.height, light.grid);
     // Square tiles of blocks, a strip of tiles per task (see `TILE_BLOCKS`).
     let side = TILE_BLOCKS * block;
+    // A stopped pass shades no more strips (its image is never shown).
+    let cancel = crate::cancel::Cancel::current();
     image
         .data
         .par_chunks_mut(side * setup.width * bins)
@@ -87,6 +89,9 @@ pub fn trace_view(
         .for_each_init(
             || BlockScratch::new(bins, block),
             |scratch, (strip, strip_rows)| {
+                if cancel.is_cancelled() {
+                    return;
+                }
                 for x_tile in (0..setup.width).step_by(side) {
                     let blocks = strip_rows.chunks_mut(block * setup.width * bins);
                     for (k, rows) in blocks.enumerate() {
