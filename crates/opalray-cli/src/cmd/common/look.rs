@@ -54,8 +54,8 @@ pub struct LookArgs {
     /// degrees, the lights staying with the camera (camera.tilt_deg).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub tilt: Option<f64>,
-    /// Path integrator: filter the noise after the last pass (integrator.denoise, on in the
-    /// gem presets): non-local means between the even and the odd samples, about a second
+    /// Path integrator: filter the noise after the last pass (integrator.denoise, off unless a
+    /// scene sets it): non-local means between the even and the odd samples, about a second
     /// per million pixels; much smoother at a small bias. The spectral image stays unfiltered.
     #[arg(long, conflicts_with = "no_denoise")]
     pub denoise: bool,
