@@ -157,7 +157,7 @@ impl PathStats {
                 "noise_estimate_is": "the filtered halves' difference: the noise left, not the filter's bias",
                 "firefly_cut_xyz": self.denoise_bias.map(|b| b.firefly_cut_xyz),
                 "bias_xyz": self.denoise_bias.map(|b| b.bias_xyz),
-                "bias_is": "filtered over raw mean X, Y, Z, less 1, on the same samples (the firefly cut's light returned about the fireflies)",
+                "bias_is": "filtered over raw mean X, Y, Z, less 1, on the same samples (the firefly cut's and the filter's residual returned about each pixel: zero to rounding)",
             })),
             "bragg_orders": self.bragg_orders.map(|b| b.to_json()),
         })
