@@ -43,6 +43,7 @@ fn setup(
         height: n,
         spp,
         max_depth: 64,
+        max_scatterings: 0,
         light: None,
         environment: Environment::new(
             &EnvironmentConfig {

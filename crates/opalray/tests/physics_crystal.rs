@@ -351,6 +351,7 @@ fn flashing_colour_follows_the_half_vector_law() {
                 height: 8,
                 spp: 4,
                 max_depth: 2,
+                max_scatterings: 0,
                 light: Some(PathLight {
                     source: LightSource::Directional {
                         direction: Vec3::new(-t.sin(), 0.0, -t.cos()),

@@ -37,6 +37,7 @@ fn furnace_y(
             height: n,
             spp,
             max_depth: 4096,
+            max_scatterings: 0,
             light: None,
             environment: Environment::uniform(),
             area_light: None,

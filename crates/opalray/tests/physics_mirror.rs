@@ -32,6 +32,7 @@ fn flash_y(stone: &Stone, sampler: &SpectralSampler, light_deg: f32) -> f64 {
             height: 4,
             spp: 16,
             max_depth: 8,
+            max_scatterings: 0,
             light: None,
             environment: Environment::new(&Default::default(), 0.0).unwrap(),
             area_light: Some(AreaLight::sphere(center, radius, 1.0)),

@@ -51,6 +51,7 @@ struct Reflection {
     p_pick: Option<f64>,
     weight: f32,
     level: u32,
+    scatterings: u32,
 }
 
 /// What a domain crossing leaves of the path that met it.
@@ -362,6 +363,7 @@ impl Tracer<'_> {
             splits_scattering: false,
             first_in_cap: false,
             level: path.level,
+            scatterings: path.scatterings,
         })
     }
 
@@ -432,6 +434,7 @@ impl OpenCrossing {
                 p_pick: Some(1.0),
                 weight: v.weight,
                 level: v.level + 1,
+                scatterings: v.scatterings,
             },
             goes_on: Some(1.0),
         }

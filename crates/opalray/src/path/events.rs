@@ -58,6 +58,7 @@ impl Tracer<'_> {
         let stone = self.stone;
         v.pos = ray.at(t);
         v.weight *= albedo;
+        v.scatterings += 1;
         v.lines.history.scattered();
         self.nee_hint = v.hint;
         let at = Estimate {
@@ -118,6 +119,7 @@ impl Tracer<'_> {
                 splits_scattering: false,
                 first_in_cap: v.region == Region::Cap,
                 level: v.level + 1,
+                scatterings: v.scatterings,
             };
             return Step::Fork(Box::new(Waiting {
                 vertex: std::mem::replace(v, child),

@@ -120,6 +120,7 @@ impl Prepared {
                 height: f.height,
                 spp: c.spp,
                 max_depth: c.max_depth,
+                max_scatterings: c.max_scatterings,
                 light: f.light,
                 environment: f.environment.clone(),
                 area_light: f.area_light,

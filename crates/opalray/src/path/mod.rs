@@ -45,7 +45,9 @@
 //!   that meet it. A domain adds
 //!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals convolved with
 //!   the lamp's disc ([`Stone::lamp_density`]), so that a mirror shows the lamp's disc.
-//! - Russian roulette below a weight of 0.02; at most `max_depth` events.
+//! - Russian roulette below a weight of 0.02; at most `max_depth` events besides the
+//!   scatterings in the body, and `max_scatterings` of those (0: they count among
+//!   `max_depth`'s).
 //!
 //! The loop over a path's events, its branches waiting on a small stack rather than recursing:
 //! `vertex.rs`; one method per event: `events.rs`, `crossing.rs`.
@@ -174,6 +176,9 @@ pub struct PathSetup<'a> {
     pub spp: u32,
     /// Most events per path.
     pub max_depth: u32,
+    /// Most scatterings in the body or a domain's haze on one path, counted apart from
+    /// `max_depth`; 0: counted among its events.
+    pub max_scatterings: u32,
     /// The scene's light, if any.
     pub light: Option<PathLight>,
     /// The environment.
@@ -326,6 +331,7 @@ impl<'a> Tracer<'a> {
             splits_scattering: true,
             first_in_cap: region == Region::Cap,
             level: 0,
+            scatterings: 0,
         };
         self.inside(start, s);
     }
@@ -351,10 +357,15 @@ impl<'a> Tracer<'a> {
         self.setup.light.map_or(0.0, |light| light.disc(dir))
     }
 
-    /// Whether a path goes on to its event `level` (counted from 0): within `max_depth`
-    /// events.
-    fn goes_deeper(&self, level: u32) -> bool {
-        level < self.setup.max_depth
+    /// Whether the path `v` goes on to its next event: within `max_depth` events besides its
+    /// scatterings in the body (a light body's light comes back after hundreds of them: the
+    /// weight's roulette ends those paths, not a count) and within `max_scatterings` of
+    /// those; with `max_scatterings` 0, within `max_depth` events of any kind.
+    fn goes_deeper(&self, v: &vertex::Vertex) -> bool {
+        match self.setup.max_scatterings {
+            0 => v.level < self.setup.max_depth,
+            most => v.level - v.scatterings < self.setup.max_depth && v.scatterings < most,
+        }
     }
 
     /// Whether the environment's draw of `out` at `from` finds the refracted path that leaves

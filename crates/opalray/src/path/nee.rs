@@ -339,6 +339,7 @@ pub(super) mod tests {
             height: 8,
             spp: 1,
             max_depth: 8,
+            max_scatterings: 0,
             light: None,
             environment,
             area_light,
@@ -455,6 +456,7 @@ pub(super) mod tests {
                 height: 8,
                 spp: 1,
                 max_depth: 8,
+                max_scatterings: 0,
                 light: Some(crate::path::PathLight {
                     source,
                     intensity: 1.0,

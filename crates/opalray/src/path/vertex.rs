@@ -46,6 +46,9 @@ pub(super) struct Vertex {
     pub first_in_cap: bool,
     /// Its event, counted from 0 (the sampler's event, [`super::sampler`]).
     pub level: u32,
+    /// How many of its events were scatterings in the body or a domain's haze: not counted
+    /// against `max_depth` ([`Tracer::goes_deeper`]).
+    pub scatterings: u32,
 }
 
 /// The segment of a path from its vertex to the boundary of its region.
@@ -132,7 +135,8 @@ impl Tracer<'_> {
     /// one per event level, so at most `max_depth`), each going on where its draws stood.
     pub(super) fn inside(&mut self, start: Vertex, s: &mut CameraSample) {
         let mut stack = std::mem::take(&mut self.waiting);
-        let bound = self.setup.max_depth as usize;
+        // One waiting path per counted level, and the camera path's first scattering.
+        let bound = self.setup.max_depth as usize + 1;
         let mut v = start;
         let mut step = Step::Go;
         loop {
@@ -167,7 +171,7 @@ impl Tracer<'_> {
 
     /// The next event of `v`: its segment walked to the first event, then that event.
     fn event(&mut self, v: &mut Vertex, s: &mut CameraSample) -> Step {
-        if !self.goes_deeper(v.level) {
+        if !self.goes_deeper(v) {
             return Step::End;
         }
         s.draws.begin_event(v.level);

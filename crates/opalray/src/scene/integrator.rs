@@ -10,7 +10,7 @@ pub use super::methods::{
 };
 
 use super::check_range;
-use super::methods::DEFAULT_SPP;
+use super::methods::{DEFAULT_MAX_SCATTERINGS, DEFAULT_SPP};
 use crate::error::{Error, Result};
 
 mod fields;
@@ -55,7 +55,14 @@ impl Method {
     pub fn fields(self) -> &'static [&'static str] {
         match self {
             Method::TwoPass => &[],
-            Method::Path => &["spp", "max_depth", "wavelengths", "seed", "denoise"],
+            Method::Path => &[
+                "spp",
+                "max_depth",
+                "max_scatterings",
+                "wavelengths",
+                "seed",
+                "denoise",
+            ],
             Method::Stored => &["spp", "seed", "cell_mm"],
             Method::Lobe => &["spp", "seed"],
         }
@@ -131,6 +138,9 @@ impl IntegratorConfig {
         if drop("max_depth") {
             f.max_depth = None;
         }
+        if drop("max_scatterings") {
+            f.max_scatterings = None;
+        }
         if drop("wavelengths") {
             f.wavelengths = None;
         }
@@ -202,6 +212,15 @@ impl IntegratorConfig {
                         format!("must be in 1..={hi}, got {v}; try {example}"),
                     ));
                 }
+            }
+            if c.max_scatterings > 1 << 16 {
+                return Err(Error::field(
+                    "integrator.max_scatterings",
+                    format!(
+                        "must be in 0..=65536, got {}; try {DEFAULT_MAX_SCATTERINGS}",
+                        c.max_scatterings
+                    ),
+                ));
             }
         }
         if let IntegratorConfig::Stored(c) = self {

@@ -12,12 +12,16 @@ pub(super) const DEFAULT_SPP: u32 = 16;
 /// methods' wavelength sampler is built with it (they draw no wavelengths).
 pub const DEFAULT_WAVELENGTHS: u32 = 4;
 
+/// `max_scatterings`' default: the weight's roulette ends a white body's paths long before.
+pub const DEFAULT_MAX_SCATTERINGS: u32 = 1 << 14;
+
 /// The path tracer's settings (`method = "path"`).
 ///
 /// | field         | unit | default | valid          |
 /// |---------------|------|---------|----------------|
 /// | `spp`         | –    | 16      | 1 ..= 65536    |
 /// | `max_depth`   | –    | 8       | 1 ..= 256      |
+/// | `max_scatterings` | – | 16384 | 0 ..= 65536  |
 /// | `wavelengths` | –    | 4       | 1 ..= 64       |
 /// | `seed`        | –    | 0       | 0 ..= 2⁶³ − 1  |
 /// | `denoise`     | –    | false   | true, false    |
@@ -27,8 +31,14 @@ pub struct PathConfig {
     /// Samples per pixel (camera rays, each uniform over the pixel: anti-aliasing); with a
     /// time limit, the most that are rendered.
     pub spp: u32,
-    /// Most scattering events (surface, domain or potch) on one path.
+    /// Most events (surface, domain reflection or crossing, backing) on one path, its
+    /// scatterings in the body or a domain's haze not counted: those go on until the path's
+    /// weight ends it by Russian roulette, so a light body reaches its tone at any depth.
     pub max_depth: u32,
+    /// Most scatterings in the body or a domain's haze on one path (a bound on a path's work,
+    /// far past what a white body needs); 0 counts them among `max_depth`'s events, as a
+    /// path tracer cut at a depth does.
+    pub max_scatterings: u32,
     /// Wavelengths drawn per contribution, stratified over its spectral proposal.
     pub wavelengths: u32,
     /// Seed of the sample streams, mixed with `structure.seed` (which grows the stone):
@@ -45,6 +55,7 @@ impl Default for PathConfig {
         PathConfig {
             spp: DEFAULT_SPP,
             max_depth: 8,
+            max_scatterings: DEFAULT_MAX_SCATTERINGS,
             wavelengths: DEFAULT_WAVELENGTHS,
             seed: 0,
             denoise: false,

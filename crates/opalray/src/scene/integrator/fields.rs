@@ -19,6 +19,8 @@ pub(super) struct IntegratorFields {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) max_depth: Option<u32>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) max_scatterings: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) wavelengths: Option<u32>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) seed: Option<u64>,
@@ -34,6 +36,7 @@ impl IntegratorFields {
         [
             ("spp", self.spp.is_some()),
             ("max_depth", self.max_depth.is_some()),
+            ("max_scatterings", self.max_scatterings.is_some()),
             ("wavelengths", self.wavelengths.is_some()),
             ("seed", self.seed.is_some()),
             ("cell_mm", self.cell_mm.is_some()),
@@ -86,6 +89,7 @@ impl TryFrom<IntegratorFields> for IntegratorConfig {
                 IntegratorConfig::Path(PathConfig {
                     spp,
                     max_depth: f.max_depth.unwrap_or(d.max_depth),
+                    max_scatterings: f.max_scatterings.unwrap_or(d.max_scatterings),
                     wavelengths: f.wavelengths.unwrap_or(d.wavelengths),
                     seed,
                     denoise: f.denoise.unwrap_or(d.denoise),
