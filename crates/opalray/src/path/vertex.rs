@@ -108,7 +108,9 @@ pub(super) struct Waiting {
     pub at: WaitingAt,
 }
 
-/// Where a path waits on its branch.
+/// Where a path waits on its branch. Its variants differ in size, but it lives boxed
+/// ([`Step::Fork`]) and at most `max_depth + 1` wait at once.
+#[allow(clippy::large_enum_variant)]
 pub(super) enum WaitingAt {
     /// At a crossing of its segment: the crossing's other branches, then the walk's spans.
     Crossing {

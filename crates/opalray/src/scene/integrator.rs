@@ -314,6 +314,7 @@ mod tests {
         let path = IntegratorConfig::Path(PathConfig {
             spp: 5,
             max_depth: 3,
+            max_scatterings: 100,
             wavelengths: 2,
             seed: 7,
             denoise: true,
