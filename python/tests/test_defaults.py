@@ -3,6 +3,7 @@ presets, progress per pass and a time limit."""
 
 import _thread
 import subprocess
+import signal
 import threading
 import time
 
@@ -95,12 +96,18 @@ def test_a_stage_stopped_by_its_time_limit_frees_the_cores():
     with pytest.raises(TimeoutError):
         opalray.render(slow, integrator={"method": "lobe"}, time_limit=0.3)
     _assert_idle_after_the_stop()
-    # Ctrl-C stops it the same way.
-    timer = threading.Timer(0.3, _thread.interrupt_main)
-    timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        opalray.render(slow, integrator={"method": "lobe"})
-    timer.join()
+    # Ctrl-C stops it the same way. Python's own SIGINT handler is put in place for it (as in
+    # a session): `interrupt_main` does nothing where an earlier test or library left the
+    # signal ignored or at its default.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        timer = threading.Timer(0.3, _thread.interrupt_main)
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            opalray.render(slow, integrator={"method": "lobe"})
+        timer.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
     _assert_idle_after_the_stop()
 
 
