@@ -16,7 +16,9 @@
 //!   environment is read there through the lobe, its width the mosaic spread carried
 //!   through the refraction ([`crate::lights::Environment::filtered`]). The line's colour is
 //!   its equivalent width times the light × colour-matching functions over its profile
-//!   ([`colour`]), times the notches of the lines crossed before, each at the line's centre.
+//!   ([`colour`]), spread over the wavelengths the lobe's normals reflect
+//!   ([`LineColours::in_lobe`]), times the notches of the lines crossed before, each at the
+//!   line's centre.
 //!   A point or directional light adds `π E R D(h)/(4 cos θ_h)`, the lobe's density at the
 //!   half vector, as the path tracer's estimate does; a sphere or rect light is read
 //!   through the lobe ([`crate::lights::AreaLight::lobe_share`]). The ray goes on through.
@@ -31,7 +33,7 @@
 //!   through the stone ([`BackingLight`]).
 //!
 //! Left out, and measured in `docs/model.md`: third and later Bragg reflections, the lobe's
-//! colour change across its width, the lensing of the dome on the lobe's
+//! colour change across its width where the light is uneven over it, the lensing of the dome on the lobe's
 //! width, the notches of the lines on the body's and the environment's broadband light
 //! except those of the eye ray, and the cap plane's reflection of a triplet.
 

@@ -280,6 +280,10 @@ impl<'a> Tracer<'a> {
             if weight * xyz[1] as f32 * (self.peak + self.body_peak) > CUT {
                 let cos_theta = -dir.dot(l.normal);
                 let sigma = stone.lobe_sigma(l.kind, cos_theta);
+                // The line as the lobe's normals spread it.
+                let (xyz, s, center) =
+                    self.colours
+                        .in_lobe(&l.line, (xyz, s), cos_theta.into(), sigma.into());
                 let mirror = reflect(dir, l.normal);
                 let out = Out {
                     face,
@@ -288,7 +292,7 @@ impl<'a> Tracer<'a> {
                     hint: span.hint,
                 };
                 let seen = self.reflected(&out, &l.line, sigma, weight * xyz[1] as f32);
-                self.add_line(f64::from(weight * seen), xyz, s, l.line.center_nm, sums);
+                self.add_line(f64::from(weight * seen), xyz, s, center, sums);
             }
             if self.setup.light.is_some() {
                 self.light_at(ray.at(span.t0 + EPSILON_MM), dir, domain, l, weight, sums);
