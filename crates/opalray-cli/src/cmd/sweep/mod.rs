@@ -13,7 +13,10 @@ use super::common::{
 };
 use super::frames::{fnv, FramesDir};
 use super::motion::{pose, MotionArgs, Moves};
-use crate::outputs::{Output, Outputs};
+use crate::outputs::Outputs;
+use writers::{Staged, Writers};
+
+mod writers;
 
 /// Render a sweep as a contact sheet and an animation: the light's angle where the scene has
 /// a light (the paper's fig. 11), else the stone rocked from −30° to 30°; or what the
@@ -151,44 +154,6 @@ fn check_counts(args: &Args) -> Result<()> {
     Ok(())
 }
 
-/// The sweep's outputs, each checked and staged (a temporary file) before any work.
-struct Staged {
-    sheet: Output,
-    animation: Option<Output>,
-    stats: Option<Output>,
-    video: Option<Output>,
-}
-
-impl Staged {
-    /// Check and stage every output `args` names into `outputs` (`--video` also needs
-    /// ffmpeg).
-    fn add(args: &Args, outputs: &mut Outputs) -> Result<Staged> {
-        let sheet = outputs.add("--sheet", &args.sheet, &["png"])?;
-        let animation = match &args.animation {
-            Some(path) => Some(outputs.add("--animation", path, &["gif", "png"])?),
-            None => None,
-        };
-        let stats = match &args.stats {
-            Some(path) => Some(outputs.add("--stats", path, &["json"])?),
-            None => None,
-        };
-        let video = match &args.video {
-            Some(path) => {
-                let out = outputs.add("--video", path, &["mp4", "webm"])?;
-                super::video::check_ffmpeg()?;
-                Some(out)
-            }
-            None => None,
-        };
-        Ok(Staged {
-            sheet,
-            animation,
-            stats,
-            video,
-        })
-    }
-}
-
 /// The sweep to render: the scene, what moves and each frame's value of it.
 struct Plan {
     scene: opalray::Scene,
@@ -239,99 +204,6 @@ fn plan(args: &Args, time_limit: Option<Duration>) -> Result<Option<Plan>> {
         angles,
         size,
     }))
-}
-
-/// Where the frames go as they complete: the contact sheet, and the animation and video
-/// each written frame by frame to its staged file (no frame is kept).
-struct Writers {
-    sheet: opalray::output::ContactSheet,
-    animation: Option<opalray::output::AnimationWriter>,
-    video: Option<super::video::VideoWriter>,
-}
-
-impl Writers {
-    /// A blank sheet of `args.columns` (up to 9) a row, and the animation and video
-    /// `args` asks for, opened on their staged files.
-    fn open(args: &Args, outputs: &Outputs, staged: &Staged, plan: &Plan) -> Result<Writers> {
-        let (w, h) = plan.size;
-        let frames = plan.angles.len();
-        let columns = args.columns.unwrap_or(frames.min(9));
-        let sheet = opalray::output::ContactSheet::blank(frames, w, h, columns);
-        let animation = match (staged.animation, &args.animation) {
-            (Some(out), Some(path)) => {
-                let apng = path
-                    .extension()
-                    .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-                Some(outputs.write(out, |temp| {
-                    opalray::output::AnimationWriter::create(
-                        temp,
-                        apng,
-                        frames as u32,
-                        w as u32,
-                        h as u32,
-                        args.delay_ms,
-                    )
-                })?)
-            }
-            _ => None,
-        };
-        let video = match (staged.video, &args.video) {
-            (Some(out), Some(path)) => Some(outputs.write(out, |temp| {
-                super::video::VideoWriter::create(temp, path, w, h, args.delay_ms)
-            })?),
-            _ => None,
-        };
-        Ok(Writers {
-            sheet,
-            animation,
-            video,
-        })
-    }
-
-    /// Frame `k` (display codes) at `angle`: into the sheet, labelled, and the animations.
-    fn push(
-        &mut self,
-        (outputs, staged): (&Outputs, &Staged),
-        k: usize,
-        angle: f64,
-        rgb8: &[u8],
-        (w, h): (usize, usize),
-    ) -> Result<()> {
-        let label = format!("{angle:.0}°");
-        self.sheet.place(k, rgb8, w, h, &label);
-        if let (Some(writer), Some(out)) = (&mut self.animation, staged.animation) {
-            outputs.write(out, |_| writer.push(rgb8))?;
-        }
-        if let Some(writer) = &mut self.video {
-            writer.push(rgb8)?;
-        }
-        Ok(())
-    }
-
-    /// Write the sheet and close the animation and the video.
-    fn finish(self, outputs: &Outputs, staged: &Staged) -> Result<()> {
-        let Writers {
-            sheet,
-            animation,
-            mut video,
-        } = self;
-        outputs.write(staged.sheet, |path| {
-            opalray::output::write_png_rgb8(
-                path,
-                sheet.width as u32,
-                sheet.height as u32,
-                &sheet.rgb,
-            )
-        })?;
-        drop(sheet);
-        if let (Some(writer), Some(out)) = (animation, staged.animation) {
-            outputs.write(out, |_| writer.finish())?;
-        }
-        if let Some(writer) = &mut video {
-            writer.finish()?;
-        }
-        Ok(())
-    }
 }
 
 /// Render every frame of `plan` not already in `frames_dir` (saving each there), pushing
