@@ -105,7 +105,7 @@ impl Writers {
         rgb8: &[u8],
         (w, h): (usize, usize),
     ) -> Result<()> {
-        let label = format!("{angle:.0}°");
+        let label = opalray::output::sheet_label(angle);
         self.sheet.place(k, rgb8, w, h, &label);
         if let (Some(writer), Some(out)) = (&mut self.animation, staged.animation) {
             outputs.write(out, |_| writer.push(rgb8))?;
