@@ -111,14 +111,14 @@ pub fn prepare(
 }
 
 /// `render(scene, time_limit_s=None, on_pass=None, on_stage=None, on_rows=None) -> Frame`:
-/// the whole chain
-/// for a scene dict, as `opalray render` runs it. `time_limit_s` bounds every stage, counted
-/// from the call, the stone's preparation included: a stage not done in time raises
-/// `TimeoutError` naming it, except the path tracer's passes after the first, which stop after
-/// the pass in which the time has passed. `on_pass(passes, spp, target_spp, elapsed_s,
-/// noise)` is called after every pass of the path tracer (noise `None` before two samples per
-/// pixel), `on_stage(stage)` as the stone is ready and the passes begin, `on_rows(rows,
-/// total_rows, elapsed_s)` as the lobe integrator's view pass goes ([`rows_reporter`]).
+/// the whole chain for a scene dict, as `opalray render` runs it. `time_limit_s` bounds every
+/// stage, counted from the call, the stone's preparation included: a stage not done in time
+/// raises `TimeoutError` naming it, except the path tracer's passes after the first, which
+/// stop after the pass in which the time has passed. `on_pass(passes, spp, target_spp,
+/// elapsed_s, noise)` is called after every pass of the path tracer (noise `None` before two
+/// samples per pixel), `on_stage(stage)` as the stone is ready and the passes begin,
+/// `on_rows(rows, total_rows, elapsed_s)` as the lobe integrator's view pass goes (at its
+/// first row, then at most every 0.2 s, and at its last).
 #[pyfunction]
 #[pyo3(signature = (scene, time_limit_s=None, on_pass=None, on_stage=None, on_rows=None))]
 pub fn render(
