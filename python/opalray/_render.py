@@ -35,6 +35,8 @@ def _progress_of(progress: Progress | bool | None, total: int, desc: str) -> tup
         bar = tqdm(total=total, desc=desc)
 
         def update(stage: str, done: int, total: int) -> None:
+            if bar.total != total:  # the lobe integrator's rows, after its stages
+                bar.total = total
             bar.set_postfix_str(stage)
             bar.update(done - bar.n)
 
@@ -319,7 +321,9 @@ def render(
     ``progress``: a callable ``(stage, done, total)``, or ``True`` for a tqdm bar; the path
     integrator calls it after every pass (``stage`` says the samples per pixel and the noise
     so far, ``done``/``total`` count samples per pixel), the other methods as their stages
-    finish. ``time_limit``: seconds, counted from the call, bounding every stage, the stone's
+    finish, and the lobe integrator (the gem presets') as its view pass goes, a few times a
+    second (``stage`` says the rows done, the time so far and the time left,
+    ``done``/``total`` count rows from then on). ``time_limit``: seconds, counted from the call, bounding every stage, the stone's
     preparation included (as ``opalray render --time-limit``): a stage not done in time raises
     ``TimeoutError`` naming it, except the path integrator's passes after the first, which stop
     after the pass in which the time has passed; the path integrator then renders up to 65536
@@ -349,12 +353,28 @@ def render(
     try:
         if report is None:
             return Image(_opalray.render(scene.to_dict(), time_limit), scene)
+        total = 2
+
+        def on_rows(rows: int, total_rows: int, elapsed: float) -> None:
+            # The lobe integrator's view pass: from here on `done`/`total` count its rows.
+            nonlocal total
+            total = total_rows
+            if rows >= total_rows:
+                left = "done"
+            elif elapsed < 1.0:  # the first rows' pace says little
+                left = "time left unknown"
+            else:
+                left = f"about {elapsed * (total_rows - rows) / rows:.1f} s left"
+            report(f"view pass: {rows} of {total_rows} rows, {elapsed:.1f} s elapsed, {left}", rows, total_rows)
+
         report("structure, optics", 0, 2)
         image = Image(
-            _opalray.render(scene.to_dict(), time_limit, None, lambda _: report("light, view, colour", 1, 2)),
+            _opalray.render(
+                scene.to_dict(), time_limit, None, lambda _: report("light, view, colour", 1, 2), on_rows
+            ),
             scene,
         )
-        report("done", 2, 2)
+        report("done", total, total)
         return image
     finally:
         close()

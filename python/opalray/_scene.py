@@ -37,25 +37,29 @@ def _merge(base: dict, changes: Mapping, path: str = "") -> None:
 class Scene:
     """A complete, validated scene.
 
-    ``Scene()`` is the ``paper`` preset; ``Scene(d)`` reads a (partial) dict, missing fields
-    taking their defaults. A Scene is immutable: ``replace`` returns a new one.
+    ``Scene()`` is the preset ``opalray render`` renders (:data:`opalray.DEFAULT_PRESET`,
+    ``black-opal``); ``Scene(d)`` reads a (partial) dict as a scene file is read, missing
+    fields taking their defaults (those of the ``paper`` preset). A Scene is immutable:
+    ``replace`` returns a new one.
     """
 
     __slots__ = ("_data",)
 
     def __init__(self, data: Mapping | Scene | None = None):
-        if isinstance(data, Scene):
-            data = data._data
         if data is None:
-            data = {}
+            data = _opalray.preset(_opalray.DEFAULT_PRESET)
+        elif isinstance(data, Scene):
+            data = data._data
         elif isinstance(data, Mapping):
             data = dict(data)
         self._data = _opalray.normalize(data)
 
     @classmethod
-    def preset(cls, name: str = "paper") -> Scene:
-        """A named preset (``paper``: the paper's fig. 10 set-up, 640 × 480, light at 30°)."""
-        return cls._of(_opalray.preset(name))
+    def preset(cls, name: str | None = None) -> Scene:
+        """A named preset (:func:`opalray.presets` lists them; ``paper``: the paper's fig. 10
+        set-up, 640 × 480, light at 30°); without a name the one ``opalray render`` renders,
+        :data:`opalray.DEFAULT_PRESET`."""
+        return cls._of(_opalray.preset(_opalray.DEFAULT_PRESET if name is None else name))
 
     @classmethod
     def from_toml(cls, path: str | os.PathLike) -> Scene:

@@ -524,7 +524,7 @@ def sweep(
             _write_manifest(out_dir, manifest)
         done += 1
         if report:
-            report(f"{angles[k]:.0f}°", done, n)
+            report(f"{round(angles[k], 1):g}°", done, n)
 
     try:
         if client is None:

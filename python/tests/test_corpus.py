@@ -98,7 +98,7 @@ def test_a_bad_scene_file_is_a_value_error_naming_the_field(text, expected):
 @pytest.mark.parametrize("field, value", list(_flag_cases()))
 def test_a_bad_flag_value_is_a_value_error_naming_its_field(field, value):
     with pytest.raises(ValueError) as err:
-        opalray.Scene.preset().replace({field: value})
+        opalray.Scene.preset("paper").replace({field: value})
     message = _one_line(err)
     assert field in message, message
     assert "--" not in message.replace("—", ""), f"speaks of a flag: {message}"

@@ -17,6 +17,9 @@ def test_python_and_every_command_default_to_the_same_scene(cli):
     assert opalray.DEFAULT_PRESET == "black-opal"
     assert opalray.DEFAULT_PRESET in opalray.presets() and "paper" in opalray.presets()
     default = opalray.Scene.preset(opalray.DEFAULT_PRESET)
+    # A Scene made with nothing given is that scene too, as the preset named by nobody.
+    assert opalray.Scene() == default
+    assert opalray.Scene.preset() == default
 
     def shown(*args):
         out = subprocess.run([cli, *args], check=True, capture_output=True, text=True)
@@ -45,6 +48,29 @@ def test_a_path_traced_render_reports_every_pass():
     assert [(d, t) for _, d, t in seen] == [(2, 4), (4, 4)]
     assert all("spp, noise" in stage for stage, _, _ in seen), seen
     np.testing.assert_array_equal(image.srgb8, opalray.render(gem).srgb8)
+
+
+def test_the_default_methods_view_pass_reports_its_rows():
+    gem = opalray.Scene.preset("black-opal").replace(render={"width": 24, "height": 18}, integrator={"spp": 2})
+    seen = []
+    image = opalray.render(gem, progress=lambda stage, done, total: seen.append((stage, done, total)))
+    rows = [(stage, done, total) for stage, done, total in seen if stage.startswith("view pass")]
+    # The centres' sweep of 18 rows, then the edges': 36 rows in all, the last reported.
+    assert rows and rows[-1][1:] == (36, 36), seen
+    assert all(" rows, " in stage and "elapsed" in stage for stage, _, _ in rows), rows
+    assert [d for _, d, _ in rows] == sorted(d for _, d, _ in rows), rows
+    assert seen[-1][1] == seen[-1][2], seen
+    # Reporting changes no byte.
+    np.testing.assert_array_equal(image.srgb8, opalray.render(gem).srgb8)
+
+
+def test_a_scene_without_a_light_reports_no_light_angle_nor_light_rays():
+    small = {"render": {"width": 16, "height": 12}, "integrator": {"spp": 1}}
+    stats = opalray.render(**small).stats
+    assert stats["light_angle_deg"] is None and stats["light_rays"] is None, stats
+    paper = opalray.render(opalray.Scene.preset("paper"), render={"width": 16, "height": 12},
+                           light={"rays": 1024}).stats
+    assert paper["light_angle_deg"] == 30 and paper["light_rays"] >= 1024, paper
 
 
 def test_a_time_limit_stops_after_the_pass_it_falls_in():

@@ -218,6 +218,12 @@ def test_progress_true_draws_a_tqdm_bar_to_its_end(small, monkeypatch):
         # The last state of the bar: every step of its total done.
         assert f"{total}/{total}" in text.split("\r")[-1], text
         assert "100%" in text and f"0/{total}" in text, text
+    # The lobe integrator's bar counts its view pass's rows once they begin: 2 × 12 here.
+    out = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", out)
+    opalray.render(render={"width": 16, "height": 12}, integrator={"spp": 2}, progress=True)
+    monkeypatch.undo()
+    assert "24/24" in out.getvalue().split("\r")[-1], out.getvalue()
 
 
 def test_prepared_renders_are_the_same_on_one_thread_and_scenes_hash(small):

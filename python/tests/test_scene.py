@@ -12,7 +12,8 @@ from conftest import REPO
 
 def test_preset_is_the_shipped_paper_file():
     assert opalray.Scene.preset("paper") == opalray.Scene.from_toml(REPO / "scenes" / "paper.toml")
-    assert opalray.Scene() == opalray.Scene.preset()
+    # Nothing named: the preset every command renders.
+    assert opalray.Scene() == opalray.Scene.preset() == opalray.Scene.preset(opalray.DEFAULT_PRESET)
 
 
 def test_dict_round_trips_through_toml(tmp_path):
@@ -47,12 +48,13 @@ def test_partial_dict_takes_the_defaults():
     scene = opalray.Scene({"render": {"width": 100}})
     d = scene.to_dict()
     assert d["render"]["width"] == 100
-    assert d["render"]["height"] == opalray.Scene.preset()["render"]["height"]
-    assert opalray.Scene({}) == opalray.Scene.preset()
+    # As in a scene file: the fields' defaults, those of the paper's scene.
+    assert d["render"]["height"] == opalray.Scene.preset("paper")["render"]["height"]
+    assert opalray.Scene({}) == opalray.Scene.preset("paper")
 
 
 def test_replace_merges_sections_and_dotted_paths():
-    base = opalray.Scene.preset()
+    base = opalray.Scene.preset("paper")
     a = base.replace(crystal={"sphere_diameter_nm": 215})
     b = base.replace({"crystal.sphere_diameter_nm": 215})
     c = base.replace(**{"crystal.sphere_diameter_nm": 215.0})
@@ -105,7 +107,7 @@ def test_bad_values_are_value_errors_naming_the_field(changes, field):
     assert field in message, message
     assert "\n" not in message, message
     with pytest.raises(ValueError, match=field.replace(".", r"\.")):
-        opalray.Scene.preset().replace(changes)
+        opalray.Scene.preset("paper").replace(changes)
 
 
 def test_dict_errors_match_the_scene_files(tmp_path):
@@ -139,7 +141,7 @@ def test_malformed_toml_and_unknown_preset():
 
 
 def test_none_leaves_a_field_at_its_default_and_a_path_is_a_scene(tmp_path):
-    base = opalray.Scene.preset()
+    base = opalray.Scene.preset("paper")
     wide = base.replace(render={"width": 100})
     assert wide.replace(render={"width": None}) == base
     assert opalray.Scene({"render": {"width": None}}) == base

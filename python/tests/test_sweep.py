@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import opalray
+from opalray import _opalray
 from conftest import small_scene
 
 ANGLES = [-60.0, -20.0, 20.0, 60.0]
@@ -296,3 +297,14 @@ def test_a_time_limit_bounds_a_dask_sweep_and_keeps_the_finished_frames(tmp_path
     whole = opalray.sweep(gem, tilt_deg=tilts)
     for a, b in zip(resumed.frames, whole.frames):
         np.testing.assert_array_equal(a, b)
+
+
+def test_the_sheet_labels_half_degrees_as_swept(tmp_path):
+    # One frame labelled 2.5°, 2° and 3°: three different sheets (not 2.5 rounded to 2).
+    frame = bytes(24 * 18 * 3)
+    sheets = []
+    for angle in (2.5, 2.0, 3.0):
+        path = tmp_path / f"{angle}.png"
+        _opalray.write_sheet(str(path), [frame], [angle], 24, 18, 1)
+        sheets.append(path.read_bytes())
+    assert sheets[0] != sheets[1] and sheets[0] != sheets[2]

@@ -37,14 +37,16 @@ impl Frame {
     /// The frame of a core render of `scene`, with the CLI's `--stats` fields.
     pub fn new(scene: &Scene, frame: opalray::Frame, light_angle_deg: f64) -> Frame {
         let t = frame.times;
+        // A scene lit by its environment alone has no light angle and traces no light rays.
+        let lit = scene.light.kind != opalray::scene::LightKind::None;
         let stats = serde_json::json!({
             "time_s": {"structure": t.structure, "optics": t.optics, "light_pass": t.light_pass,
                        "view_pass": t.view_pass, "color": t.color, "total": t.total()},
             "image": {"width": scene.render.width, "height": scene.render.height,
                       "bins": scene.spectrum.bins},
-            "light_angle_deg": light_angle_deg,
+            "light_angle_deg": lit.then_some(light_angle_deg),
             "void_ratio": frame.void_ratio,
-            "light_rays": frame.light_rays,
+            "light_rays": lit.then_some(frame.light_rays),
             "energy": frame.ledger,
             "path": frame.path.map(|p| p.to_json()),
             "stored": frame.stored,

@@ -48,7 +48,7 @@ pub fn write_sheet(
         let labelled: Vec<(Vec<u8>, String)> = frames
             .into_iter()
             .zip(&angles_deg)
-            .map(|(f, a)| (f, format!("{a:.0}°")))
+            .map(|(f, a)| (f, opalray::output::sheet_label(*a)))
             .collect();
         let sheet = opalray::output::contact_sheet(&labelled, width, height, columns);
         opalray::output::write_png_rgb8(&path, sheet.width as u32, sheet.height as u32, &sheet.rgb)

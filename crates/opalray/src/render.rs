@@ -306,7 +306,8 @@ impl Prepared {
     }
 
     /// [`Prepared::render`], the path integrator's passes as `passes` says (a time limit, a
-    /// report after each pass); the other methods ignore `passes`.
+    /// report after each pass); the lobe integrator reports its rows (`passes.on_rows`), the
+    /// other methods ignore `passes`.
     pub fn render_progressive(&self, light_angle_deg: f64, passes: &Passes) -> Frame {
         self.integrator().render(self, light_angle_deg, passes)
     }

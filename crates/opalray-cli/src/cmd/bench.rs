@@ -65,6 +65,9 @@ pub fn run(args: Args) -> Result<()> {
             (name, median(all), fastest)
         })
         .collect();
+    // A scene lit by its environment alone has no light rays to count.
+    let light_rays =
+        (scene.light.kind != opalray::scene::LightKind::None).then_some(scene.light.rays);
     let threads = rayon::current_num_threads();
     let simd = opalray::simd::level().name();
     let memory = peak_memory_mb();
@@ -79,19 +82,15 @@ pub fn run(args: Args) -> Result<()> {
             serde_json::to_string_pretty(&json!({
                 "median_s": map, "min_s": min, "runs": args.runs, "threads": threads, "simd": simd,
                 "image": {"width": scene.render.width, "height": scene.render.height, "bins": scene.spectrum.bins},
-                "light_rays": scene.light.rays, "peak_memory_mb": memory,
+                "light_rays": light_rays, "peak_memory_mb": memory,
                 "cpu_stolen_fraction": stolen,
             }))?
         ))?;
     } else {
+        let light = light_rays.map_or("no light".to_string(), |n| format!("{n} light rays"));
         crate::stdio::out(format_args!(
-            "opalray bench: {} × {}, {} bins, {} light rays, {} runs, {} threads, {simd}",
-            scene.render.width,
-            scene.render.height,
-            scene.spectrum.bins,
-            scene.light.rays,
-            args.runs,
-            threads
+            "opalray bench: {} × {}, {} bins, {light}, {} runs, {} threads, {simd}",
+            scene.render.width, scene.render.height, scene.spectrum.bins, args.runs, threads
         ))?;
         crate::stdio::out(format_args!(
             "  {:<11} {:>9} {:>12}",

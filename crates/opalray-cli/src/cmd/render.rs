@@ -1,14 +1,15 @@
 //! `opalray render`: render the opal to an image.
 
 use std::path::PathBuf;
-
-use anyhow::Result;
-use serde_json::json;
-
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use opalray::path::{PassReport, Passes};
-use opalray::scene::{IntegratorConfig, MAX_SPP};
+use anyhow::Result;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::json;
+
+use opalray::path::{PassReport, Passes, RowsReport};
+use opalray::scene::{IntegratorConfig, LightKind, MAX_SPP};
 use opalray::Scene;
 
 use super::common::{
@@ -41,9 +42,10 @@ pub struct Args {
     /// Also write the spectral image as OpenEXR, one channel per wavelength bin.
     #[arg(long, value_name = "FILE.exr")]
     pub spectral: Option<PathBuf>,
-    /// Write stage timings and statistics as JSON (the stored method's: rays per pixel and the
-    /// stored light's cells; the path integrator's: samples per pixel
-    /// rendered, the noise over the stone and its light by Bragg order).
+    /// Write stage timings and statistics as JSON (the light's angle and rays, null for a
+    /// scene without a light; the stored method's: rays per pixel and the stored light's
+    /// cells; the path integrator's: samples per pixel rendered, the noise over the stone and
+    /// its light by Bragg order).
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
     /// Bound the whole command to this many seconds, the stone's preparation included: a
@@ -181,19 +183,7 @@ pub fn run(args: Args) -> Result<()> {
         ));
     }
     if let Some(stats) = stats {
-        let value = json!({
-            "time_s": {"structure": t.structure, "optics": t.optics, "light_pass": t.light_pass,
-                       "view_pass": t.view_pass, "color": t.color, "total": t.total()},
-            "image": {"width": scene.render.width, "height": scene.render.height,
-                      "bins": scene.spectrum.bins},
-            "light_angle_deg": scene.light.angle_deg,
-            "void_ratio": frame.void_ratio,
-            "light_rays": frame.light_rays,
-            "energy": frame.ledger,
-            "path": frame.path.map(|p| p.to_json()),
-            "stored": frame.stored,
-            "peak_memory_mb": peak_memory_mb(),
-        });
+        let value = stats_json(&scene, &frame);
         outputs.write(stats, |path| write_json(path, &value))?;
     }
     outputs.commit()?;
@@ -202,6 +192,28 @@ pub fn run(args: Args) -> Result<()> {
         crate::stdio::out(format_args!("wrote {}", path.display()))?;
     }
     Ok(())
+}
+
+/// The `--stats` JSON of `frame`, rendered from `scene`: the stage times, the image's size,
+/// the light's angle and rays (null for a scene lit by its environment alone, which has no
+/// light angle and traces no light rays), the energy ledger, each method's own figures and
+/// peak memory.
+fn stats_json(scene: &Scene, frame: &opalray::Frame) -> serde_json::Value {
+    let t = frame.times;
+    let lit = scene.light.kind != LightKind::None;
+    json!({
+        "time_s": {"structure": t.structure, "optics": t.optics, "light_pass": t.light_pass,
+                   "view_pass": t.view_pass, "color": t.color, "total": t.total()},
+        "image": {"width": scene.render.width, "height": scene.render.height,
+                  "bins": scene.spectrum.bins},
+        "light_angle_deg": lit.then_some(scene.light.angle_deg),
+        "void_ratio": frame.void_ratio,
+        "light_rays": lit.then_some(frame.light_rays),
+        "energy": frame.ledger,
+        "path": frame.path.as_ref().map(|p| p.to_json()),
+        "stored": frame.stored,
+        "peak_memory_mb": peak_memory_mb(),
+    })
 }
 
 /// What to do when a stage overruns `--time-limit`.
@@ -229,9 +241,60 @@ fn render_frame(
     stage.enter("the light and view passes");
     bar.set_message("light, view");
     bar.inc(1);
-    let frame = prepared.render(scene.light.angle_deg);
+    // The lobe integrator reports its rows (the two-pass and stored methods report none).
+    let last_line = Mutex::new(0.0);
+    let report = |r: &RowsReport| report_rows(r, &bar, &last_line);
+    let passes = Passes {
+        on_rows: Some(&report),
+        ..Passes::default()
+    };
+    let frame = prepared.render_progressive(scene.light.angle_deg, &passes);
     bar.finish_and_clear();
     Ok(frame)
+}
+
+/// Seconds between two lines of the view pass's rows in a log (a terminal's bar moves with
+/// every row).
+const ROWS_LINE_EVERY_S: f64 = 5.0;
+
+/// Show rows report `r` on `bar`, and as a line where stderr is not a terminal: the first
+/// after [`ROWS_LINE_EVERY_S`], then at most one as often (`last_line` holds the time of the
+/// last, seconds), and the last row's.
+fn report_rows(r: &RowsReport, bar: &ProgressBar, last_line: &Mutex<f64>) {
+    let done = r.rows >= r.total_rows;
+    // Rows left at the pace so far (after a second: the first rows' pace says little).
+    let left = match (done, r.elapsed_s >= 1.0) {
+        (true, _) => "done".to_string(),
+        (false, true) => {
+            let rows_left = f64::from(r.total_rows - r.rows);
+            let left = r.elapsed_s * rows_left / f64::from(r.rows);
+            format!("about {} left", duration_words(left))
+        }
+        (false, false) => "time left unknown".to_string(),
+    };
+    if r.rows == 1 {
+        bar.set_length(u64::from(r.total_rows));
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{msg:>12} [{bar:30}] {pos}/{len} rows {elapsed}, {prefix}",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        bar.set_message("view pass");
+    }
+    bar.set_position(u64::from(r.rows));
+    bar.set_prefix(left.clone());
+    let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
+    if done || r.elapsed_s - *last >= ROWS_LINE_EVERY_S {
+        *last = r.elapsed_s;
+        progress_line(format_args!(
+            "view pass: {} of {} rows, {} elapsed, {left}",
+            r.rows,
+            r.total_rows,
+            duration_words(r.elapsed_s)
+        ));
+    }
 }
 
 /// Prepare and render `scene` with the path integrator in passes, a progress bar showing the

@@ -10,7 +10,7 @@ use crate::render::{seconds, Frame, Prepared};
 use crate::scene::{IntegratorConfig, LobeConfig, Method, Scene, DEFAULT_WAVELENGTHS};
 use crate::stone::body::munsell_y;
 
-use super::{render_lobes, LobeSetup};
+use super::{render_lobes_reporting, LobeSetup};
 
 /// Every Bragg lobe integrated against the lights, deterministic.
 pub struct LobeMethod;
@@ -29,7 +29,8 @@ impl Integrator for LobeMethod {
         prepared.build_stone()
     }
 
-    fn render(&self, prepared: &Prepared, light_angle_deg: f64, _passes: &Passes) -> Frame {
+    /// Its frame, each row of the view pass reported to `passes.on_rows`.
+    fn render(&self, prepared: &Prepared, light_angle_deg: f64, passes: &Passes) -> Frame {
         let s = &prepared.scene;
         let c = match &s.integrator {
             IntegratorConfig::Lobe(c) => c.clone(),
@@ -52,7 +53,7 @@ impl Integrator for LobeMethod {
             spectral: &f.sampler,
         };
         let start = Instant::now();
-        let image = render_lobes(f.stone, &setup);
+        let image = render_lobes_reporting(f.stone, &setup, passes);
         times.view_pass = seconds(start);
         prepared.deterministic_frame(times, image.spectral, &image.xyz, &f.sampler, None)
     }

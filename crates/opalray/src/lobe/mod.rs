@@ -49,7 +49,7 @@ use rayon::prelude::*;
 
 use crate::geometry::Camera;
 use crate::lights::{AreaLight, Environment};
-use crate::path::{PathLight, SpectralSampler};
+use crate::path::{Passes, PathLight, RowCounter, SpectralSampler};
 use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
@@ -98,6 +98,12 @@ pub struct LobeImage {
 /// `setup.spp − 1` more, stratified, through each pixel whose first ray differs from a
 /// neighbour's by more than [`EDGE_CONTRAST`] (domain edges, the silhouette, the gloss's rim).
 pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
+    render_lobes_reporting(stone, setup, &Passes::default())
+}
+
+/// [`render_lobes`], telling `passes.on_rows` of every row done: the centres' rows, then (for
+/// `spp` > 1) the edges' rows (the same image).
+pub fn render_lobes_reporting(stone: &Stone, setup: &LobeSetup, passes: &Passes) -> LobeImage {
     let (w, h) = (setup.width, setup.height);
     let grid = setup.spectral.grid;
     let bins = grid.bins;
@@ -112,6 +118,7 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
     let mut xyz = vec![[0.0f32; 3]; w * h];
     let mut spectral = SpectralImage::new(w, h, grid);
     let spp = setup.spp.max(1) as usize;
+    let rows = RowCounter::new(passes, if spp == 1 { h } else { 2 * h });
     // A stopped render traces no more rows (its image is never shown).
     let cancel = crate::cancel::Cancel::current();
     // Every pixel's centre.
@@ -131,6 +138,7 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
                 let centre = [(x as f32 + 0.5, y as f32 + 0.5)];
                 pixel(&mut tracer, setup, &centre, out, out_bins);
             }
+            rows.row_done();
         });
     if spp == 1 {
         return LobeImage { xyz, spectral };
@@ -170,6 +178,7 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
                     *v = (*v * k + c) / spp as f32;
                 }
             }
+            rows.row_done();
         });
     LobeImage { xyz, spectral }
 }

@@ -16,7 +16,7 @@ pub use display::write_png;
 pub use label::{draw_text, text_width};
 pub use openexr::{spectral_channel_name, write_exr, write_spectral_exr};
 pub use provenance::{read_provenance, Provenance, SCENE_KEY};
-pub use sheet::{contact_sheet, ContactSheet};
+pub use sheet::{contact_sheet, sheet_label, ContactSheet};
 
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -21,6 +21,19 @@ pub struct ContactSheet {
     pub rgb: Vec<u8>,
 }
 
+/// The label under a sweep's frame at `value_deg` degrees, the value as swept: a whole
+/// degree without a decimal ("-30°", "2°"), any other with one, rounded half away from zero
+/// ("2.5°", "-7.5°"; "3.3°" for 10/3).
+pub fn sheet_label(value_deg: f64) -> String {
+    let tenths = (value_deg * 10.0).round();
+    // `+ 0.0` makes a negative zero (a value just below 0) plain "0".
+    if tenths % 10.0 == 0.0 {
+        format!("{}°", tenths / 10.0 + 0.0)
+    } else {
+        format!("{:.1}°", tenths / 10.0)
+    }
+}
+
 /// Lay out RGB8 frames (each `width × height`) in rows of `columns`, each with its label
 /// (e.g. "-60°") centred under it.
 pub fn contact_sheet(
@@ -95,6 +108,23 @@ impl ContactSheet {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sheet_labels_are_the_values_as_swept() {
+        // The nine tilts of `opalray sweep --tilt-from 0 --tilt-to 20`: 2.5° apart.
+        for (value, label) in [
+            (-30.0, "-30°"),
+            (0.0, "0°"),
+            (-0.01, "0°"),
+            (2.5, "2.5°"),
+            (-7.5, "-7.5°"),
+            (2.25, "2.3°"),
+            (10.0 / 3.0, "3.3°"),
+            (60.0, "60°"),
+        ] {
+            assert_eq!(sheet_label(value), label, "{value}");
+        }
+    }
 
     #[test]
     fn frames_land_in_their_cells() {

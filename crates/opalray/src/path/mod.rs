@@ -86,7 +86,8 @@ use glam::Vec3;
 pub use method::PathTracer;
 pub use noise::Noise;
 pub use orders::BraggOrders;
-pub use passes::{trace_passes, PassReport, Passes};
+pub(crate) use passes::RowCounter;
+pub use passes::{trace_passes, PassReport, Passes, RowsReport};
 pub use sampler::Sampling;
 pub use spectral::{Lines, PathSpectrum, SpectralSampler, MAX_DRAWS};
 

@@ -1,6 +1,7 @@
 //! The path integrator's pixel and sample loop, in passes: input a [`Stone`] and a
 //! [`PathSetup`] (and [`Passes`]: a time limit, a report after each pass) → output a
-//! [`PathImage`].
+//! [`PathImage`]. [`RowsReport`] and its counter tell the same of a method that renders
+//! row by row.
 //!
 //! A render is a sequence of passes of samples per pixel: the first pass 2 (1 if only one is
 //! asked for), then each pass as many as all before it (doubling the total), cut so as not to
@@ -46,6 +47,56 @@ pub struct Passes<'a> {
     /// Which points the samples are: Owen-scrambled Sobol (the default) or independent
     /// streams ([`Sampling`]).
     pub sampling: Sampling,
+    /// Called after every row of a method that renders row by row instead of in passes (the
+    /// lobe integrator's view pass), from the thread that rendered it; the calls come one at
+    /// a time, `rows` rising by one each.
+    pub on_rows: Option<&'a (dyn Fn(&RowsReport) + Sync)>,
+}
+
+/// Where a render done row by row stands after a row.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RowsReport {
+    /// Rows done, counted over every sweep of the image (the lobe integrator: every pixel's
+    /// centre, then the pixels at an edge again).
+    pub rows: u32,
+    /// Rows in all, over every sweep.
+    pub total_rows: u32,
+    /// Seconds since the first row began.
+    pub elapsed_s: f64,
+}
+
+/// The rows of a render done row by row, in parallel, counted and reported to
+/// [`Passes::on_rows`]; the image does not depend on it.
+pub(crate) struct RowCounter<'a> {
+    on_rows: Option<&'a (dyn Fn(&RowsReport) + Sync)>,
+    /// Rows done so far; held while a row is reported, so that reports come in order.
+    done: Mutex<u32>,
+    total_rows: u32,
+    start: Instant,
+}
+
+impl<'a> RowCounter<'a> {
+    /// A count of `total_rows` rows, starting now, reported as `passes` says.
+    pub(crate) fn new(passes: &Passes<'a>, total_rows: usize) -> Self {
+        RowCounter {
+            on_rows: passes.on_rows,
+            done: Mutex::new(0),
+            total_rows: u32::try_from(total_rows).unwrap_or(u32::MAX),
+            start: Instant::now(),
+        }
+    }
+
+    /// One more row done.
+    pub(crate) fn row_done(&self) {
+        let Some(report) = self.on_rows else { return };
+        let mut done = self.done.lock().unwrap_or_else(|e| e.into_inner());
+        *done += 1;
+        report(&RowsReport {
+            rows: *done,
+            total_rows: self.total_rows,
+            elapsed_s: self.start.elapsed().as_secs_f64(),
+        });
+    }
 }
 
 /// Where a render stands after a pass.

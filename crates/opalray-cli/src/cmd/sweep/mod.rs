@@ -14,6 +14,9 @@ use super::common::{
 use super::frames::{fnv, FramesDir};
 use super::motion::{pose, MotionArgs, Moves};
 use crate::outputs::Outputs;
+use writers::{Staged, Writers};
+
+mod writers;
 
 /// Render a sweep as a contact sheet and an animation: the light's angle where the scene has
 /// a light (the paper's fig. 11), else the stone rocked from −30° to 30°; or what the
@@ -71,9 +74,65 @@ pub struct Args {
     pub time_limit: Option<f64>,
 }
 
-/// Run `opalray sweep`.
+/// Run `opalray sweep`: check the counts, stage the outputs, plan the sweep, prepare the
+/// stone once, render the frames into the sheet and animations, then write and report.
 pub fn run(args: Args) -> Result<()> {
     let started = Instant::now();
+    check_counts(&args)?;
+    let time_limit = super::deadline::checked(args.time_limit)?;
+    let mut outputs = Outputs::new();
+    let staged = Staged::add(&args, &mut outputs)?;
+    let Some(plan) = plan(&args, time_limit)? else {
+        return Ok(());
+    };
+    let mut frames_dir = match &args.frames_dir {
+        Some(dir) => {
+            outputs.check_folder("--frames-dir", dir)?;
+            Some(FramesDir::open(
+                dir,
+                sweep_key(&plan.scene, plan.moves, &plan.angles),
+                &plan.angles,
+                args.resume,
+            )?)
+        }
+        None => None,
+    };
+
+    let start = Instant::now();
+    let fix = time_limit_fix(args.frames_dir.is_some());
+    let job = plan.scene.clone();
+    let prepared = super::deadline::within(time_limit, started, &fix, move |_| {
+        Ok(Arc::new(opalray::render::prepare(&job)?))
+    })?;
+    let limit = Limit {
+        time_limit,
+        started,
+        fix: &fix,
+    };
+    let bar = progress(plan.angles.len() as u64, "sweep");
+    let mut writers = Writers::open(&args, &outputs, &staged, &plan)?;
+    let per_frame = render_frames(
+        &prepared,
+        &plan,
+        &limit,
+        frames_dir.as_mut(),
+        &mut writers,
+        (&outputs, &staged),
+        (&bar, start),
+    )?;
+    bar.finish_and_clear();
+    let elapsed = start.elapsed().as_secs_f64();
+    writers.finish(&outputs, &staged)?;
+    if let Some(stats_out) = staged.stats {
+        let value = stats_json(&prepared, &plan, &per_frame, elapsed);
+        outputs.write(stats_out, |path| write_json(path, &value))?;
+    }
+    outputs.commit()?;
+    report_written(&args, &plan, per_frame.len(), elapsed)
+}
+
+/// Refuse a number of frames, columns or a frame delay out of range, before any work.
+fn check_counts(args: &Args) -> Result<()> {
     if !(1..=1000).contains(&args.frames) {
         anyhow::bail!("--frames {}: must be 1 to 1000; try 9", args.frames);
     }
@@ -92,25 +151,24 @@ pub fn run(args: Args) -> Result<()> {
             args.delay_ms
         );
     }
-    let time_limit = super::deadline::checked(args.time_limit)?;
-    let mut outputs = Outputs::new();
-    let sheet_out = outputs.add("--sheet", &args.sheet, &["png"])?;
-    let animation_out = match &args.animation {
-        Some(path) => Some(outputs.add("--animation", path, &["gif", "png"])?),
-        None => None,
-    };
-    let stats_out = match &args.stats {
-        Some(path) => Some(outputs.add("--stats", path, &["json"])?),
-        None => None,
-    };
-    let video_out = match &args.video {
-        Some(path) => {
-            let out = outputs.add("--video", path, &["mp4", "webm"])?;
-            super::video::check_ffmpeg()?;
-            Some(out)
-        }
-        None => None,
-    };
+    Ok(())
+}
+
+/// The sweep to render: the scene, what moves and each frame's value of it.
+struct Plan {
+    scene: opalray::Scene,
+    moves: Moves,
+    /// The first and the last value, degrees.
+    ends: [f64; 2],
+    /// Every frame's value, degrees, evenly spaced over `ends`.
+    angles: Vec<f64>,
+    /// Frame width and height, pixels.
+    size: (usize, usize),
+}
+
+/// The scene (320 × 240 unless sized) and what `args` moves in it, within the memory limit
+/// (and announced when long, without a `time_limit`); `None` once `--show-scene` has shown it.
+fn plan(args: &Args, time_limit: Option<Duration>) -> Result<Option<Plan>> {
     let mut scene = args.scene.load()?;
     if args.look.width.is_none() && args.look.height.is_none() {
         scene.render.width = 320;
@@ -119,7 +177,7 @@ pub fn run(args: Args) -> Result<()> {
     args.look.apply(&mut scene)?;
     let (moves, [from, to]) = args.motion.choose(&scene)?;
     if args.scene.shown(&scene)? {
-        return Ok(());
+        return Ok(None);
     }
     super::memory::check(
         &scene,
@@ -138,64 +196,34 @@ pub fn run(args: Args) -> Result<()> {
             n => from + (to - from) * k as f64 / (n - 1) as f64,
         })
         .collect();
-    let (w, h) = (scene.render.width as usize, scene.render.height as usize);
-    let columns = args.columns.unwrap_or(angles.len().min(9));
-    let mut frames_dir = match &args.frames_dir {
-        Some(dir) => {
-            outputs.check_folder("--frames-dir", dir)?;
-            Some(FramesDir::open(
-                dir,
-                sweep_key(&scene, moves, &angles),
-                &angles,
-                args.resume,
-            )?)
-        }
-        None => None,
-    };
+    let size = (scene.render.width as usize, scene.render.height as usize);
+    Ok(Some(Plan {
+        scene,
+        moves,
+        ends: [from, to],
+        angles,
+        size,
+    }))
+}
 
-    let start = Instant::now();
-    let fix = time_limit_fix(args.frames_dir.is_some());
-    let job = scene.clone();
-    let prepared = super::deadline::within(time_limit, started, &fix, move |_| {
-        Ok(Arc::new(opalray::render::prepare(&job)?))
-    })?;
-    let limit = Limit {
-        time_limit,
-        started,
-        fix: &fix,
-    };
-    let bar = progress(angles.len() as u64, "sweep");
-    // Each frame goes into the sheet as it completes; none is kept.
-    let mut sheet = opalray::output::ContactSheet::blank(angles.len(), w, h, columns);
-    // The animation too is written frame by frame, to its staged file.
-    let mut animation = match (animation_out, &args.animation) {
-        (Some(out), Some(path)) => {
-            let apng = path
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-            Some(outputs.write(out, |temp| {
-                opalray::output::AnimationWriter::create(
-                    temp,
-                    apng,
-                    angles.len() as u32,
-                    w as u32,
-                    h as u32,
-                    args.delay_ms,
-                )
-            })?)
-        }
-        _ => None,
-    };
-    let mut video = match (video_out, &args.video) {
-        (Some(out), Some(path)) => Some(outputs.write(out, |temp| {
-            super::video::VideoWriter::create(temp, path, w, h, args.delay_ms)
-        })?),
-        _ => None,
-    };
-    let mut per_frame = Vec::with_capacity(angles.len());
+/// Render every frame of `plan` not already in `frames_dir` (saving each there), pushing
+/// each into `writers` and telling the progress of each (on `bar`, or a line in a log;
+/// `start` began the sweep); the stage times of the frames rendered.
+fn render_frames(
+    prepared: &Arc<opalray::Prepared>,
+    plan: &Plan,
+    limit: &Limit,
+    mut frames_dir: Option<&mut FramesDir>,
+    writers: &mut Writers,
+    staged: (&Outputs, &Staged),
+    (bar, start): (&indicatif::ProgressBar, Instant),
+) -> Result<Vec<opalray::StageTimes>> {
+    let (w, h) = plan.size;
+    let n = plan.angles.len();
+    let mut per_frame = Vec::with_capacity(n);
     // One frame at a time, each on all threads. (Two at once kept the cores a little busier,
     // 3.5 % off a 25-frame sweep on two cores, for a third more memory: `BENCHMARKS.md`.)
-    for (k, &angle) in angles.iter().enumerate() {
+    for (k, &angle) in plan.angles.iter().enumerate() {
         let done = match &frames_dir {
             Some(dir) => dir.finished(k, w, h),
             None => None,
@@ -203,70 +231,63 @@ pub fn run(args: Args) -> Result<()> {
         let rgb8 = match done {
             Some(rgb8) => rgb8,
             None => {
-                let stage = format!("frame {} of {}", k + 1, angles.len());
-                let frame = render_frame(&prepared, &scene, moves, angle, &limit, &stage)?;
+                let stage = format!("frame {} of {n}", k + 1);
+                let frame = render_frame(prepared, &plan.scene, plan.moves, angle, limit, &stage)?;
                 per_frame.push(frame.times);
-                let rgb8 = opalray::color::to_display_rgb8(&frame.rgb, &scene.color);
-                if let Some(dir) = &mut frames_dir {
+                let rgb8 = opalray::color::to_display_rgb8(&frame.rgb, &plan.scene.color);
+                if let Some(dir) = frames_dir.as_deref_mut() {
                     dir.save(k, w, h, &rgb8)?;
                 }
                 rgb8
             }
         };
-        sheet.place(k, &rgb8, w, h, &format!("{angle:.0}°"));
-        if let (Some(writer), Some(out)) = (&mut animation, animation_out) {
-            outputs.write(out, |_| writer.push(&rgb8))?;
-        }
-        if let Some(writer) = &mut video {
-            writer.push(&rgb8)?;
-        }
+        writers.push(staged, k, angle, &rgb8, plan.size)?;
         bar.inc(1);
         let elapsed = start.elapsed().as_secs_f64();
-        let left = elapsed * (angles.len() - k - 1) as f64 / (k + 1) as f64;
+        let left = elapsed * (n - k - 1) as f64 / (k + 1) as f64;
         progress_line(format_args!(
-            "frame {} of {}: {} {angle:.1}°, {} elapsed, about {} left",
+            "frame {} of {n}: {} {angle:.1}°, {} elapsed, about {} left",
             k + 1,
-            angles.len(),
-            moves.name(),
+            plan.moves.name(),
             duration_words(elapsed),
             duration_words(left)
         ));
     }
-    bar.finish_and_clear();
-    let elapsed = start.elapsed().as_secs_f64();
+    Ok(per_frame)
+}
 
-    outputs.write(sheet_out, |path| {
-        opalray::output::write_png_rgb8(path, sheet.width as u32, sheet.height as u32, &sheet.rgb)
-    })?;
-    drop(sheet);
-    if let (Some(writer), Some(out)) = (animation, animation_out) {
-        outputs.write(out, |_| writer.finish())?;
-    }
-    if let Some(writer) = &mut video {
-        writer.finish()?;
-    }
-    if let Some(stats_out) = stats_out {
-        let light: f64 = per_frame.iter().map(|t| t.light_pass).sum();
-        let view: f64 = per_frame.iter().map(|t| t.view_pass).sum();
-        let value = json!({
-            "frames": angles.len(),
-            "frames_rendered": per_frame.len(),
-            "moves": moves.name(),
-            "angles_deg": angles,
-            "time_s": {"structure": prepared.times.structure, "optics": prepared.times.optics,
-                       "light_pass": light, "view_pass": view, "total": elapsed},
-            "peak_memory_mb": peak_memory_mb(),
-        });
-        outputs.write(stats_out, |path| write_json(path, &value))?;
-    }
-    outputs.commit()?;
+/// The `--stats` JSON: the frames, what moved, the stage times (the light and view passes
+/// summed over the frames rendered, `per_frame`; `elapsed` the sweep's) and peak memory.
+fn stats_json(
+    prepared: &opalray::Prepared,
+    plan: &Plan,
+    per_frame: &[opalray::StageTimes],
+    elapsed: f64,
+) -> serde_json::Value {
+    let light: f64 = per_frame.iter().map(|t| t.light_pass).sum();
+    let view: f64 = per_frame.iter().map(|t| t.view_pass).sum();
+    json!({
+        "frames": plan.angles.len(),
+        "frames_rendered": per_frame.len(),
+        "moves": plan.moves.name(),
+        "angles_deg": plan.angles,
+        "time_s": {"structure": prepared.times.structure, "optics": prepared.times.optics,
+                   "light_pass": light, "view_pass": view, "total": elapsed},
+        "peak_memory_mb": peak_memory_mb(),
+    })
+}
+
+/// Print what was written: the sheet (with the frames, how many were rendered, the time
+/// and what moved), then the animation, video and stats.
+fn report_written(args: &Args, plan: &Plan, rendered: usize, elapsed: f64) -> Result<()> {
+    let [from, to] = plan.ends;
     crate::stdio::out(format_args!(
         "wrote {} ({} frames, {} rendered, {:.2} s; the {} from {from}° to {to}°)",
         args.sheet.display(),
-        angles.len(),
-        per_frame.len(),
+        plan.angles.len(),
+        rendered,
         elapsed,
-        moves.name()
+        plan.moves.name()
     ))?;
     for path in [&args.animation, &args.video, &args.stats]
         .into_iter()
