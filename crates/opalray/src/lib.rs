@@ -19,8 +19,8 @@
 
 pub mod cancel;
 pub mod color;
-pub mod denoise;
 pub mod error;
+pub mod film;
 pub mod geometry;
 pub mod integrator;
 pub mod light_pass;
@@ -39,6 +39,9 @@ pub mod stone;
 pub mod stored;
 pub mod structure;
 pub mod view_pass;
+
+/// The denoiser, in the film's room ([`film::denoise`]).
+pub use film::denoise;
 
 pub use color::{
     illuminant_spectrum, to_display_rgb8, to_rgb, wavelength_srgb, white_point_xyz, ColorMatcher,
