@@ -104,10 +104,10 @@ pub fn denoise<'a>(
         .zip(&b_f)
         .map(|(p, q)| std::array::from_fn(|c| (n_a * p[c] + n_b * q[c]) / n))
         .collect();
-    let cut_share = share_of(&cut, &image.xyz);
-    return_residual(&mut xyz, &image.xyz, width, height);
+    let cut_share = share_of(&cut, image.xyz);
+    return_residual(&mut xyz, image.xyz, width, height);
     let bias = std::array::from_fn(|c| {
-        let (filtered, raw) = (channel_sum(&xyz, c), channel_sum(&image.xyz, c));
+        let (filtered, raw) = (channel_sum(&xyz, c), channel_sum(image.xyz, c));
         if raw > 0.0 {
             filtered / raw - 1.0
         } else {
