@@ -11,9 +11,9 @@
 //!      ray; the path to a light)  +  lights (environment and its built-in kinds, the .hdr /
 //!      .exr readers, area lights)
 //!   -> film (the sensor table, the even/odd accumulation, the noise, the denoiser)
-//!   -> an integrator: light_pass + view_pass (paper, on cells; the light's walk in named
-//!      steps, its energy booked in one place) | path (on the film) | stored | lobe, each
-//!      with a method.rs implementing integrator::Integrator (one table)
+//!   -> an integrator: light_pass + view_pass (paper, on the stone's voxels; the light's
+//!      walk in named steps, its energy booked in one place) | path (on the film) | stored
+//!      | lobe, each with a method.rs implementing integrator::Integrator (one table)
 //!   -> render.rs: prepare(scene) (integrator::check, then its prepare), render -> Frame
 //!      (render/frame.rs; the light and camera placed: render/placement.rs)
 //!   -> to_rgb (CIE 1931 -> XYZ -> RGB, gamut-mapped) -> output (PNG | EXR | spectral EXR)

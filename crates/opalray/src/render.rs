@@ -13,7 +13,7 @@ use crate::lights::Environment;
 use crate::optics::{build_optics, OpticsTables};
 use crate::path::Passes;
 use crate::sampling::mix64;
-use crate::scene::Scene;
+use crate::scene::{Pattern, Scene};
 use crate::stone::Stone;
 use crate::structure::{grow_structure, Structure};
 
@@ -30,12 +30,15 @@ pub use placement::LIGHT_DISC_RADIUS_DEG;
 pub struct Prepared {
     /// The scene.
     pub scene: Scene,
-    /// The grown structure ([`Prepared::structure`]): grown by `prepare` for the paper's two
-    /// passes, on first use for the other methods (which do not read it).
+    /// The grown structure ([`Prepared::structure`]): the stone's voxel view
+    /// ([`Stone::voxels`]) where the stone is of the paper's balls, else grown; made by
+    /// `prepare` for the paper's two passes, on first use for the other methods (which do
+    /// not read it).
     structure: OnceLock<Structure>,
     /// The cluster optics tables ([`Prepared::optics`]), built as the structure is.
     optics: OnceLock<OpticsTables>,
-    /// The stone model of the methods that render it (path, stored, lobe).
+    /// The stone model of the methods that render it (path, stored, lobe), and of the paper's
+    /// two passes where its domains are the paper's balls (they read its voxel view).
     pub stone: Option<std::sync::Arc<Stone>>,
     /// Their environment, its map read and its sampling distribution built (the stored
     /// method's: the backdrop).
@@ -71,13 +74,18 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
 }
 
 impl Prepared {
-    /// The grown structure (paper §2.4): the paper's two passes grow it in `prepare`; for
-    /// another method it is grown now, on first use (not timed).
+    /// The grown structure (paper §2.4): the paper's two passes make it in `prepare`; for
+    /// another method it is made now, on first use (not timed). Either way the stone's voxel
+    /// view ([`Stone::voxels`]) where the prepared stone has one, else grown.
     pub fn structure(&self) -> Result<&Structure> {
         if let Some(structure) = self.structure.get() {
             return Ok(structure);
         }
-        let structure = grow_structure(&self.scene.structure)?;
+        // The growth runs once: a stone of the paper's balls holds its cells.
+        let structure = match self.stone.as_deref().and_then(Stone::voxels) {
+            Some(cells) => cells.clone(),
+            None => grow_structure(&self.scene.structure)?,
+        };
         Ok(self.structure.get_or_init(|| structure))
     }
 
@@ -108,6 +116,11 @@ impl Prepared {
     /// passes' `prepare`.
     pub(crate) fn grow(&mut self) -> Result<()> {
         let start = Instant::now();
+        // The passes read the stone's voxel view: the stone of the paper's balls holds the
+        // grown cells (a grain stone has none; the passes then grow the paper's structure).
+        if self.scene.domains.pattern == Pattern::Paper {
+            self.stone = Some(std::sync::Arc::new(Stone::new(&self.scene)?));
+        }
         self.structure()?;
         self.times.structure = seconds(start);
         let start = Instant::now();
@@ -223,10 +236,14 @@ mod tests {
             assert!(prepared.optics.get().is_none(), "{method:?}");
             assert_eq!(prepared.render(30.0).void_ratio, None, "{method:?}");
         }
-        // The paper's two passes build no stone model.
+        // The paper's two passes read the stone's voxel view: no environment, no second growth.
         let prepared = prepare(&tiny("paper")).unwrap();
-        assert!(prepared.stone.is_none() && prepared.environment.is_none());
+        assert!(prepared.environment.is_none());
         assert!(prepared.structure.get().is_some() && prepared.cells.get().is_some());
+        let voxels = prepared.stone.as_deref().and_then(Stone::voxels).unwrap();
+        let structure = prepared.structure().unwrap();
+        assert_eq!(voxels.cells, structure.cells);
+        assert_eq!(voxels.orientations, structure.orientations);
     }
 
     #[test]
@@ -238,6 +255,12 @@ mod tests {
         let (a, b) = (two_pass.structure().unwrap(), lobe.structure().unwrap());
         assert_eq!(a.cells, b.cells);
         assert_eq!(a.stats.void_ratio, b.stats.void_ratio);
+        // Both are the stone's voxel view, which is the growth run on its own.
+        let grown = grow_structure(&scene.structure).unwrap();
+        assert_eq!(a.cells, grown.cells);
+        assert_eq!(a.orientations, grown.orientations);
+        assert_eq!(a.stats.seeds_placed, grown.stats.seeds_placed);
+        assert_eq!(a.stats.mean_radius_cells, grown.stats.mean_radius_cells);
         let (a, b) = (two_pass.optics().unwrap(), lobe.optics().unwrap());
         assert_eq!(a.reflectance, b.reflectance);
     }

@@ -13,7 +13,8 @@
 //! and lobes), `cut.rs` (the outline, backing, cap and colour bar) and [`Potch`]'s. What a
 //! ray segment meets is `walk.rs` ([`Stone::walk`]); the potch, backing, cap and colour bar
 //! and where a ray leaves its region, `regions.rs`; the width of a reflection's lobe,
-//! `widths.rs` ([`Stone::lobe_sigma`]).
+//! `widths.rs` ([`Stone::lobe_sigma`]); the cell grid the paper's two passes read,
+//! `voxels.rs` ([`Stone::voxels`]).
 
 pub mod balls;
 pub mod body;
@@ -27,6 +28,7 @@ mod lines;
 mod regions;
 pub mod rough;
 pub mod size_field;
+mod voxels;
 mod walk;
 mod widths;
 
