@@ -97,8 +97,8 @@ pub enum Boundary {
 impl Stone {
     /// An upper bound of the share of light from outside that reaches `p` (inside the opal)
     /// unscattered: `exp(−σ_min d)`, d a lower bound of the distance to the surface
-    /// ([`Outline::depth_bound`]) and σ_min the least extinction on the way (the potch's, or
-    /// the milky domains'; 0 where domains are clear).
+    /// ([`Outline::depth_bound`](crate::geometry::Outline::depth_bound)) and σ_min the least
+    /// extinction on the way (the potch's, or the milky domains'; 0 where domains are clear).
     pub fn reach_bound(&self, p: Vec3) -> f32 {
         let sigma = if self.domains.is_empty() {
             self.potch.extinction_per_mm

@@ -23,7 +23,8 @@ pub struct Span {
 /// Cells of the grains that likely hold a point, tried first by a walk starting there
 /// ([`Stone::walk`]): the column of the ragged outlines and the grain (in that column's shift).
 /// A walk finds the same spans with any hint or none, but where a hinted grain claims a sliver
-/// beyond a face its rays missed (as a walk from grain to grain does, [`Grains::at_with`]).
+/// beyond a face its rays missed (as a walk from grain to grain does,
+/// [`Grains::at_with`](super::grains::Grains::at_with)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Hint {
     /// The outlines' column.
