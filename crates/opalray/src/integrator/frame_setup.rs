@@ -2,10 +2,11 @@
 //! set up in one place for all three: the stone and its environment, the camera and the light
 //! placed for one light angle, the wavelength sampler, the image's size and the sample seed.
 
+use crate::film::SpectralSampler;
 use crate::geometry::Camera;
 use crate::light_pass::LightSource;
 use crate::lights::{AreaLight, Environment};
-use crate::path::{PathLight, SpectralSampler};
+use crate::path::PathLight;
 use crate::render::{camera_up, sample_seed, Prepared, LIGHT_DISC_RADIUS_DEG};
 use crate::scene::LightKind;
 use crate::stone::Stone;

@@ -4,8 +4,8 @@
 
 use std::time::Instant;
 
-use crate::denoise::{denoise, NlMeans};
 use crate::error::Result;
+use crate::film::denoise::{denoise, NlMeans};
 use crate::integrator::Integrator;
 use crate::light_pass::EnergyLedger;
 use crate::render::{rgb_of_xyz, seconds, DenoiseBias, Frame, PathStats, Prepared};

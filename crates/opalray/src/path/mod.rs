@@ -59,9 +59,9 @@
 
 mod crossing;
 mod events;
+mod image;
 mod method;
 mod nee;
-pub mod noise;
 mod notches;
 pub mod orders;
 pub mod passes;
@@ -79,12 +79,13 @@ use crate::lights::emitters;
 use crate::lights::{AreaLight, Environment};
 use crate::optics::BraggLine;
 use crate::scatter::{Phase, Scatter};
-use crate::spectrum::SpectralImage;
 use crate::stone::{ActiveLine, Hint, PathToLight, Region, Span, Stone};
 use glam::Vec3;
 
+pub use crate::film::noise;
+pub use crate::film::Noise;
+pub use image::PathImage;
 pub use method::PathTracer;
-pub use noise::Noise;
 pub use orders::BraggOrders;
 pub(crate) use passes::RowCounter;
 pub use passes::{trace_passes, PassReport, Passes, RowsReport};
@@ -192,30 +193,6 @@ pub struct PathSetup<'a> {
     pub seed: u64,
     /// Wavelength sampling and colour matching.
     pub spectral: &'a SpectralSampler,
-}
-
-/// The path integrator's image.
-pub struct PathImage {
-    /// CIE XYZ per pixel, row-major (Y = 1: a white diffuser under the light): the mean of
-    /// its samples.
-    pub xyz: Vec<[f32; 3]>,
-    /// The spectral image (bin averages).
-    pub spectral: SpectralImage,
-    /// Samples per pixel rendered.
-    pub spp: u32,
-    /// Passes rendered.
-    pub passes: u32,
-    /// Per pixel, the XYZ mean of its even samples minus that of its odd ones ([`noise`]);
-    /// empty below two samples per pixel.
-    pub half_difference: Vec<[f32; 3]>,
-    /// Per pixel, the variance of its XYZ mean: the samples' variance over `spp` (infinite
-    /// with one sample).
-    pub variance: Vec<[f32; 3]>,
-    /// Per pixel, whether its centre sees the stone.
-    pub on_stone: Vec<bool>,
-    /// The share of the stone's luminance per class of path ([`orders`]); `None` where the
-    /// image was not traced.
-    pub bragg_orders: Option<BraggOrders>,
 }
 
 /// Render `stone` as `setup` says: all `setup.spp` samples per pixel, no report

@@ -12,20 +12,19 @@
 //! passes fall and at any thread count — a time-limited render is the render with the `spp`
 //! it reached. Rows are rendered in parallel into pre-sized buffers.
 //!
-//! Each pixel keeps the sums of its even and of its odd samples (for the noise estimate,
-//! [`super::noise`]) and of the squares of the samples' XYZ (for its variance).
+//! Each pixel's samples go to the film ([`crate::film`]): the sums of its even and of its odd
+//! samples (for the noise estimate) and of the squares of the samples' XYZ (for its variance).
 
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
-use super::noise::{relative_rms, PixelNoise};
 use super::orders::OrderSums;
 use super::sampler::{PathSampler, Sampling, MAX_SAMPLES};
 use super::{PathImage, PathSetup, Tracer};
+use crate::film::{Film, PixelSums};
 use crate::scene::MAX_SPP;
-use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
 
 // Every sample of a pixel is a point of its sequence.
@@ -115,48 +114,13 @@ pub struct PassReport {
     pub noise: Option<f64>,
 }
 
-/// One pixel's sums over its samples.
-#[derive(Clone, Copy, Default)]
-struct PixelSums {
-    /// XYZ summed over the even (`[0]`) and the odd (`[1]`) samples.
-    halves: [[f64; 3]; 2],
-    /// The squares of the samples' XYZ, summed.
-    squares: [f64; 3],
-}
-
-impl PixelSums {
-    fn mean(&self, n: u32) -> [f64; 3] {
-        std::array::from_fn(|c| (self.halves[0][c] + self.halves[1][c]) / f64::from(n))
-    }
-
-    /// The mean of the even samples minus the mean of the odd ones (`n` ≥ 2).
-    fn half_difference(&self, n: u32) -> [f64; 3] {
-        let (n_even, n_odd) = (f64::from(n.div_ceil(2)), f64::from(n / 2));
-        std::array::from_fn(|c| self.halves[0][c] / n_even - self.halves[1][c] / n_odd)
-    }
-
-    /// The variance of the pixel's mean, `s²/n` with `s²` the samples' variance (`n − 1` in
-    /// the denominator); infinite with one sample.
-    fn variance_of_mean(&self, n: u32) -> [f64; 3] {
-        let mean = self.mean(n);
-        let n = f64::from(n);
-        std::array::from_fn(|c| {
-            if n < 2.0 {
-                return f64::INFINITY;
-            }
-            ((self.squares[c] - n * mean[c] * mean[c]) / (n - 1.0)).max(0.0) / n
-        })
-    }
-}
-
 /// Render `stone` as `setup` says, in passes as `passes` says.
 pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathImage {
     let start = Instant::now();
     let (w, h) = (setup.width, setup.height);
     let target = setup.spp.clamp(1, MAX_SPP);
     let on_stone = stone_mask(stone, setup);
-    let mut sums = vec![PixelSums::default(); w * h];
-    let mut spectral = SpectralImage::new(w, h, setup.spectral.grid);
+    let mut film = Film::new(w, h, setup.spectral.grid);
     let (mut done, mut count) = (0u32, 0u32);
     let mut orders = OrderSums::default();
     while done < target {
@@ -177,8 +141,8 @@ pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathIm
             passes.sampling,
             done..done + size,
             &on_stone,
-            &mut sums,
-            &mut spectral.data,
+            &mut film.sums,
+            &mut film.spectral.data,
         );
         orders.merge(&pass_orders);
         done += size;
@@ -190,35 +154,21 @@ pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathIm
                 spp: done,
                 target_spp: target,
                 elapsed_s: elapsed.as_secs_f64(),
-                noise: noise_of_sums(&sums, &on_stone, done),
+                noise: film.noise(&on_stone, done),
             });
         }
         if passes.time_limit.is_some_and(|limit| elapsed >= limit) {
             break;
         }
     }
-    // The means.
-    let k = 1.0 / done as f32;
-    for v in &mut spectral.data {
-        *v *= k;
-    }
-    let to_f32 = |v: [f64; 3]| v.map(|c| c as f32);
+    let developed = film.develop(done);
     PathImage {
-        xyz: sums.iter().map(|p| to_f32(p.mean(done))).collect(),
-        spectral,
+        xyz: developed.xyz,
+        spectral: developed.spectral,
         spp: done,
         passes: count,
-        half_difference: if done >= 2 {
-            sums.iter()
-                .map(|p| to_f32(p.half_difference(done)))
-                .collect()
-        } else {
-            Vec::new()
-        },
-        variance: sums
-            .iter()
-            .map(|p| to_f32(p.variance_of_mean(done)))
-            .collect(),
+        half_difference: developed.half_difference,
+        variance: developed.variance,
         bragg_orders: Some(orders.report(done, on_stone.iter().filter(|&&on| on).count())),
         on_stone,
     }
@@ -259,11 +209,7 @@ fn trace_pass(
                     let ray = setup.camera.ray(x as f32 + jx, y as f32 + jy);
                     let mut acc = [0.0f64; 3];
                     tracer.sample(ray, &mut sampler, &mut acc, px_bins);
-                    let half = &mut px.halves[(s % 2) as usize];
-                    for c in 0..3 {
-                        half[c] += acc[c];
-                        px.squares[c] += acc[c] * acc[c];
-                    }
+                    px.add(s, &acc);
                     if on_stone[pixel as usize] {
                         row_orders.add_sample(s, &tracer.tally);
                     }
@@ -287,40 +233,4 @@ fn stone_mask(stone: &Stone, setup: &PathSetup) -> Vec<bool> {
             stone.shape.intersect(&ray).is_some_and(|(t0, _)| t0 > 0.0)
         })
         .collect()
-}
-
-/// The relative RMS noise of Y over the stone from the sums after `n` samples.
-fn noise_of_sums(sums: &[PixelSums], on_stone: &[bool], n: u32) -> Option<f64> {
-    if n < 2 {
-        return None;
-    }
-    let pixels = sums
-        .iter()
-        .zip(on_stone)
-        .filter(|(_, &on)| on)
-        .map(|(p, _)| PixelNoise {
-            mean: p.mean(n)[1],
-            half_difference: p.half_difference(n)[1],
-        });
-    relative_rms(pixels, n)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn variance_of_mean_is_the_sample_variance_over_n() {
-        // Samples 1, 2, 3, 6 (Y): mean 3, s² = (4 + 1 + 0 + 9)/3 = 14/3, s²/n = 7/6.
-        let mut p = PixelSums::default();
-        for (s, v) in [1.0, 2.0, 3.0, 6.0].into_iter().enumerate() {
-            p.halves[s % 2][1] += v;
-            p.squares[1] += v * v;
-        }
-        assert!((p.mean(4)[1] - 3.0).abs() < 1e-12);
-        assert!((p.variance_of_mean(4)[1] - 7.0 / 6.0).abs() < 1e-12);
-        // Even samples 1, 3 (mean 2), odd 2, 6 (mean 4).
-        assert!((p.half_difference(4)[1] + 2.0).abs() < 1e-12);
-        assert!(p.variance_of_mean(1)[1].is_infinite());
-    }
 }

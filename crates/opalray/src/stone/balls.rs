@@ -8,7 +8,7 @@ use glam::{Quat, Vec3};
 use super::{Hint, Merge, Span};
 use crate::error::Result;
 use crate::scene::StructureConfig;
-use crate::structure::Growth;
+use crate::structure::{Growth, Structure};
 
 /// One growth step's ball in cell units (centre at a cell centre, radius in cell edges).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -29,11 +29,13 @@ pub struct Balls {
     /// mm → cell units: `u = (p + offset) * scale`.
     scale: Vec3,
     offset: Vec3,
+    /// The growth's cells: at every cell centre, the latest ball covering it.
+    cells: Structure,
 }
 
 impl Balls {
     /// Grow the stone of `config` exactly as [`crate::structure::grow_structure`] does and keep
-    /// every step's ball.
+    /// every step's ball, and the grown cells.
     pub fn grow(config: &StructureConfig) -> Result<Balls> {
         let mut growth = Growth::new(config)?;
         let mut balls = Vec::new();
@@ -56,7 +58,15 @@ impl Balls {
             balls,
             scale,
             offset,
+            cells: growth.finish(),
         })
+    }
+
+    /// The grown cell structure the balls were taken from, the same as
+    /// [`crate::structure::grow_structure`] of the same configuration: at every cell centre
+    /// the balls and the cells agree (`tests/stone_voxels.rs`).
+    pub fn cells(&self) -> &Structure {
+        &self.cells
     }
 
     fn to_cells(&self, p: Vec3) -> Vec3 {

@@ -8,9 +8,8 @@
 use glam::Vec3;
 
 use super::lines::SlotTable;
-use super::{
-    diffraction_sigma_rad, domain_width_mm, width_row_cos, Domain, LINE_REACH, WIDTH_ROWS,
-};
+use super::widths::{lobe_sigmas, WIDTH_ROWS};
+use super::{Domain, LINE_REACH};
 use crate::optics::{Families, FamilyKind};
 use crate::scene::{FamilyChoice, Scene};
 
@@ -77,25 +76,6 @@ pub(super) fn domain_normals(families: &Families, domains: &[Domain]) -> Vec<Vec
             lattice
                 .iter()
                 .map(move |&n| (dm.orientation * n).normalize())
-        })
-        .collect()
-}
-
-/// Per family, the reflection's spread over directions (rad) at each row's cos θ: the mosaic
-/// and the diffraction of the domain's width (the rocking width is an acceptance in
-/// wavelength, kept in R(λ, θ)).
-fn lobe_sigmas(scene: &Scene, families: &Families) -> Vec<[f32; WIDTH_ROWS]> {
-    let mosaic = scene.domains.mosaic_spread_deg.to_radians();
-    let width_mm = domain_width_mm(scene);
-    families
-        .kinds
-        .iter()
-        .map(|f| {
-            let spacing_mm = f.spacing_over_diameter * scene.crystal.sphere_diameter_nm * 1e-6;
-            std::array::from_fn(|row| {
-                let diffraction = diffraction_sigma_rad(spacing_mm, width_row_cos(row), width_mm);
-                mosaic.hypot(diffraction) as f32
-            })
         })
         .collect()
 }

@@ -27,9 +27,10 @@ pub mod view;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::film::SpectralSampler;
 use crate::geometry::Camera;
 use crate::lights::Environment;
-use crate::path::{PathLight, SpectralSampler};
+use crate::path::PathLight;
 use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;

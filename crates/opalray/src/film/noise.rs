@@ -1,5 +1,5 @@
 //! The noise of a path-traced image, estimated from the image itself: input the even and odd
-//! half sums of each pixel ([`PathImage::half_difference`]) → output a [`Noise`].
+//! half sums of each pixel ([`super::FilmImage::half_difference`]) → output a [`Noise`].
 //!
 //! A pixel's `n` samples are independent and identically distributed, of variance σ². Split
 //! them into the `n_a = ⌈n/2⌉` even and the `n_b = ⌊n/2⌋` odd samples, of means `a` and `b`:
@@ -16,8 +16,6 @@
 
 use glam::{DVec3, Mat3};
 use serde::Serialize;
-
-use super::PathImage;
 
 /// The noise of a path-traced image over the stone's pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -61,23 +59,8 @@ pub fn relative_rms(pixels: impl Iterator<Item = PixelNoise>, n: u32) -> Option<
     Some(variance_of_mean.sqrt() / (sum / count))
 }
 
-impl PathImage {
-    /// The image's noise over the stone's pixels, the RGB channels through `xyz_to_rgb`
-    /// (any linear map: a scale does not change relative noise); `None` below two samples
-    /// per pixel.
-    pub fn noise(&self, xyz_to_rgb: Mat3) -> Option<Noise> {
-        noise_of(
-            &self.xyz,
-            &self.half_difference,
-            &self.on_stone,
-            self.spp,
-            xyz_to_rgb,
-        )
-    }
-}
-
 /// The noise over the pixels `on_stone` of an image of pixel means `xyz` and half differences
-/// `half_difference` after `spp` samples, as [`PathImage::noise`]; `None` below two samples
+/// `half_difference` after `spp` samples, as `path::PathImage::noise` gives it; `None` below two samples
 /// per pixel or if the two images differ in size.
 pub fn noise_of(
     xyz: &[[f32; 3]],
