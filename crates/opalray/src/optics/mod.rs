@@ -6,6 +6,8 @@
 //! bin-averaged specular reflectance R, coherent transmittance T and diffuse part D over
 //! angle inside the stone.
 //!
+//! - [`dispersion`]: silica's dispersion, the indices at every wavelength and a line's
+//!   centre and strength with them.
 //! - [`fcc`]: the cluster along \[111\] as a two-layer periodic stack whose mean permittivity
 //!   and first Fourier component equal the crystal's.
 //! - [`tmm`]: transfer matrices of lossless layers, s and p, the N-th power in closed form
@@ -18,6 +20,7 @@
 //! inside the stone is `λ = 2 d n_eff cos θ`; from air at θ₀ onto a face parallel to the
 //! planes, `λ = 2 d √(n_eff² − sin² θ₀)`.
 
+pub mod dispersion;
 pub mod families;
 pub mod fcc;
 pub mod fine;
@@ -25,6 +28,7 @@ pub mod line;
 pub mod tables;
 pub mod tmm;
 
+pub use dispersion::{CrystalIndex, LineIndex};
 pub use families::{Families, FamilyKind, FamilyOptics};
 pub use fcc::{ClusterStack, StackAtAngle};
 pub use line::{rocking_fwhm_rad, BraggLine};

@@ -1,0 +1,261 @@
+//! Silica's dispersion: the spheres' and the cement's indices over wavelength, and what a
+//! Bragg line becomes with them (`docs/model.md`, the indices over wavelength).
+//!
+//! Input: a [`CrystalConfig`] (its indices at the sodium d line and `crystal.dispersion`) →
+//! output: a [`CrystalIndex`], the indices, the effective index and the contrast at any
+//! wavelength, and for a line the [`LineIndex`] that moves its centre and sets its strength.
+//!
+//! - Fused silica's Sellmeier law (Malitson 1965, J. Opt. Soc. Am. 55, 1205), λ in µm:
+//!   `n² − 1 = Σ Bᵢ λ² / (λ² − Cᵢ)`. Opal's hydrated silica has a lower index than fused
+//!   silica (1.45 against 1.458 at the d line), so the law gives the shape and the scene the
+//!   level: `n(λ) = n_d + n_silica(λ) − n_silica(589.3 nm)`, for the spheres and the cement
+//!   alike (their contrast stays `n_s,d − n_m,d` at every wavelength).
+//! - A family of spacing d met at θ reflects where `λ = 2 d n̄(λ) cos θ`. With
+//!   `x = 2 d n̄_d cos θ` (the centre at the constant index), `λ = x n̄(λ) / n̄_d`: a fixed
+//!   point whose map has slope `x |n̄'| / n̄_d`, about 0.03 at 400 nm: [`FIXED_POINT_STEPS`]
+//!   steps leave about 10⁻⁴ nm and one Newton step (with the slope the line needs anyway)
+//!   under 10⁻⁶ nm down to 250 nm; its inverse is explicit, `x = λ n̄_d / n̄(λ)`.
+//! - The coupling `g ∝ |ε_s − ε_m| / ε̄` is taken at the line's centre.
+//! - Across a line the detuning `λ_B(λ)/λ − 1` of `λ_B(λ) = 2 d n̄(λ) cos θ` runs faster than
+//!   at a constant index by `k = n_g / n̄ = 1 − λ n̄'/n̄` (the group index over the index):
+//!   the line is narrower by `1/k` (2.6 % at 400 nm, 1.2 % at 600 nm). A [`BraggLine`] of
+//!   `k N` layers and coupling `g / k` has that detuning and the same coupling `ν`.
+//!
+//! [`BraggLine`]: super::BraggLine
+
+use crate::scene::{CrystalConfig, Dispersion};
+
+/// The sodium d line, nm: the wavelength at which the scene's `n_sphere` and `n_matrix` hold.
+pub const SODIUM_D_NM: f64 = 589.3;
+
+/// Fused silica's Sellmeier coefficients `Bᵢ` (Malitson 1965, J. Opt. Soc. Am. 55, 1205).
+const SELLMEIER_B: [f64; 3] = [0.696_166_3, 0.407_942_6, 0.897_479_4];
+
+/// Fused silica's Sellmeier resonances `Cᵢ = λᵢ²`, µm² (Malitson 1965): λᵢ = 0.0684043,
+/// 0.1162414 and 9.896161 µm.
+const SELLMEIER_C_UM2: [f64; 3] = [
+    0.068_404_3 * 0.068_404_3,
+    0.116_241_4 * 0.116_241_4,
+    9.896_161 * 9.896_161,
+];
+
+/// The wavelengths (nm) of Malitson's measurements, over which the law holds; outside them
+/// the index is held at the nearest end's value (the scenes' range is 200–2000 nm, and a
+/// line's centre never far from it).
+const LAW_RANGE_NM: (f64, f64) = (210.0, 3710.0);
+
+/// Steps of the fixed point `λ = x n̄(λ) / n̄_d` before its Newton step (module notes): each
+/// divides the error by at least 15 over 300–2000 nm.
+pub const FIXED_POINT_STEPS: usize = 3;
+
+/// Fused silica's index and its derivative (per nm) at `wavelength_nm` (held constant
+/// outside 210–3710 nm, the law's range, where the derivative is 0).
+pub fn fused_silica_index(wavelength_nm: f64) -> (f64, f64) {
+    let (lo, hi) = LAW_RANGE_NM;
+    let inside = wavelength_nm > lo && wavelength_nm < hi;
+    let um = wavelength_nm.clamp(lo, hi) * 1e-3;
+    let um2 = um * um;
+    let (mut n_sq, mut d_n_sq) = (1.0, 0.0);
+    for (b, c) in SELLMEIER_B.iter().zip(SELLMEIER_C_UM2) {
+        let denominator = um2 - c;
+        n_sq += b * um2 / denominator;
+        // d/dλ of B λ²/(λ² − C) = −2 B C λ / (λ² − C)².
+        d_n_sq -= 2.0 * b * c * um / (denominator * denominator);
+    }
+    let n = n_sq.sqrt();
+    // Per µm to per nm.
+    let slope = if inside { 0.5 * d_n_sq / n * 1e-3 } else { 0.0 };
+    (n, slope)
+}
+
+/// The crystal's indices at every wavelength.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CrystalIndex {
+    /// The law.
+    pub dispersion: Dispersion,
+    /// The spheres' index at the sodium d line.
+    pub n_sphere_d: f64,
+    /// The matrix's index at the sodium d line.
+    pub n_matrix_d: f64,
+    /// Volume fraction of spheres.
+    pub filling_fraction: f64,
+    /// The effective index `√(f n_s² + (1 − f) n_m²)` at the sodium d line.
+    pub n_eff_d: f64,
+    /// Fused silica's index at the sodium d line (the law's zero).
+    silica_d: f64,
+}
+
+/// What a line whose centre at the constant index would be `x` becomes with the dispersion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineIndex {
+    /// The line's centre, nm: the fixed point `λ = x n̄(λ) / n̄_d`.
+    pub centre_nm: f64,
+    /// The coupling at the centre over the coupling at the d line:
+    /// `[(ε_s − ε_m)/ε̄](λ) / [(ε_s − ε_m)/ε̄](589.3 nm)`.
+    pub coupling_scale: f64,
+    /// `k = n_g / n̄ = 1 − λ n̄'/n̄` at the centre (≥ 1 where the index falls with λ).
+    pub group_ratio: f64,
+}
+
+impl CrystalIndex {
+    /// The indices of `crystal` (its ranges are checked by `CrystalConfig::validate`).
+    pub fn new(crystal: &CrystalConfig) -> CrystalIndex {
+        let f = crystal.filling_fraction;
+        let eps_d = f * crystal.n_sphere.powi(2) + (1.0 - f) * crystal.n_matrix.powi(2);
+        CrystalIndex {
+            dispersion: crystal.dispersion,
+            n_sphere_d: crystal.n_sphere,
+            n_matrix_d: crystal.n_matrix,
+            filling_fraction: f,
+            n_eff_d: eps_d.sqrt(),
+            silica_d: fused_silica_index(SODIUM_D_NM).0,
+        }
+    }
+
+    /// True where the indices do not change with wavelength (`dispersion = "none"`).
+    #[inline]
+    pub fn is_constant(&self) -> bool {
+        self.dispersion == Dispersion::None
+    }
+
+    /// The shift of both indices from their d-line values at `wavelength_nm`, and its
+    /// derivative per nm.
+    #[inline]
+    fn offset(&self, wavelength_nm: f64) -> (f64, f64) {
+        match self.dispersion {
+            Dispersion::None => (0.0, 0.0),
+            Dispersion::Silica => {
+                let (n, slope) = fused_silica_index(wavelength_nm);
+                (n - self.silica_d, slope)
+            }
+        }
+    }
+
+    /// `(n_sphere, n_matrix)` at `wavelength_nm`.
+    #[inline]
+    pub fn indices(&self, wavelength_nm: f64) -> (f64, f64) {
+        let (shift, _) = self.offset(wavelength_nm);
+        (self.n_sphere_d + shift, self.n_matrix_d + shift)
+    }
+
+    /// The effective index `√(f n_s² + (1 − f) n_m²)` at `wavelength_nm`.
+    #[inline]
+    pub fn n_eff(&self, wavelength_nm: f64) -> f64 {
+        let (n_s, n_m) = self.indices(wavelength_nm);
+        let f = self.filling_fraction;
+        (f * n_s * n_s + (1.0 - f) * n_m * n_m).sqrt()
+    }
+
+    /// The constant-index centre `x = λ n̄_d / n̄(λ)` of the line centred at `wavelength_nm`
+    /// (the inverse of [`CrystalIndex::line`]'s centre; increasing in λ).
+    #[inline]
+    pub fn constant_centre_nm(&self, wavelength_nm: f64) -> f64 {
+        if self.is_constant() {
+            return wavelength_nm;
+        }
+        wavelength_nm * self.n_eff_d / self.n_eff(wavelength_nm)
+    }
+
+    /// The line whose centre at the constant index would be `constant_centre_nm` (> 0):
+    /// its centre, coupling and group ratio with the dispersion (module notes). Exactly
+    /// `(x, 1, 1)` for `dispersion = "none"`.
+    pub fn line(&self, constant_centre_nm: f64) -> LineIndex {
+        let x = constant_centre_nm;
+        if self.is_constant() {
+            return LineIndex {
+                centre_nm: x,
+                coupling_scale: 1.0,
+                group_ratio: 1.0,
+            };
+        }
+        let mut lambda = x;
+        for _ in 0..FIXED_POINT_STEPS {
+            lambda = x * self.n_eff(lambda) / self.n_eff_d;
+        }
+        let (shift, slope) = self.offset(lambda);
+        let f = self.filling_fraction;
+        let (n_s, n_m) = (self.n_sphere_d + shift, self.n_matrix_d + shift);
+        let eps = f * n_s * n_s + (1.0 - f) * n_m * n_m;
+        let n_eff = eps.sqrt();
+        // dn̄/dλ = (f n_s + (1 − f) n_m) dn/dλ / n̄: both indices move alike.
+        let n_eff_slope = (f * n_s + (1.0 - f) * n_m) * slope / n_eff;
+        // One Newton step on λ − x n̄(λ)/n̄_d = 0; the index moves by under 10⁻¹¹ with it.
+        lambda -= (lambda - x * n_eff / self.n_eff_d) / (1.0 - x * n_eff_slope / self.n_eff_d);
+        let contrast = (n_s * n_s - n_m * n_m) / eps;
+        let eps_d = self.n_eff_d * self.n_eff_d;
+        let contrast_d = (self.n_sphere_d.powi(2) - self.n_matrix_d.powi(2)) / eps_d;
+        LineIndex {
+            centre_nm: lambda,
+            coupling_scale: if contrast_d == 0.0 {
+                1.0
+            } else {
+                contrast / contrast_d
+            },
+            group_ratio: 1.0 - lambda * n_eff_slope / n_eff,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn silica_crystal() -> CrystalConfig {
+        CrystalConfig {
+            dispersion: Dispersion::Silica,
+            ..CrystalConfig::default()
+        }
+    }
+
+    #[test]
+    fn sellmeier_slope_is_the_derivative_of_the_index() {
+        for wl in [300.0, 404.7, 589.3, 706.5, 1500.0] {
+            let h = 1e-3;
+            let numeric = (fused_silica_index(wl + h).0 - fused_silica_index(wl - h).0) / (2.0 * h);
+            let (_, slope) = fused_silica_index(wl);
+            assert!((slope / numeric - 1.0).abs() < 1e-6, "{wl}: {slope} {numeric}");
+        }
+    }
+
+    #[test]
+    fn indices_hold_the_scenes_values_at_the_d_line() {
+        let index = CrystalIndex::new(&silica_crystal());
+        let (n_s, n_m) = index.indices(SODIUM_D_NM);
+        assert!((n_s - 1.45).abs() < 1e-15 && (n_m - 1.42).abs() < 1e-15);
+        assert!((index.n_eff(SODIUM_D_NM) - index.n_eff_d).abs() < 1e-15);
+        // Both rise alike in the blue: the contrast in index is unchanged.
+        let (n_s, n_m) = index.indices(420.0);
+        assert!(n_s > 1.455 && ((n_s - n_m) - 0.03).abs() < 1e-12, "{n_s} {n_m}");
+    }
+
+    #[test]
+    fn the_line_centre_is_the_inverse_of_the_constant_centre() {
+        let index = CrystalIndex::new(&silica_crystal());
+        for lambda in [250.0, 380.0, 450.0, 589.3, 700.0, 1200.0, 2000.0] {
+            let x = index.constant_centre_nm(lambda);
+            let line = index.line(x);
+            assert!((line.centre_nm - lambda).abs() < 1e-6, "{lambda}: {line:?}");
+        }
+    }
+
+    #[test]
+    fn no_dispersion_leaves_a_line_unchanged() {
+        let index = CrystalIndex::new(&CrystalConfig::default());
+        let line = index.line(471.3);
+        assert_eq!(line.centre_nm, 471.3);
+        assert_eq!((line.coupling_scale, line.group_ratio), (1.0, 1.0));
+        assert_eq!(index.n_eff(400.0), index.n_eff_d);
+    }
+
+    #[test]
+    fn the_group_ratio_is_one_minus_the_log_slope_of_the_index() {
+        // k = 1 − λ n̄'/n̄, with n̄' by central differences of n̄.
+        let index = CrystalIndex::new(&silica_crystal());
+        let line = index.line(index.constant_centre_nm(420.0));
+        let h = 1e-3;
+        let slope = (index.n_eff(420.0 + h) - index.n_eff(420.0 - h)) / (2.0 * h);
+        let k = 1.0 - 420.0 * slope / index.n_eff(420.0);
+        assert!((line.group_ratio - k).abs() < 1e-6, "{line:?} vs {k}");
+        assert!(k > 1.02 && k < 1.03, "{k}");
+    }
+}
