@@ -156,6 +156,21 @@ impl CrystalIndex {
         wavelength_nm * self.n_eff_d / self.n_eff(wavelength_nm)
     }
 
+    /// `k = n_g / n̄ = 1 − λ n̄'/n̄` at `wavelength_nm` (1 for `dispersion = "none"`).
+    #[inline]
+    pub fn group_ratio(&self, wavelength_nm: f64) -> f64 {
+        if self.is_constant() {
+            return 1.0;
+        }
+        let (shift, slope) = self.offset(wavelength_nm);
+        let f = self.filling_fraction;
+        let (n_s, n_m) = (self.n_sphere_d + shift, self.n_matrix_d + shift);
+        let n_eff = (f * n_s * n_s + (1.0 - f) * n_m * n_m).sqrt();
+        // dn̄/dλ = (f n_s + (1 − f) n_m) dn/dλ / n̄: both indices move alike.
+        let n_eff_slope = (f * n_s + (1.0 - f) * n_m) * slope / n_eff;
+        1.0 - wavelength_nm * n_eff_slope / n_eff
+    }
+
     /// The line whose centre at the constant index would be `constant_centre_nm` (> 0):
     /// its centre, coupling and group ratio with the dispersion (module notes). Exactly
     /// `(x, 1, 1)` for `dispersion = "none"`.
@@ -172,18 +187,14 @@ impl CrystalIndex {
         for _ in 0..FIXED_POINT_STEPS {
             lambda = x * self.n_eff(lambda) / self.n_eff_d;
         }
-        let (shift, slope) = self.offset(lambda);
+        // One Newton step on λ − x n̄(λ)/n̄_d = 0, whose slope is k = 1 − x n̄'/n̄_d here.
+        let residual = lambda - x * self.n_eff(lambda) / self.n_eff_d;
+        lambda -= residual / self.group_ratio(lambda);
+        let (n_s, n_m) = self.indices(lambda);
         let f = self.filling_fraction;
-        let (n_s, n_m) = (self.n_sphere_d + shift, self.n_matrix_d + shift);
-        let eps = f * n_s * n_s + (1.0 - f) * n_m * n_m;
-        let n_eff = eps.sqrt();
-        // dn̄/dλ = (f n_s + (1 − f) n_m) dn/dλ / n̄: both indices move alike.
-        let n_eff_slope = (f * n_s + (1.0 - f) * n_m) * slope / n_eff;
-        // One Newton step on λ − x n̄(λ)/n̄_d = 0; the index moves by under 10⁻¹¹ with it.
-        lambda -= (lambda - x * n_eff / self.n_eff_d) / (1.0 - x * n_eff_slope / self.n_eff_d);
-        let contrast = (n_s * n_s - n_m * n_m) / eps;
-        let eps_d = self.n_eff_d * self.n_eff_d;
-        let contrast_d = (self.n_sphere_d.powi(2) - self.n_matrix_d.powi(2)) / eps_d;
+        let contrast = (n_s * n_s - n_m * n_m) / (f * n_s * n_s + (1.0 - f) * n_m * n_m);
+        let contrast_d = (self.n_sphere_d.powi(2) - self.n_matrix_d.powi(2))
+            / (self.n_eff_d * self.n_eff_d);
         LineIndex {
             centre_nm: lambda,
             coupling_scale: if contrast_d == 0.0 {
@@ -191,8 +202,32 @@ impl CrystalIndex {
             } else {
                 contrast / contrast_d
             },
-            group_ratio: 1.0 - lambda * n_eff_slope / n_eff,
+            group_ratio: self.group_ratio(lambda),
         }
+    }
+
+    /// The arguments of [`BraggLine::new`](super::BraggLine::new) for a family of coupling
+    /// `coupling` (at the d line) whose face-on centre at the constant index is
+    /// `normal_center_nm`, met at `cos_theta`: `(g', 2 d n̄' , k)` such that
+    /// `BraggLine::new(g', 2 d n̄', cos θ, k N)` is its line with the dispersion for `N`
+    /// layers (module notes). The arguments unchanged and `k = 1` for `dispersion = "none"`.
+    #[inline]
+    pub fn line_args(
+        &self,
+        coupling: f64,
+        normal_center_nm: f64,
+        cos_theta: f64,
+    ) -> (f64, f64, f64) {
+        if self.is_constant() {
+            return (coupling, normal_center_nm, 1.0);
+        }
+        let c = cos_theta.clamp(1e-3, 1.0);
+        let line = self.line(normal_center_nm * c);
+        (
+            coupling * line.coupling_scale / line.group_ratio,
+            line.centre_nm / c,
+            line.group_ratio,
+        )
     }
 }
 

@@ -46,9 +46,10 @@ pub(super) struct SlotTable {
 }
 
 impl SlotTable {
-    /// The slots of `families` in a stone of index `n_eff`, lines kept from `range_lo_nm`,
-    /// for `layers_111` coherent (111) layers.
-    pub fn new(families: &Families, n_eff: f32, range_lo_nm: f64, layers_111: f64) -> Self {
+    /// The slots of `families` in a stone of index `n_eff`, keeping the lines whose centre at
+    /// the constant index ([`crate::optics::CrystalIndex::constant_centre_nm`]) reaches
+    /// `reach_nm`, for `layers_111` coherent (111) layers.
+    pub fn new(families: &Families, n_eff: f32, reach_nm: f64, layers_111: f64) -> Self {
         let d111 = families.kinds[0].spacing_over_diameter;
         let optics: Vec<SlotOptics> = (families.kinds.iter().enumerate())
             .flat_map(|(k, f)| {
@@ -64,7 +65,7 @@ impl SlotTable {
         let two_n = 2.0 * f64::from(n_eff);
         let reach_of = |slot: Option<&SlotOptics>| {
             slot.map_or(0.0, |s| {
-                let exact = LINE_REACH * range_lo_nm / (two_n * s.spacing_over_diameter);
+                let exact = reach_nm / (two_n * s.spacing_over_diameter);
                 exact as f32 * (1.0 - REACH_MARGIN)
             })
         };
@@ -194,8 +195,13 @@ impl Stone {
     ) {
         let (range_lo, range_hi) = self.range_nm;
         let c = f64::from(dot.abs());
-        // 2 d n̄: the line's centre face-on.
-        let normal_center_nm = args.two_n * slot.spacing_over_diameter;
+        // 2 d n̄: the line's centre face-on; with the dispersion, the coupling and the centre
+        // at the line's own wavelength, and the layers scaled by the group ratio k.
+        let (coupling, normal_center_nm, group) = self.families.index.line_args(
+            slot.coupling,
+            args.two_n * slot.spacing_over_diameter,
+            c,
+        );
         let center = normal_center_nm * c;
         if center < LINE_REACH * range_lo || center > 1.05 * range_hi {
             return;
@@ -203,13 +209,14 @@ impl Stone {
         let spacing_nm = slot.spacing_over_diameter * args.diameter_nm;
         let layers = (args.chord_nm * c / spacing_nm)
             .min(slot.layer_cap)
-            .max(1.0);
+            .max(1.0)
+            * group;
         if let Some(w) = args.wavelength_nm {
-            if !BraggLine::window_may_hold(slot.coupling, normal_center_nm, c, layers, w) {
+            if !BraggLine::window_may_hold(coupling, normal_center_nm, c, layers, w) {
                 return;
             }
         }
-        let line = BraggLine::new(slot.coupling, normal_center_nm, c, layers);
+        let line = BraggLine::new(coupling, normal_center_nm, c, layers);
         let (lo, hi) = line.window_nm();
         if hi < range_lo || lo > range_hi {
             return;
