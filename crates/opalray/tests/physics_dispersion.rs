@@ -170,3 +170,12 @@ fn the_two_pass_tables_move_the_line_by_the_fixed_point() {
         lambda - x
     );
 }
+
+#[test]
+fn an_unknown_dispersion_is_refused_naming_the_field_and_the_choices() {
+    let err = Scene::from_toml_str("[crystal]\ndispersion = \"sellmeier\"\n", "test")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("crystal.dispersion"), "{err}");
+    assert!(err.contains("none") && err.contains("silica"), "{err}");
+}
