@@ -102,7 +102,11 @@ fn silica_lines_sit_where_the_dispersive_stack_reflects() {
                 n_matrix: 1.42 + shift(nm),
                 ..CrystalConfig::default()
             };
-            ClusterStack::new(&crystal).unwrap().at(1.0).rt_unpolarized(nm).0
+            ClusterStack::new(&crystal)
+                .unwrap()
+                .at(1.0)
+                .rt_unpolarized(nm)
+                .0
         };
         let constant = face_on_111(&stone(diameter, Dispersion::None)).line;
         let (from, to) = (constant.center_nm - 8.0, constant.center_nm + 8.0);
@@ -127,7 +131,10 @@ fn silica_lines_sit_where_the_dispersive_stack_reflects() {
         let again = stone(diameter, Dispersion::Silica);
         let active = face_on_111(&again);
         let at = again.line_at(0, &active, 1.0);
-        assert!((at.center_nm - line.center_nm).abs() < 1e-6, "{at:?} vs {line:?}");
+        assert!(
+            (at.center_nm - line.center_nm).abs() < 1e-6,
+            "{at:?} vs {line:?}"
+        );
         assert!((at.layers - line.layers).abs() < 1e-6 * line.layers);
     }
 }

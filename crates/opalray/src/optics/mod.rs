@@ -36,7 +36,9 @@ pub use tables::{build_optics, OpticsTables};
 pub use tmm::Polarization;
 
 /// First-order Bragg wavelength in vacuum, nm, for light meeting the (111) planes at
-/// `cos_theta_inside` inside the stone: `2 d n_eff cos θ`. `d111_nm` > 0, `n_eff` ≥ 1.
+/// `cos_theta_inside` inside the stone: `2 d n_eff cos θ`. `d111_nm` > 0, `n_eff` ≥ 1, constant
+/// over wavelength (with silica's dispersion, [`CrystalIndex::line`] solves
+/// `λ = 2 d n_eff(λ) cos θ`).
 pub fn bragg_wavelength_inside_nm(d111_nm: f64, n_eff: f64, cos_theta_inside: f64) -> f64 {
     2.0 * d111_nm * n_eff * cos_theta_inside
 }

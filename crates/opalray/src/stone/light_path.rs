@@ -196,7 +196,7 @@ impl Stone {
         let two_dn = 2.0 * f64::from(self.n_eff) * family.spacing_over_diameter * d;
         let index = &self.families.index;
         // `line`'s layers hold its group ratio (`optics::dispersion`): the periods met.
-        let layers = line.line.layers / index.group_ratio(line.line.center_nm);
+        let layers = line.line.layers / index.line_group_ratio(line.line.center_nm);
         let c = f64::from(cos_theta);
         let (coupling, normal_center_nm, group) = index.line_args(family.coupling, two_dn, c);
         BraggLine::new(coupling, normal_center_nm, c, layers * group)
