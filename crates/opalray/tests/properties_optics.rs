@@ -4,7 +4,7 @@
 
 use opalray::optics::tmm::{stack_rt, Layer};
 use opalray::optics::{ClusterStack, Polarization};
-use opalray::scene::CrystalConfig;
+use opalray::scene::{CrystalConfig, Dispersion};
 use opalray::{build_optics, WavelengthGrid};
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
@@ -37,6 +37,7 @@ fn crystals() -> impl Strategy<Value = CrystalConfig> {
             layers,
             diffuse_fraction: delta,
             angles: 90,
+            dispersion: Dispersion::None,
         })
 }
 
@@ -52,6 +53,7 @@ fn nearly_total_reflection_stays_a_fraction() {
         layers: 150,
         diffuse_fraction: 0.0,
         angles: 90,
+        dispersion: Dispersion::None,
     };
     let at = ClusterStack::new(&crystal).unwrap().at(0.31075411554505994);
     for (r, t) in [

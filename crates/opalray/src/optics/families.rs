@@ -24,6 +24,7 @@ use std::f64::consts::PI;
 
 use glam::Vec3;
 
+use super::dispersion::CrystalIndex;
 use super::fcc::sphere_form_factor;
 use crate::scene::CrystalConfig;
 
@@ -136,7 +137,8 @@ pub struct FamilyOptics {
     pub kind: FamilyKind,
     /// Spacing over sphere diameter, `d / D`.
     pub spacing_over_diameter: f64,
-    /// Relative coupling `g = |ε_G| / ε̄`: the stop band's relative width at normal incidence.
+    /// Relative coupling `g = |ε_G| / ε̄`: the stop band's relative width at normal incidence
+    /// (at the sodium d line).
     pub coupling: f64,
     /// Unit normals of its families in the lattice frame.
     pub normals: Vec<Vec3>,
@@ -145,8 +147,11 @@ pub struct FamilyOptics {
 /// The families of one crystal and what they share.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Families {
-    /// Effective index `√ε̄` of the domains (and the stone).
+    /// Effective index `√ε̄` of the domains (and the stone), at the sodium d line.
     pub n_eff: f64,
+    /// The indices over wavelength: each line's centre and coupling at its own wavelength
+    /// ([`CrystalIndex::line_args`]; `n_eff` and the couplings here are the d line's).
+    pub index: CrystalIndex,
     /// One entry per family kind, strongest first.
     pub kinds: Vec<FamilyOptics>,
 }
@@ -177,6 +182,7 @@ impl Families {
             .collect();
         Families {
             n_eff: eps_mean.sqrt(),
+            index: CrystalIndex::new(crystal),
             kinds,
         }
     }

@@ -53,9 +53,20 @@ impl ClusterStack {
     /// The layer model of `crystal` (validated first).
     pub fn new(crystal: &CrystalConfig) -> Result<ClusterStack> {
         crystal.validate()?;
+        Ok(ClusterStack::with_indices(
+            crystal,
+            crystal.n_sphere,
+            crystal.n_matrix,
+        ))
+    }
+
+    /// The layer model of `crystal` (valid) with the spheres' index `n_sphere` and the
+    /// matrix's `n_matrix` in place of its own: the stack at one wavelength when the indices
+    /// vary with it ([`CrystalIndex::indices`](super::CrystalIndex::indices)).
+    pub fn with_indices(crystal: &CrystalConfig, n_sphere: f64, n_matrix: f64) -> ClusterStack {
         let f = crystal.filling_fraction;
-        let eps_s = crystal.n_sphere * crystal.n_sphere;
-        let eps_m = crystal.n_matrix * crystal.n_matrix;
+        let eps_s = n_sphere * n_sphere;
+        let eps_m = n_matrix * n_matrix;
         let eps_mean = f * eps_s + (1.0 - f) * eps_m;
         let d111_nm = crystal.sphere_diameter_nm * (2.0f64 / 3.0).sqrt();
         let cube_nm = std::f64::consts::SQRT_2 * crystal.sphere_diameter_nm;
@@ -63,14 +74,14 @@ impl ClusterStack {
         let x = 2.0 * PI / d111_nm * radius_nm;
         let eps_111 = (f * (eps_s - eps_m) * sphere_form_factor(x)).abs();
         let half_step = 0.5 * PI * eps_111;
-        Ok(ClusterStack {
+        ClusterStack {
             d111_nm,
             n_eff: eps_mean.sqrt(),
             eps_111,
             n_high: (eps_mean + half_step).sqrt(),
             n_low: (eps_mean - half_step).sqrt(),
             periods: crystal.layers,
-        })
+        }
     }
 
     /// Coupled-wave estimate of the relative width `Δλ/λ` of the first-order stop band at

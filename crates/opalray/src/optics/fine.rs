@@ -9,6 +9,7 @@
 //! integrated exactly over each bin (the trapezoid rule), as
 //! [`WavelengthGrid::bin_average`] does.
 
+use super::dispersion::CrystalIndex;
 use super::fcc::ClusterStack;
 use crate::spectrum::WavelengthGrid;
 
@@ -53,8 +54,14 @@ impl RowPlan {
     /// Order m of the square-wave period sits at `λ₁/m` with a relative width
     /// `≈ ε₁₁₁ / (m ε̄ cos²θ)` (odd m; even orders vanish for equal layer thicknesses) and
     /// side lobes `λ_m / (m N)` apart. Each order gets a core window (the band and ten side
-    /// lobes, finely sampled) and a wider skirt (fifty side lobes, four samples each).
-    pub fn new(stack: &ClusterStack, cos_theta: f64, grid: &WavelengthGrid) -> RowPlan {
+    /// lobes, finely sampled) and a wider skirt (fifty side lobes, four samples each). With
+    /// the dispersion of `index`, each order's centre is where `λ = 2 d n̄(λ) cos θ / m`.
+    pub fn new(
+        stack: &ClusterStack,
+        index: &CrystalIndex,
+        cos_theta: f64,
+        grid: &WavelengthGrid,
+    ) -> RowPlan {
         let mut plan = RowPlan {
             windows: [Window::default(); 2 * MAX_ORDERS],
             count: 0,
@@ -64,7 +71,7 @@ impl RowPlan {
         let periods = f64::from(stack.periods);
         for order in (1..2 * MAX_ORDERS as u32).step_by(2) {
             let m = f64::from(order);
-            let centre = lambda_1 / m;
+            let centre = index.line(lambda_1 / m).centre_nm;
             let gap = gap_1 / m;
             let lobe = 1.0 / (m * periods);
             plan.push(
@@ -170,7 +177,8 @@ mod tests {
     fn default_normal_incidence_row_refines_the_bragg_line() {
         let stack = ClusterStack::new(&CrystalConfig::default()).unwrap();
         let grid = WavelengthGrid::default();
-        let plan = RowPlan::new(&stack, 1.0, &grid);
+        let index = CrystalIndex::new(&CrystalConfig::default());
+        let plan = RowPlan::new(&stack, &index, 1.0, &grid);
         let lambda = stack.bragg_wavelength_nm(1.0);
         assert!(plan.subdivisions(lambda.floor(), lambda.floor() + 1.0) >= 5);
         assert_eq!(plan.subdivisions(400.0, 401.0), 1);
@@ -180,7 +188,8 @@ mod tests {
     fn integration_of_a_line_is_exact_for_linear_functions() {
         let stack = ClusterStack::new(&CrystalConfig::default()).unwrap();
         let grid = WavelengthGrid::new(400.0, 700.0, 7).unwrap();
-        let plan = RowPlan::new(&stack, 0.9, &grid);
+        let index = CrystalIndex::new(&CrystalConfig::default());
+        let plan = RowPlan::new(&stack, &index, 0.9, &grid);
         let (mut r, mut t) = (vec![0.0; 7], vec![0.0; 7]);
         integrate_bins(&grid, &plan, |x| (2.0 * x, 1.0), &mut r, &mut t);
         for i in 0..7 {

@@ -6,6 +6,8 @@
 //! bin-averaged specular reflectance R, coherent transmittance T and diffuse part D over
 //! angle inside the stone.
 //!
+//! - [`dispersion`]: silica's dispersion, the indices at every wavelength and a line's
+//!   centre and strength with them.
 //! - [`fcc`]: the cluster along \[111\] as a two-layer periodic stack whose mean permittivity
 //!   and first Fourier component equal the crystal's.
 //! - [`tmm`]: transfer matrices of lossless layers, s and p, the N-th power in closed form
@@ -18,6 +20,7 @@
 //! inside the stone is `λ = 2 d n_eff cos θ`; from air at θ₀ onto a face parallel to the
 //! planes, `λ = 2 d √(n_eff² − sin² θ₀)`.
 
+pub mod dispersion;
 pub mod families;
 pub mod fcc;
 pub mod fine;
@@ -25,6 +28,7 @@ pub mod line;
 pub mod tables;
 pub mod tmm;
 
+pub use dispersion::{CrystalIndex, LineIndex};
 pub use families::{Families, FamilyKind, FamilyOptics};
 pub use fcc::{ClusterStack, StackAtAngle};
 pub use line::{rocking_fwhm_rad, BraggLine};
@@ -32,7 +36,9 @@ pub use tables::{build_optics, OpticsTables};
 pub use tmm::Polarization;
 
 /// First-order Bragg wavelength in vacuum, nm, for light meeting the (111) planes at
-/// `cos_theta_inside` inside the stone: `2 d n_eff cos θ`. `d111_nm` > 0, `n_eff` ≥ 1.
+/// `cos_theta_inside` inside the stone: `2 d n_eff cos θ`. `d111_nm` > 0, `n_eff` ≥ 1, constant
+/// over wavelength (with silica's dispersion, [`CrystalIndex::line`] solves
+/// `λ = 2 d n_eff(λ) cos θ`).
 pub fn bragg_wavelength_inside_nm(d111_nm: f64, n_eff: f64, cos_theta_inside: f64) -> f64 {
     2.0 * d111_nm * n_eff * cos_theta_inside
 }

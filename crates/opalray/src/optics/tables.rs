@@ -13,6 +13,7 @@
 
 use rayon::prelude::*;
 
+use super::dispersion::CrystalIndex;
 use super::fcc::ClusterStack;
 use super::fine::{integrate_bins, RowPlan};
 use crate::error::Result;
@@ -92,11 +93,13 @@ fn row_cos_theta(i: usize, angles: usize) -> f64 {
 
 /// Build the tables of `crystal` over `grid` (both validated first): `crystal.angles`
 /// rows, each integrated from a fine evaluation of the transfer-matrix stack (≤ 1 nm, finer
-/// at the Bragg lines). Rows are computed in parallel and written by index, so the result
+/// at the Bragg lines), of the indices at each wavelength where `crystal.dispersion` gives a
+/// law (row i at `cos θ_i` in the effective medium of that wavelength). Rows are computed in parallel and written by index, so the result
 /// does not depend on the number of threads.
 pub fn build_optics(crystal: &CrystalConfig, grid: &WavelengthGrid) -> Result<OpticsTables> {
     grid.validate("spectrum")?;
     let stack = ClusterStack::new(crystal)?;
+    let index = CrystalIndex::new(crystal);
     let (angles, bins) = (crystal.angles, grid.bins);
     let delta = crystal.diffuse_fraction;
     let mut reflectance = vec![0.0f32; angles * bins];
@@ -111,9 +114,19 @@ pub fn build_optics(crystal: &CrystalConfig, grid: &WavelengthGrid) -> Result<Op
             || (vec![0.0f64; bins], vec![0.0f64; bins]),
             |(r_avg, t_avg), (i, ((r, t), d))| {
                 let cos_theta = row_cos_theta(i, angles);
-                let at = stack.at(cos_theta);
-                let plan = RowPlan::new(&stack, cos_theta, grid);
-                integrate_bins(grid, &plan, |wl| at.rt_unpolarized(wl), r_avg, t_avg);
+                let plan = RowPlan::new(&stack, &index, cos_theta, grid);
+                if index.is_constant() {
+                    let at = stack.at(cos_theta);
+                    integrate_bins(grid, &plan, |wl| at.rt_unpolarized(wl), r_avg, t_avg);
+                } else {
+                    // The stack of the indices at each wavelength (optics::dispersion).
+                    let rt = |wl: f64| {
+                        let (n_s, n_m) = index.indices(wl);
+                        let stack = ClusterStack::with_indices(crystal, n_s, n_m);
+                        stack.at(cos_theta).rt_unpolarized(wl)
+                    };
+                    integrate_bins(grid, &plan, rt, r_avg, t_avg);
+                }
                 for k in 0..bins {
                     r[k] = ((1.0 - delta) * r_avg[k]) as f32;
                     t[k] = t_avg[k] as f32;

@@ -30,7 +30,7 @@ pub use look::{
 };
 pub use parse::{read_text_limited, MAX_SCENE_FILE_BYTES};
 pub use presets::{preset, DEFAULT_RENDER_PRESET, PRESET_NAMES};
-pub use stone::{CrystalConfig, StructureConfig, MAX_CELLS};
+pub use stone::{CrystalConfig, Dispersion, StructureConfig, MAX_CELLS};
 pub use studio::{
     map_format, DomainsConfig, EnvironmentConfig, EnvironmentKind, FamilyChoice, MapFormat,
     OrientationLaw, Pattern, COLUMN_HEIGHT, OUTLINE_SUBDIVISION,

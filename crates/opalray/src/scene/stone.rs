@@ -145,14 +145,17 @@ impl StructureConfig {
 /// | `layers`             | –    | 400     | 1 ..= 100000 |
 /// | `diffuse_fraction`   | –    | 0.15    | [0, 1)       |
 /// | `angles`             | –    | 181     | 90 ..= 10000 |
+/// | `dispersion`         | –    | "none"  | "none", "silica" |
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct CrystalConfig {
     /// Silica sphere diameter `D`, nm.
     pub sphere_diameter_nm: f64,
-    /// Refractive index of the silica spheres.
+    /// Refractive index of the silica spheres (at the sodium d line, 589.3 nm, when
+    /// `dispersion` gives a law).
     pub n_sphere: f64,
-    /// Refractive index of the matrix between spheres (silica cement in natural opal).
+    /// Refractive index of the matrix between spheres (silica cement in natural opal; at the
+    /// sodium d line when `dispersion` gives a law).
     pub n_matrix: f64,
     /// Volume fraction of spheres (0.74 for close-packed FCC).
     pub filling_fraction: f64,
@@ -162,6 +165,22 @@ pub struct CrystalConfig {
     pub diffuse_fraction: f64,
     /// Entries of the reflectance tables over incidence angle 0–90° inside the stone.
     pub angles: usize,
+    /// How `n_sphere` and `n_matrix` vary with wavelength: constant (the paper's) or by
+    /// silica's law ([`crate::optics::dispersion`]).
+    pub dispersion: Dispersion,
+}
+
+/// How the crystal's indices vary with wavelength (`crystal.dispersion`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Dispersion {
+    /// Constant over wavelength, as in the paper.
+    #[default]
+    None,
+    /// Fused silica's Sellmeier law (Malitson 1965) for the spheres and the cement alike,
+    /// shifted to the scene's indices at the sodium d line:
+    /// `n(λ) = n_d + n_silica(λ) − n_silica(589.3 nm)`.
+    Silica,
 }
 
 impl Default for CrystalConfig {
@@ -174,6 +193,7 @@ impl Default for CrystalConfig {
             layers: 400,
             diffuse_fraction: 0.15,
             angles: 181,
+            dispersion: Dispersion::None,
         }
     }
 }

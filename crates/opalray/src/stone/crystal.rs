@@ -34,7 +34,7 @@ impl Crystal {
             slots: SlotTable::new(
                 &families,
                 families.n_eff as f32,
-                scene.spectrum.min_nm,
+                reach_nm(scene, &families),
                 f64::from(scene.crystal.layers),
             ),
             lobe_sigma: lobe_sigmas(scene, &families),
@@ -54,12 +54,20 @@ fn kept_families(scene: &Scene) -> Families {
     }
     let largest_nm = scene.crystal.sphere_diameter_nm * (1.0 + 3.0 * d.sphere_diameter_spread);
     let two_n = 2.0 * families.n_eff;
-    let range_lo = scene.spectrum.min_nm;
+    let reach = reach_nm(scene, &families);
     families.kinds.retain(|f| {
-        f.kind == FamilyKind::F111
-            || two_n * f.spacing_over_diameter * largest_nm >= LINE_REACH * range_lo
+        f.kind == FamilyKind::F111 || two_n * f.spacing_over_diameter * largest_nm >= reach
     });
     families
+}
+
+/// The shortest centre at the constant index (`2 d n̄_d cos θ`) of a line kept: the one whose
+/// centre with the dispersion is [`LINE_REACH`] × the range's short end (the centre grows
+/// with the constant one, so the test in either is the same).
+fn reach_nm(scene: &Scene, families: &Families) -> f64 {
+    families
+        .index
+        .constant_centre_nm(LINE_REACH * scene.spectrum.min_nm)
 }
 
 /// Every family normal of every domain of `domains`, in the stone frame (domain by domain,

@@ -189,17 +189,17 @@ impl Stone {
     }
 
     /// The line of `line`'s family in `domain` met at `cos_theta` (the same layers): the
-    /// half-vector law `λ = 2 d n̄ cos θ_h`.
+    /// half-vector law `λ = 2 d n̄(λ) cos θ_h`, with the dispersion at its own wavelength.
     pub fn line_at(&self, domain: u32, line: &ActiveLine, cos_theta: f32) -> BraggLine {
         let family = &self.families.kinds[line.kind as usize];
         let d = f64::from(self.domains[domain as usize].sphere_diameter_nm);
         let two_dn = 2.0 * f64::from(self.n_eff) * family.spacing_over_diameter * d;
-        BraggLine::new(
-            family.coupling,
-            two_dn,
-            f64::from(cos_theta),
-            line.line.layers,
-        )
+        let index = &self.families.index;
+        // `line`'s layers hold its group ratio (`optics::dispersion`): the periods met.
+        let layers = line.line.layers / index.line_group_ratio(line.line.center_nm);
+        let c = f64::from(cos_theta);
+        let (coupling, normal_center_nm, group) = index.line_args(family.coupling, two_dn, c);
+        BraggLine::new(coupling, normal_center_nm, c, layers * group)
     }
 
     /// The density over normals (per steradian) of `line`'s lobe at the unit normal `h` met at

@@ -12,6 +12,12 @@ use glam::{Vec3, Vec4};
 use super::{ActiveLine, Stone, LINE_REACH};
 use crate::optics::{BraggLine, Families};
 
+/// How much wider than at the constant index a line's window is taken in the first test of
+/// [`Stone::lines_at`] with the dispersion: it moves a window's centre by under 4 % and its
+/// half-width by under 5 %, and the wavelength's constant-index centre by its own shift
+/// (`optics::dispersion`; under 10 % together, from 250 nm). The exact test follows.
+const WINDOW_SLACK: f64 = 1.25;
+
 /// Relative margin of the slots' first test ([`SlotTable::reach`]) below the exact bound:
 /// far above the f32 roundings of the test (~10⁻⁷), so it never rejects a slot whose line's
 /// centre reaches the range.
@@ -46,9 +52,10 @@ pub(super) struct SlotTable {
 }
 
 impl SlotTable {
-    /// The slots of `families` in a stone of index `n_eff`, lines kept from `range_lo_nm`,
-    /// for `layers_111` coherent (111) layers.
-    pub fn new(families: &Families, n_eff: f32, range_lo_nm: f64, layers_111: f64) -> Self {
+    /// The slots of `families` in a stone of index `n_eff`, keeping the lines whose centre at
+    /// the constant index ([`crate::optics::CrystalIndex::constant_centre_nm`]) reaches
+    /// `reach_nm`, for `layers_111` coherent (111) layers.
+    pub fn new(families: &Families, n_eff: f32, reach_nm: f64, layers_111: f64) -> Self {
         let d111 = families.kinds[0].spacing_over_diameter;
         let optics: Vec<SlotOptics> = (families.kinds.iter().enumerate())
             .flat_map(|(k, f)| {
@@ -64,7 +71,7 @@ impl SlotTable {
         let two_n = 2.0 * f64::from(n_eff);
         let reach_of = |slot: Option<&SlotOptics>| {
             slot.map_or(0.0, |s| {
-                let exact = LINE_REACH * range_lo_nm / (two_n * s.spacing_over_diameter);
+                let exact = reach_nm / (two_n * s.spacing_over_diameter);
                 exact as f32 * (1.0 - REACH_MARGIN)
             })
         };
@@ -164,6 +171,12 @@ impl Stone {
             two_n: 2.0 * f64::from(self.n_eff) * f64::from(diameter),
             chord_nm: f64::from(chord_mm) * 1e6,
             wavelength_nm,
+            constant_wavelength_nm: match wavelength_nm {
+                Some(w) if !self.families.index.is_constant() => {
+                    Some(self.families.index.constant_centre_nm(w))
+                }
+                _ => None,
+            },
         };
         for (b, n) in blocks.iter().enumerate() {
             // `n · dir` lane by lane, summed as `Vec3::dot` sums.
@@ -194,22 +207,42 @@ impl Stone {
     ) {
         let (range_lo, range_hi) = self.range_nm;
         let c = f64::from(dot.abs());
-        // 2 d n̄: the line's centre face-on.
+        // 2 d n̄: the line's centre face-on at the d line's index. Past the range's long end
+        // the dispersion moves a centre by under 4 %: beyond 1.1 × that end, no line.
         let normal_center_nm = args.two_n * slot.spacing_over_diameter;
-        let center = normal_center_nm * c;
-        if center < LINE_REACH * range_lo || center > 1.05 * range_hi {
+        if normal_center_nm * c > 1.1 * range_hi {
             return;
         }
         let spacing_nm = slot.spacing_over_diameter * args.diameter_nm;
         let layers = (args.chord_nm * c / spacing_nm)
             .min(slot.layer_cap)
             .max(1.0);
-        if let Some(w) = args.wavelength_nm {
-            if !BraggLine::window_may_hold(slot.coupling, normal_center_nm, c, layers, w) {
+        if let Some(x_w) = args.constant_wavelength_nm {
+            // With the dispersion, first the window at the constant index, widened by
+            // WINDOW_SLACK, about the wavelength's constant-index centre: a line whose window
+            // holds the wavelength passes.
+            let (g, n) = (WINDOW_SLACK * slot.coupling, layers / WINDOW_SLACK);
+            if !BraggLine::window_may_hold(g, normal_center_nm, c, n, x_w) {
                 return;
             }
         }
-        let line = BraggLine::new(slot.coupling, normal_center_nm, c, layers);
+        // With the dispersion, the coupling and the centre at the line's own wavelength, and
+        // the layers scaled by the group ratio k (`optics::dispersion`).
+        let (coupling, normal_center_nm, group) =
+            self.families
+                .index
+                .line_args(slot.coupling, normal_center_nm, c);
+        let center = normal_center_nm * c;
+        if center < LINE_REACH * range_lo || center > 1.05 * range_hi {
+            return;
+        }
+        let layers = layers * group;
+        if let Some(w) = args.wavelength_nm {
+            if !BraggLine::window_may_hold(coupling, normal_center_nm, c, layers, w) {
+                return;
+            }
+        }
+        let line = BraggLine::new(coupling, normal_center_nm, c, layers);
         let (lo, hi) = line.window_nm();
         if hi < range_lo || lo > range_hi {
             return;
@@ -237,6 +270,9 @@ struct LineArgs {
     chord_nm: f64,
     /// The wavelength the windows must hold, if any.
     wavelength_nm: Option<f64>,
+    /// With the dispersion, that wavelength's centre at the constant index
+    /// ([`crate::optics::CrystalIndex::constant_centre_nm`]).
+    constant_wavelength_nm: Option<f64>,
 }
 
 #[cfg(test)]
