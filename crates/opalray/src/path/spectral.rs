@@ -25,14 +25,19 @@
 //! - [`Lines`] (the stored method's view): the list of lines itself, its product evaluated
 //!   at the end by quadrature ([`SpectralSampler::integrate`]).
 
+use std::borrow::Cow;
+
 use crate::color::{cmf_at, illuminant_samples};
 use crate::optics::BraggLine;
 use crate::scene::Illuminant;
 use crate::spectrum::WavelengthGrid;
 use crate::stone::ironstone_reflectance;
 
+use glam::Vec3;
+
 use super::notches::Notches;
 use super::orders::History;
+use super::polar::{apply, Polarisation};
 
 /// Most lines one contribution carries.
 pub const MAX_LINES: usize = 24;
@@ -134,8 +139,8 @@ impl Lines {
 pub const MAX_DRAWS: usize = 64;
 
 /// `line`'s reflectance at `wavelength_nm` within `window` (its [`BraggLine::window_nm`]), 0
-/// outside.
-#[inline]
+/// outside (the tests' reference).
+#[cfg(test)]
 pub(super) fn reflectance_within(
     line: &BraggLine,
     (lo, hi): (f64, f64),
@@ -145,6 +150,20 @@ pub(super) fn reflectance_within(
         line.reflectance(wavelength_nm)
     } else {
         0.0
+    }
+}
+
+/// `line`'s reflectances `(R_s, R_p)` at `wavelength_nm` within `window`, 0 outside.
+#[inline]
+pub(super) fn reflectance_sp_within(
+    line: &BraggLine,
+    (lo, hi): (f64, f64),
+    wavelength_nm: f64,
+) -> (f64, f64) {
+    if (lo..=hi).contains(&wavelength_nm) {
+        line.reflectance_sp(wavelength_nm)
+    } else {
+        (0.0, 0.0)
     }
 }
 
@@ -168,6 +187,9 @@ pub struct PathSpectrum {
     dark: bool,
     waves: [f32; MAX_DRAWS],
     weights: [f32; MAX_DRAWS],
+    /// Its polarisation: the s share of its white, or of its light at each wavelength
+    /// carried ([`super::polar`]); the weights hold the intensities.
+    polar: Polarisation,
     /// What the path has met: its class in the tally by Bragg order ([`super::orders`]).
     pub(super) history: History,
 }
@@ -181,40 +203,57 @@ impl Default for PathSpectrum {
             dark: false,
             waves: [0.0; MAX_DRAWS],
             weights: [0.0; MAX_DRAWS],
+            polar: Polarisation::default(),
             history: History::default(),
         }
     }
 }
 
 impl PathSpectrum {
-    /// A reflection by `line` (factor R). The first draws the path's wavelengths from the
-    /// line's law with `sampler`, stratified with offset `u` in [0, 1).
+    /// A reflection by `line` (factor R, unpolarised: its plane unknown). The first draws
+    /// the path's wavelengths from the line's law with `sampler`, stratified with offset `u`
+    /// in [0, 1).
     pub fn reflect(&mut self, line: BraggLine, sampler: &SpectralSampler, u: f64) {
         let notches = self.notches.take();
-        self.reflect_through(line, sampler, u, notches.as_deref());
+        self.reflect_through(line, sampler, (u, Vec3::ZERO), notches.as_deref());
     }
 
-    /// This path reflected by `line` ([`PathSpectrum::reflect`]), without copying its notches.
-    pub fn reflected(&self, line: BraggLine, sampler: &SpectralSampler, u: f64) -> Self {
-        let mut out = PathSpectrum {
+    /// This path reflected by `line` ([`PathSpectrum::reflect`]) in the plane of s axis
+    /// `axis` ([`super::polar::SpState::s_axis`]; zero: unpolarised), the s and p parts of
+    /// its light by `R_s` and `R_p`, without copying its notches.
+    pub fn reflected(
+        &self,
+        line: BraggLine,
+        sampler: &SpectralSampler,
+        u: f64,
+        axis: Vec3,
+    ) -> Self {
+        let mut out = self.shallow();
+        out.reflect_through(line, sampler, (u, axis), self.notches.as_deref());
+        out
+    }
+
+    /// This path without its notches (a copy of everything else).
+    fn shallow(&self) -> Self {
+        PathSpectrum {
             notches: None,
             tints: self.tints,
             draws: self.draws,
             dark: self.dark,
             waves: self.waves,
             weights: self.weights,
+            polar: self.polar,
             history: self.history,
-        };
-        out.reflect_through(line, sampler, u, self.notches.as_deref());
-        out
+        }
     }
 
-    /// [`PathSpectrum::reflect`] of a path whose notches so far are `notches`.
+    /// [`PathSpectrum::reflected`] of a path whose notches so far are `notches`, with offset
+    /// `u` in the plane of s axis `axis`.
     fn reflect_through(
         &mut self,
         line: BraggLine,
         sampler: &SpectralSampler,
-        u: f64,
+        (u, axis): (f64, Vec3),
         notches: Option<&Notches>,
     ) {
         self.history.bragg();
@@ -222,11 +261,18 @@ impl PathSpectrum {
             return;
         }
         let window = line.window_nm();
+        let plane = axis != Vec3::ZERO;
         if self.draws == 0 {
             let n = sampler.draws.clamp(1, MAX_DRAWS);
-            for j in 0..n {
+            let q = self.polar.white_in(axis);
+            self.polar.turn(axis, 0);
+            let shares = self.polar.shares_mut();
+            for (j, share) in shares.iter_mut().enumerate().take(n) {
                 let (w, pdf) = sampler.draw(&line, j, u);
-                let mut f = reflectance_within(&line, window, w) / (n as f64 * pdf);
+                let (rs, rp) = reflectance_sp_within(&line, window, w);
+                let (r, q_j) = apply(q, rs, rp, plane);
+                *share = q_j;
+                let mut f = r / (n as f64 * pdf);
                 if f > 0.0 {
                     if let Some(notches) = notches {
                         f *= notches.at(sampler, w);
@@ -241,34 +287,97 @@ impl PathSpectrum {
             self.draws = n as u8;
             self.tints = 0;
         } else {
-            for (f, w) in self.carried_mut() {
-                if *f != 0.0 {
-                    *f *= reflectance_within(&line, window, w) as f32;
-                }
-            }
+            self.each_event(axis, |w| reflectance_sp_within(&line, window, w));
         }
         let dark = self.carried().all(|(f, _)| f == 0.0);
         self.dark = dark;
     }
 
-    /// A pass through `line`'s planes (factor 1 − R); `sampler` holds the table a path not
-    /// yet reflected carries its notches on.
+    /// A pass through `line`'s planes (factor 1 − R, unpolarised: their plane unknown);
+    /// `sampler` holds the table a path not yet reflected carries its notches on.
     pub fn transmit(&mut self, line: BraggLine, sampler: &SpectralSampler) {
+        self.transmit_in(line, sampler, Vec3::ZERO);
+    }
+
+    /// [`PathSpectrum::transmit`] in the plane of s axis `axis` (zero: unpolarised): the s
+    /// and p parts by `1 − R_s` and `1 − R_p`. Before the first reflection the notch takes
+    /// the white's s share turned to the plane, and leaves the share as it was (a notch
+    /// polarises only the ~2 nm it takes).
+    pub fn transmit_in(&mut self, line: BraggLine, sampler: &SpectralSampler, axis: Vec3) {
         if self.dark {
             return;
         }
         if self.draws == 0 {
+            let q = (axis != Vec3::ZERO).then(|| f64::from(self.polar.white_in(axis)));
             self.notches
                 .get_or_insert_with(|| Box::new(Notches::new(sampler)))
-                .pass(&line, sampler);
+                .pass(&line, sampler, q);
             return;
         }
         let window = line.window_nm();
-        for (f, w) in self.carried_mut() {
+        self.each_event(axis, |w| {
+            let (rs, rp) = reflectance_sp_within(&line, window, w);
+            (1.0 - rs, 1.0 - rp)
+        });
+    }
+
+    /// An event at every wavelength carried, in the plane of s axis `axis` (zero:
+    /// unpolarised), keeping `kept(λ)` = `(s, p)` of the s and p parts there.
+    #[inline]
+    fn each_event(&mut self, axis: Vec3, kept: impl Fn(f64) -> (f64, f64)) {
+        let n = usize::from(self.draws);
+        self.polar.turn(axis, n);
+        let plane = axis != Vec3::ZERO;
+        let shares = self.polar.shares_mut();
+        for ((f, w), q) in self.weights[..n]
+            .iter_mut()
+            .zip(&self.waves[..n])
+            .zip(shares)
+        {
             if *f != 0.0 {
-                *f *= (1.0 - reflectance_within(&line, window, w)) as f32;
+                let (ks, kp) = kept(f64::from(*w));
+                let (k, share) = apply(*q, ks, kp, plane);
+                *f *= k as f32;
+                *q = share;
             }
         }
+    }
+
+    /// An event that keeps `rs` of the s part and `rp` of the p part of the light at every
+    /// wavelength (the surface's Fresnel factors), in the plane of s axis `axis` (zero:
+    /// unpolarised): applied to the wavelengths carried, or, before the first reflection,
+    /// returned as the factor on the path's weight (the white's share updated).
+    pub fn event(&mut self, axis: Vec3, rs: f32, rp: f32) -> f32 {
+        let (rs, rp) = (f64::from(rs), f64::from(rp));
+        if self.draws > 0 {
+            self.each_event(axis, |_| (rs, rp));
+            return 1.0;
+        }
+        let q = self.polar.white_in(axis);
+        self.polar.turn(axis, 0);
+        let (k, share) = apply(q, rs, rp, axis != Vec3::ZERO);
+        self.polar.set_white(share);
+        k as f32
+    }
+
+    /// What of this path an event keeping `rs` and `rp` lets through ([`PathSpectrum::event`]
+    /// on a copy, the path itself unchanged): the copy and the factor on its weight. Before
+    /// the first reflection the copy is the path itself (only the factor differs), so its
+    /// notches are not copied.
+    pub fn through(&self, axis: Vec3, rs: f32, rp: f32) -> (Cow<'_, PathSpectrum>, f32) {
+        if self.draws == 0 {
+            let q = self.polar.white_in(axis);
+            let (k, _) = apply(q, f64::from(rs), f64::from(rp), axis != Vec3::ZERO);
+            return (Cow::Borrowed(self), k as f32);
+        }
+        let mut copy = self.shallow();
+        let k = copy.event(axis, rs, rp);
+        (Cow::Owned(copy), k)
+    }
+
+    /// Its light unpolarised (a diffuse scattering or a backing).
+    pub fn depolarise(&mut self) {
+        self.polar.depolarise();
     }
     /// A diffuse reflection by ironstone.
     pub fn tint(&mut self) {
@@ -294,21 +403,21 @@ impl PathSpectrum {
         self.dark
     }
 
-    /// The share of the path's light that `line` reflects, `Σ f_j R(λ_j) / Σ f_j` over the
-    /// wavelengths carried (0 for a path not yet reflected or dark), keeping `line`'s
-    /// reflectance at each wavelength carried in `r` (0 where the path carries nothing) for
-    /// [`PathSpectrum::pass`]: a crossing weighs its lines and then passes them at the same
-    /// wavelengths.
-    pub fn reflectances(&self, line: &BraggLine, r: &mut [f32; MAX_DRAWS]) -> f64 {
+    /// The share of the path's light that `line` reflects unpolarised, `Σ f_j R(λ_j) / Σ f_j`
+    /// over the wavelengths carried (0 for a path not yet reflected or dark), keeping
+    /// `line`'s `(R_s, R_p)` at each wavelength carried in `r` (0 where the path carries
+    /// nothing) for [`PathSpectrum::pass`]: a crossing weighs its lines and then passes them
+    /// at the same wavelengths.
+    pub fn reflectances(&self, line: &BraggLine, r: &mut [[f32; 2]; MAX_DRAWS]) -> f64 {
         let window = line.window_nm();
         let (mut total, mut reflected) = (0.0f64, 0.0f64);
         for ((f, w), r) in self.carried().zip(r.iter_mut()) {
-            *r = 0.0;
+            *r = [0.0; 2];
             if f != 0.0 {
-                let here = reflectance_within(line, window, w);
-                *r = here as f32;
+                let (rs, rp) = reflectance_sp_within(line, window, w);
+                *r = [rs as f32, rp as f32];
                 total += f64::from(f);
-                reflected += f64::from(f) * here;
+                reflected += f64::from(f) * 0.5 * (rs + rp);
             }
         }
         if total > 0.0 {
@@ -318,13 +427,19 @@ impl PathSpectrum {
         }
     }
 
-    /// A pass through a line whose reflectances at the wavelengths carried are `r`, from
-    /// [`PathSpectrum::reflectances`] on this path: [`PathSpectrum::transmit`] of a reflected
-    /// path without evaluating the line again.
-    pub fn pass(&mut self, r: &[f32; MAX_DRAWS]) {
+    /// A pass in the plane of s axis `axis` through a line whose `(R_s, R_p)` at the
+    /// wavelengths carried are `r`, from [`PathSpectrum::reflectances`] on this path:
+    /// [`PathSpectrum::transmit_in`] of a reflected path without evaluating the line again.
+    pub fn pass(&mut self, r: &[[f32; 2]; MAX_DRAWS], axis: Vec3) {
         debug_assert!(self.reflects());
-        for ((f, _), r) in self.carried_mut().zip(r) {
-            *f *= 1.0 - r;
+        let n = usize::from(self.draws);
+        self.polar.turn(axis, n);
+        let plane = axis != Vec3::ZERO;
+        let shares = self.polar.shares_mut();
+        for ((f, r), q) in self.weights[..n].iter_mut().zip(r).zip(shares) {
+            let (k, share) = apply(*q, f64::from(1.0 - r[0]), f64::from(1.0 - r[1]), plane);
+            *f *= k as f32;
+            *q = share;
         }
     }
 
@@ -791,7 +906,7 @@ mod tests {
             r2 += r * r;
         }
         let share_of =
-            |path: &PathSpectrum, l: &BraggLine| path.reflectances(l, &mut [0.0; MAX_DRAWS]);
+            |path: &PathSpectrum, l: &BraggLine| path.reflectances(l, &mut [[0.0; 2]; MAX_DRAWS]);
         let mut path = PathSpectrum::default();
         path.reflect(line, &s, 0.5);
         let share = share_of(&path, &line);
