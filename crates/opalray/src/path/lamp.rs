@@ -74,8 +74,8 @@ impl Tracer<'_> {
             for n in &notches {
                 lines.transmit(*n, self.setup.spectral);
             }
-            lines.event(into, ts, tp);
-            let value = weight * PI * irradiance * transmitted * density / (4.0 * cos_h);
+            let entered = lines.event(into, ts, tp);
+            let value = weight * PI * irradiance * transmitted * density * entered / (4.0 * cos_h);
             self.add(&lines, value, s);
         }
     }

@@ -5,11 +5,12 @@
 //! binned spectral image). Per pixel, `spp` camera rays, each uniform over the pixel, rendered
 //! in passes ([`passes`]); each path:
 //!
-//! - **Surface** (Fresnel, unpolarised): the gloss reflection is followed to the environment
-//!   and the light's disc at once; the refracted part enters with `(1 − F)/n²` (radiance in a
-//!   denser medium). From inside, the escaping part `1 − F` adds `n²` × the environment at
-//!   once and the path goes on reflected with weight × F (all of it beyond the critical
-//!   angle): no random choice, so the stone's internal reflections of the lights are smooth.
+//! - **Surface** (Fresnel, s and p apart: [`polar`]): the gloss reflection goes to the lights
+//!   (the environment and the disc) at once; the refracted part enters with `(1 − F)/n²`
+//!   (radiance in a denser medium). From inside, the escaping part `1 − F` adds `n²` × the
+//!   environment at once and the path goes on reflected with weight × F (all of it beyond the
+//!   critical angle): no random choice, so the stone's internal reflections of the lights are
+//!   smooth.
 //! - **Potch** (between domains, and the haze of milky domains): free flights; at a scattering
 //!   event the weight takes the albedo, the scene's light and the environment are estimated
 //!   (`Tracer::environment_at`: importance-sampled, refracted in with the surface's lensing,
@@ -60,6 +61,7 @@
 mod crossing;
 mod events;
 mod lamp;
+mod lines;
 mod method;
 mod nee;
 pub mod noise;
@@ -82,12 +84,13 @@ use crate::spectrum::SpectralImage;
 use crate::stone::{ActiveLine, Hint, Region, Span, Stone};
 use glam::Vec3;
 
+pub use lines::Lines;
 pub use method::PathTracer;
 pub use noise::Noise;
 pub use orders::BraggOrders;
 pub use passes::{trace_passes, PassReport, Passes};
 pub use sampler::Sampling;
-pub use spectral::{Lines, PathSpectrum, SpectralSampler, MAX_DRAWS};
+pub use spectral::{PathSpectrum, SpectralSampler, MAX_DRAWS};
 
 use orders::{SampleTally, BACKGROUND, CLASSES, GLOSS};
 use sampler::{Mark, PathSampler};

@@ -233,8 +233,8 @@ impl Tracer<'_> {
             for n in &notches {
                 reflected.transmit(*n, self.setup.spectral);
             }
-            reflected.event(into, ts, tp);
-            let v = weight * lobe * value * inbound.gain * transmitted * mis / q;
+            let entered = reflected.event(into, ts, tp);
+            let v = weight * lobe * value * inbound.gain * transmitted * mis * entered / q;
             self.add(&reflected, v, s);
         }
     }

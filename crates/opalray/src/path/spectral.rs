@@ -2,18 +2,18 @@
 //! is white until its first reflection by a Bragg line, and from there lies within that line.
 //!
 //! A path's geometry does not depend on wavelength (no dispersion; choices are made with
-//! wavelength-independent probabilities), so its contribution is
-//! `w · ∫ Π_k f_k(λ) S(λ) c̄(λ) dλ`, `f_k` = R or 1 − R of line k, S the light's spectrum
-//! (luminance 1), c̄ the CIE 1931 colour-matching functions. Without a reflection the product
-//! is 1 but for the lines' notches, each under 2.2 nm of the 400 nm range (at most 0.6 % of
-//! white light a line, but a path passes hundreds): the path tracer carries them exactly
-//! ([`super::notches`]), so that the light going on through a domain loses what its lines
-//! reflect; the stored method's view ([`Lines`]) still neglects them. With one, the
-//! integrand lives within the line (~2 nm): λ is drawn from a truncated Cauchy law over the
-//! first reflection line (90 %) mixed with a uniform law over the range (10 %, so that every
-//! wavelength can be drawn and the estimate is unbiased), the draws stratified over the
-//! mixture ([`SpectralSampler::draw`]). Narrow lines are thus sampled where they are, and
-//! never binned before colour.
+//! wavelength-independent probabilities), so its contribution is `w · ∫ Π_k f_k(λ) S(λ) c̄(λ) dλ`,
+//! `f_k` = R or 1 − R of line k (of the path's s and p light apart, [`super::polar`]), S the
+//! light's spectrum (luminance 1), c̄ the CIE 1931 colour-matching functions. Without a reflection
+//! the product is 1 but for the lines' notches, each under 2.2 nm of the 400 nm range (at most 0.6
+//! % of white light a line, but a path passes hundreds): the path tracer carries them exactly
+//! ([`super::notches`]), so that the light going on through a domain loses what its lines reflect;
+//! the stored method's view ([`Lines`](super::Lines)) still neglects them. With one, the integrand
+//! lives within the line (~2 nm): λ is drawn from a truncated Cauchy law over the first reflection
+//! line (90 %) mixed with a uniform law over the range (10 %, so that every wavelength can be drawn
+//! and the estimate is unbiased), the draws stratified over the mixture
+//! ([`SpectralSampler::draw`]). Narrow lines are thus sampled where they are, and never binned
+//! before colour.
 //!
 //! Two carriers of the product:
 //! - [`PathSpectrum`] (the path tracer): until its first reflection, the light's white and
@@ -22,8 +22,8 @@
 //!   wavelengths). Every later line multiplies them at once, so a path can pass any number
 //!   of lines, and the share of its light a line reflects is known exactly where the path
 //!   must choose ([`PathSpectrum::reflectances`]).
-//! - [`Lines`] (the stored method's view): the list of lines itself, its product evaluated
-//!   at the end by quadrature ([`SpectralSampler::integrate`]).
+//! - [`Lines`](super::Lines) (the stored method's view, `lines.rs`): the list of lines
+//!   itself, its product evaluated at the end by quadrature ([`SpectralSampler::integrate`]).
 
 use std::borrow::Cow;
 
@@ -39,101 +39,12 @@ use super::notches::Notches;
 use super::orders::History;
 use super::polar::{apply, Polarisation};
 
-/// Most lines one contribution carries.
-pub const MAX_LINES: usize = 24;
-/// Room kept for reflections: transmission notches past `MAX_LINES − RESERVED` are dropped.
-const RESERVED: usize = 8;
 /// Step of the light × colour-matching table, nm.
 pub(super) const TABLE_STEP_NM: f64 = 0.25;
-/// Largest step of [`SpectralSampler::integrate`]'s quadrature, nm.
-pub const QUADRATURE_STEP_NM: f64 = 0.25;
 /// Share of wavelength draws from the line's law (the rest uniform over the range).
 const LINE_SHARE: f64 = 0.9;
 /// Most ironstone reflections a path carries.
 pub const MAX_TINTS: usize = 3;
-
-/// The Bragg lines of one path, each reflected by or passed through.
-#[derive(Clone, Copy, Debug)]
-pub struct Lines {
-    lines: [(BraggLine, bool); MAX_LINES],
-    /// Each line's window (`BraggLine::window_nm`), outside which its R is taken as 0.
-    windows: [(f64, f64); MAX_LINES],
-    len: usize,
-    first_reflection: Option<usize>,
-    /// A reflection found no room: the path's spectrum is unknown and it adds nothing.
-    lost: bool,
-    /// Diffuse reflections by ironstone (factor [`ironstone_reflectance`] each).
-    tints: u8,
-}
-
-impl Default for Lines {
-    fn default() -> Self {
-        Lines {
-            lines: [(BraggLine::new(0.0, 1.0, 1.0, 1.0), false); MAX_LINES],
-            windows: [(0.0, 0.0); MAX_LINES],
-            len: 0,
-            first_reflection: None,
-            lost: false,
-            tints: 0,
-        }
-    }
-}
-
-impl Lines {
-    /// A reflection by `line` (factor R).
-    pub fn reflect(&mut self, line: BraggLine) {
-        self.lost |= self.len == MAX_LINES;
-        if self.len < MAX_LINES {
-            self.first_reflection.get_or_insert(self.len);
-            self.lines[self.len] = (line, true);
-            self.windows[self.len] = line.window_nm();
-            self.len += 1;
-        }
-    }
-
-    /// A pass through `line`'s planes (factor 1 − R), kept only on paths that reflect (see
-    /// the module's notes).
-    pub fn transmit(&mut self, line: BraggLine) {
-        if self.len < MAX_LINES - RESERVED {
-            self.lines[self.len] = (line, false);
-            self.windows[self.len] = line.window_nm();
-            self.len += 1;
-        }
-    }
-
-    /// A diffuse reflection by ironstone. Past [`MAX_TINTS`] the path is dropped (it then
-    /// carries under 0.22⁴ = 0.2 % of the light).
-    pub fn tint(&mut self) {
-        self.lost |= usize::from(self.tints) == MAX_TINTS;
-        self.tints = self.tints.saturating_add(1);
-    }
-
-    /// Whether the path was reflected by any line.
-    pub fn reflects(&self) -> bool {
-        self.first_reflection.is_some()
-    }
-
-    /// The spectral factor `Π f_k(λ)`.
-    #[inline]
-    pub fn factor(&self, wavelength_nm: f64) -> f64 {
-        let mut f = 1.0;
-        if self.tints > 0 {
-            f = ironstone_reflectance(wavelength_nm).powi(i32::from(self.tints));
-        }
-        for ((line, reflect), (lo, hi)) in self.lines[..self.len].iter().zip(&self.windows) {
-            let inside = (*lo..=*hi).contains(&wavelength_nm);
-            if *reflect {
-                if !inside {
-                    return 0.0;
-                }
-                f *= line.reflectance(wavelength_nm);
-            } else if inside {
-                f *= 1.0 - line.reflectance(wavelength_nm);
-            }
-        }
-        f
-    }
-}
 
 /// Most wavelengths a path carries (`integrator.wavelengths` is at most this).
 pub const MAX_DRAWS: usize = 64;
@@ -345,13 +256,18 @@ impl PathSpectrum {
 
     /// An event that keeps `rs` of the s part and `rp` of the p part of the light at every
     /// wavelength (the surface's Fresnel factors), in the plane of s axis `axis` (zero:
-    /// unpolarised): applied to the wavelengths carried, or, before the first reflection,
-    /// returned as the factor on the path's weight (the white's share updated).
+    /// unpolarised): returns the factor on the path's weight, which before the first
+    /// reflection is the event's on the white (its share updated), and after it the mean
+    /// `(rs + rp)/2`, the wavelengths carried taking their own factor over it (so that the
+    /// weight, which the roulette reads, falls as the averaged event's does).
     pub fn event(&mut self, axis: Vec3, rs: f32, rp: f32) -> f32 {
         let (rs, rp) = (f64::from(rs), f64::from(rp));
         if self.draws > 0 {
-            self.each_event(axis, |_| (rs, rp));
-            return 1.0;
+            let mean = 0.5 * (rs + rp);
+            if mean > 0.0 {
+                self.each_event(axis, |_| (rs / mean, rp / mean));
+            }
+            return mean as f32;
         }
         let q = self.polar.white_in(axis);
         self.polar.turn(axis, 0);
@@ -466,7 +382,7 @@ impl PathSpectrum {
 #[derive(Clone, Debug)]
 pub struct SpectralSampler {
     pub(super) lo_nm: f64,
-    hi_nm: f64,
+    pub(super) hi_nm: f64,
     /// `(S x̄, S ȳ, S z̄, S)` every [`TABLE_STEP_NM`], S scaled to luminance 1 over the range.
     pub(super) table: Vec<[f32; 4]>,
     /// XYZ of the light itself (Y = 1).
@@ -603,7 +519,7 @@ impl SpectralSampler {
     }
 
     /// Add `weight` × the light's white, after `tints` ironstone reflections.
-    fn add_white(&self, tints: u8, weight: f64, xyz: &mut [f64; 3], bins: &mut [f32]) {
+    pub(super) fn add_white(&self, tints: u8, weight: f64, xyz: &mut [f64; 3], bins: &mut [f32]) {
         let (white_xyz, white_bins) = match tints {
             0 => (&self.white_xyz, &self.white_bins),
             k => {
@@ -666,49 +582,6 @@ impl SpectralSampler {
     }
 }
 
-impl SpectralSampler {
-    /// Add `weight · ∫ Π f(λ) S(λ) c̄(λ) dλ` of `lines` to `xyz` and the binned spectrum to
-    /// `bins`, by the midpoint rule over the first reflection's window (within the range), at
-    /// steps of at most [`QUADRATURE_STEP_NM`] (a line's core, ~2 nm, takes about ten; its
-    /// side lobes, λ/N ≈ 1.5 nm apart, six each). A path without reflection adds the light's
-    /// white. Deterministic: the same lines give the same bits.
-    pub fn integrate(&self, lines: &Lines, weight: f64, xyz: &mut [f64; 3], bins: &mut [f32]) {
-        if weight == 0.0 || lines.lost {
-            return;
-        }
-        let Some(first) = lines.first_reflection else {
-            self.add_white(lines.tints, weight, xyz, bins);
-            return;
-        };
-        let (a, z) = lines.windows[first];
-        let (a, z) = (a.max(self.lo_nm), z.min(self.hi_nm));
-        if z <= a {
-            return;
-        }
-        let steps = ((z - a) / QUADRATURE_STEP_NM).ceil().max(1.0);
-        let step = (z - a) / steps;
-        let bin_width = self.grid.bin_width_nm();
-        let mut sum = [0.0f64; 3];
-        for j in 0..steps as usize {
-            let w = a + (j as f64 + 0.5) * step;
-            let f = lines.factor(w) * step;
-            if f == 0.0 {
-                continue;
-            }
-            let s = self.at(w);
-            for (v, c) in sum.iter_mut().zip(&s) {
-                *v += f * f64::from(*c);
-            }
-            if let Some(b) = self.grid.bin_of(w) {
-                bins[b] += (weight * f * f64::from(s[3]) / bin_width) as f32;
-            }
-        }
-        for (v, s) in xyz.iter_mut().zip(sum) {
-            *v += weight * s;
-        }
-    }
-}
-
 /// The piecewise-linear function through `samples` (sorted) at `x`; zero outside.
 fn piecewise_linear(samples: &[(f64, f64)], x: f64) -> f64 {
     let i = samples.partition_point(|&(sx, _)| sx <= x);
@@ -756,45 +629,6 @@ mod tests {
             2.0 * (1.0 - brute_y(&s, |w| reflectance_within(&line, line.window_nm(), w)));
         assert!(xyz[1] < 1.999, "the notch takes light: {}", xyz[1]);
         assert!((xyz[1] - expected).abs() < 1e-4, "{} vs {expected}", xyz[1]);
-    }
-
-    #[test]
-    fn the_quadrature_of_a_line_and_its_notches_matches_a_fine_sum() {
-        // Independent: the same product summed at 0.002 nm (R of the reflecting line times
-        // 1 − R of a notch half a line-width off its centre, and of a thin stack's broad one).
-        let s = SpectralSampler::new(Illuminant::D65, &WavelengthGrid::default(), 4);
-        let line = BraggLine::new(0.0037, 589.0, 1.0, 400.0);
-        let notch = BraggLine::new(0.0037, 590.0, 1.0, 300.0);
-        let broad = BraggLine::new(0.0037, 585.0, 1.0, 20.0);
-        let mut lines = Lines::default();
-        lines.reflect(line);
-        lines.transmit(notch);
-        lines.transmit(broad);
-        let mut brute = [0.0; 4];
-        let step = 0.002;
-        let mut w = 380.0 + 0.5 * step;
-        while w < 780.0 {
-            let f = lines.factor(w) * step;
-            for (b, c) in brute.iter_mut().zip(s.at(w)) {
-                *b += f * f64::from(c);
-            }
-            w += step;
-        }
-        let (mut xyz, mut bins) = ([0.0; 3], vec![0.0; 40]);
-        s.integrate(&lines, 2.0, &mut xyz, &mut bins);
-        for c in 0..3 {
-            assert!(
-                (xyz[c] / (2.0 * brute[c]) - 1.0).abs() < 0.01,
-                "{c}: {xyz:?} vs 2 × {brute:?}"
-            );
-        }
-        // The bins hold the same light: their sum × width is the integral of the spectrum.
-        let binned: f64 = bins.iter().map(|&b| f64::from(b) * 10.0).sum();
-        assert!(
-            (binned / (2.0 * brute[3]) - 1.0).abs() < 0.01,
-            "{binned} vs 2 × {}",
-            brute[3]
-        );
     }
 
     /// The mean over `n` stratification offsets of `add_path`'s Y for the path `build` makes
