@@ -13,19 +13,12 @@ use crate::optics::BraggLine;
 use crate::scatter::{Mosaic, Scatter};
 use crate::stone::{ActiveLine, Boundary, Hint, Region};
 
-/// Most lines one domain crossing can have (one per family normal: 4 + 6 + 12 + 3).
-const MAX_LINES_PER_CROSSING: usize = 25;
+use super::shares::{line_shares, Reflectances, MAX_LINES_PER_CROSSING};
 /// Most probability of a reflection branch at a domain crossing after the first segment.
 const MAX_BRANCH_PROBABILITY: f64 = 0.25;
 /// Most probability with which an already reflected path reflects at a crossing (the rest
 /// goes on through, its weight over 1 − p).
 const MAX_CHOICE_PROBABILITY: f64 = 0.95;
-/// Least share of an already reflected path's light a line is drawn with, as a fraction of
-/// its share of white light (keeps every branch possible, so the estimate unbiased).
-const MIN_SHARE_OF_WHITE: f64 = 0.01;
-
-/// A reflected path's reflectance by each line of a crossing at each of its wavelengths.
-type Reflectances = [[f32; MAX_DRAWS]; MAX_LINES_PER_CROSSING];
 
 /// A domain met by a path's segment `ray`: the domain from `t0` (mm along the ray) over
 /// `chord` (mm, up to the segment's next event), the cells holding its start.
@@ -131,11 +124,7 @@ impl Tracer<'_> {
         let mut energy = [0.0f64; MAX_LINES_PER_CROSSING];
         // A reflected path's reflectances here, at its wavelengths: for its choice, and for
         // its pass on through (the table zeroed only for such a path).
-        let mut at_path = if reflected {
-            Some([[0.0f32; MAX_DRAWS]; MAX_LINES_PER_CROSSING])
-        } else {
-            None
-        };
+        let mut at_path = reflected.then_some([[[0.0f32; 2]; MAX_DRAWS]; MAX_LINES_PER_CROSSING]);
         line_shares(&here, &v.lines, &mut energy, &mut at_path);
         let energy = &energy[..here.len().min(MAX_LINES_PER_CROSSING)];
         let total: f64 = energy.iter().sum();
@@ -285,9 +274,10 @@ impl Tracer<'_> {
     ) -> Crossing {
         if open.goes_on.is_some() {
             for (i, l) in open.here.iter().enumerate() {
+                let axis = self.plane(open.reflection.dir, l.normal);
                 match at_path.and_then(|r| r.get(i)) {
-                    Some(r) => lines.pass(r),
-                    None => lines.transmit(l.line, self.setup.spectral),
+                    Some(r) => lines.pass(r, axis),
+                    None => lines.transmit_in(l.line, self.setup.spectral, axis),
                 }
             }
         }
@@ -343,8 +333,8 @@ impl Tracer<'_> {
         lines: &PathSpectrum,
         draws: &mut PathSampler,
     ) -> Option<Vertex> {
-        let (d, l) = self.reflection(path.domain, line, path.dir, draws)?;
-        let branch = lines.reflected(l, self.setup.spectral, draws.uniform());
+        let (d, l, axis) = self.reflection(path.domain, line, path.dir, draws)?;
+        let branch = lines.reflected(l, self.setup.spectral, draws.uniform(), axis);
         if branch.is_dark() {
             return None;
         }
@@ -397,15 +387,15 @@ impl Tracer<'_> {
     }
 
     /// A reflection of the ray along `dir` by `line` of `domain`: the lobe's normal drawn, the
-    /// mirrored direction and the line at the half-vector angle; `None` if the drawn normal
-    /// faces away.
+    /// mirrored direction, the line at the half-vector angle and the s axis of the plane of
+    /// incidence; `None` if the drawn normal faces away.
     fn reflection(
         &self,
         domain: u32,
         line: &ActiveLine,
         dir: Vec3,
         draws: &mut PathSampler,
-    ) -> Option<(Vec3, BraggLine)> {
+    ) -> Option<(Vec3, BraggLine, Vec3)> {
         let sigma = self.stone.lobe_sigma(line.kind, -dir.dot(line.normal));
         let h = Mosaic {
             normal: line.normal,
@@ -413,7 +403,10 @@ impl Tracer<'_> {
         }
         .sample(draws);
         let cos_h = -dir.dot(h);
-        (cos_h > 0.0).then(|| (reflect(dir, h), self.line_at(domain, line, cos_h)))
+        (cos_h > 0.0).then(|| {
+            let l = self.line_at(domain, line, cos_h);
+            (reflect(dir, h), l, self.plane(dir, h))
+        })
     }
 }
 
@@ -452,33 +445,4 @@ impl AfterBranch {
             end_hint: Hint::default(),
         }
     }
-}
-
-/// Each line's share in `energy`: of white light ([`line_energy`]); for a path already
-/// reflected (`at_path` given), of its own light, what the line reflects at the wavelengths
-/// it carries (kept in `at_path`), at least [`MIN_SHARE_OF_WHITE`] of the white share.
-fn line_shares(
-    here: &[ActiveLine],
-    path: &PathSpectrum,
-    energy: &mut [f64; MAX_LINES_PER_CROSSING],
-    at_path: &mut Option<Reflectances>,
-) {
-    for (i, (e, l)) in energy.iter_mut().zip(here).enumerate() {
-        let white = line_energy(&l.line);
-        *e = match at_path {
-            Some(r) => path
-                .reflectances(&l.line, &mut r[i])
-                .max(MIN_SHARE_OF_WHITE * white),
-            None => white,
-        };
-    }
-}
-
-/// A line's share of white light: its area over wavelength over the 400 nm of the visible.
-/// The area is `ν² λ/N` for a weak grating (the side lobes' sum) and `2νλ/(πN)` (the stop
-/// band) for a saturated one; `ν² λ / (N (1 + πν/2))` joins the two.
-fn line_energy(line: &BraggLine) -> f64 {
-    let nu = 0.5 * (line.nu_s + line.nu_p);
-    let area = nu * nu * line.center_nm / (line.layers * (1.0 + 0.5 * std::f64::consts::PI * nu));
-    (area / 400.0).max(1e-9)
 }

@@ -8,7 +8,7 @@ use super::nee::Drawn;
 use super::sampler::PathSampler;
 use super::vertex::{Segment, Step, Vertex, Waiting, WaitingAt};
 use super::{scattering_split, CameraSample, Estimate, Tracer, EPSILON_MM, MIN_REACH};
-use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
+use crate::geometry::{fresnel_dielectric_sp, reflect, refract, Ray};
 use crate::scatter::{Lambert, Phase, Scatter};
 use crate::scene::Backing;
 use crate::stone::{Hint, Region};
@@ -60,6 +60,7 @@ impl Tracer<'_> {
         v.weight *= albedo;
         v.scatterings += 1;
         v.lines.history.scattered();
+        v.lines.depolarise();
         self.nee_hint = v.hint;
         let at = Estimate {
             x: v.pos,
@@ -137,7 +138,8 @@ impl Tracer<'_> {
     }
 
     /// The surface from inside: what escapes (its share 1 − F) is added now, the path goes
-    /// on reflected with weight × F (both ways at once, no random choice).
+    /// on reflected with weight × F (both ways at once, no random choice); s and p apart
+    /// (`F_s`, `F_p`).
     pub(super) fn surface(
         &mut self,
         v: &mut Vertex,
@@ -149,8 +151,9 @@ impl Tracer<'_> {
         let normal = self.stone.shape.normal(exit);
         let dir = v.dir;
         let cos = dir.dot(normal).max(0.0);
-        let f = fresnel_dielectric(cos, n, 1.0);
-        if f < 1.0 {
+        let (fs, fp) = fresnel_dielectric_sp(cos, n, 1.0);
+        let axis = self.plane(dir, normal);
+        if fs.min(fp) < 1.0 {
             if let Some(out) = refract(dir, normal, n, 1.0) {
                 let (mut value, light) = self.escaped_to(exit, out);
                 if let Some(drawn) = v.drawn.filter(|_| value > 0.0) {
@@ -159,12 +162,12 @@ impl Tracer<'_> {
                     value *= self.escape_weight(&drawn, dir, out, exit, light);
                 }
                 if value > 0.0 {
-                    let value = v.weight * (1.0 - f) * n * n * value;
-                    self.add(&v.lines, value, s);
+                    let (out, t) = v.lines.through(axis, 1.0 - fs, 1.0 - fp);
+                    self.add(&out, v.weight * t * n * n * value, s);
                 }
             }
         }
-        v.weight *= f;
+        v.weight *= v.lines.event(axis, fs, fp);
         v.lines.history.reflected_inside();
         v.dir = reflect(dir, normal);
         v.pos = exit - normal * EPSILON_MM;
@@ -185,6 +188,7 @@ impl Tracer<'_> {
         };
         v.pos = segment.ray.at(segment.t_end) + Vec3::Z * EPSILON_MM;
         v.lines.history.backed();
+        v.lines.depolarise();
         v.weight *= match back.kind {
             Backing::Ironstone => {
                 v.lines.tint();
@@ -219,8 +223,8 @@ impl Tracer<'_> {
         self.go_on(v, s.draws)
     }
 
-    /// The plane between a triplet's opal slice and its cap: reflected with probability F,
-    /// else refracted into the other region.
+    /// The plane between a triplet's opal slice and its cap: reflected with probability F
+    /// (the mean of s and p), else refracted into the other region, s and p apart.
     pub(super) fn cap_plane(
         &mut self,
         v: &mut Vertex,
@@ -234,16 +238,21 @@ impl Tracer<'_> {
         let (n1, n2) = (self.stone.index_of(v.region), self.stone.index_of(other));
         let dir = v.dir;
         let facing = if dir.z > 0.0 { -Vec3::Z } else { Vec3::Z };
-        let f = fresnel_dielectric(-dir.dot(facing), n1, n2);
+        let (fs, fp) = fresnel_dielectric_sp(-dir.dot(facing), n1, n2);
+        let f = 0.5 * (fs + fp);
+        let axis = self.plane(dir, facing);
         let at = segment.ray.at(segment.t_end);
         match refract(dir, facing, n1, n2).filter(|_| s.draws.uniform_f32() >= f) {
             Some(d) => {
                 v.dir = d;
-                v.weight *= (n1 / n2) * (n1 / n2);
+                let kept = v.lines.event(axis, 1.0 - fs, 1.0 - fp) / (1.0 - f);
+                v.weight *= kept * (n1 / n2) * (n1 / n2);
                 v.region = other;
                 v.pos = at - facing * EPSILON_MM;
             }
             None => {
+                // Drawn with probability F (or 1 beyond the critical angle, where F_s = F_p = 1).
+                v.weight *= v.lines.event(axis, fs, fp) / f;
                 v.dir = reflect(dir, facing);
                 v.pos = at + facing * EPSILON_MM;
             }

@@ -5,11 +5,12 @@
 //! binned spectral image). Per pixel, `spp` camera rays, each uniform over the pixel, rendered
 //! in passes ([`passes`]); each path:
 //!
-//! - **Surface** (Fresnel, unpolarised): the gloss reflection is followed to the environment
-//!   and the light's disc at once; the refracted part enters with `(1 − F)/n²` (radiance in a
-//!   denser medium). From inside, the escaping part `1 − F` adds `n²` × the environment at
-//!   once and the path goes on reflected with weight × F (all of it beyond the critical
-//!   angle): no random choice, so the stone's internal reflections of the lights are smooth.
+//! - **Surface** (Fresnel, s and p apart: [`polar`]): the gloss reflection goes to the lights
+//!   (the environment and the disc) at once; the refracted part enters with `(1 − F)/n²`
+//!   (radiance in a denser medium). From inside, the escaping part `1 − F` adds `n²` × the
+//!   environment at once and the path goes on reflected with weight × F (all of it beyond the
+//!   critical angle): no random choice, so the stone's internal reflections of the lights are
+//!   smooth.
 //! - **Potch** (between domains, and the haze of milky domains): free flights; at a scattering
 //!   event the weight takes the albedo, the scene's light and the environment are estimated
 //!   (`Tracer::environment_at`: importance-sampled, refracted in with the surface's lensing,
@@ -60,6 +61,8 @@
 mod crossing;
 mod events;
 mod image;
+mod lamp;
+mod lines;
 mod method;
 mod nee;
 mod notches;
@@ -67,30 +70,30 @@ pub mod orders;
 pub mod passes;
 pub mod polar;
 pub mod sampler;
+mod shares;
 pub mod spectral;
 mod vertex;
 
-use std::f32::consts::PI;
-
 use crate::geometry::refracted_entry;
 use crate::geometry::LightSource;
-use crate::geometry::{fresnel_dielectric, reflect, refract, Camera, Ray};
+use crate::geometry::{fresnel_dielectric_sp, reflect, refract, Camera, Ray};
 use crate::lights::emitters;
 use crate::lights::{AreaLight, Environment};
 use crate::optics::BraggLine;
-use crate::scatter::{Phase, Scatter};
-use crate::stone::{ActiveLine, Hint, PathToLight, Region, Span, Stone};
+use crate::stone::{ActiveLine, Hint, Region, Span, Stone};
 use glam::Vec3;
 
 pub use crate::film::noise;
 pub use crate::film::Noise;
 pub use image::PathImage;
+
+pub use lines::Lines;
 pub use method::PathTracer;
 pub use orders::BraggOrders;
 pub(crate) use passes::RowCounter;
 pub use passes::{trace_passes, PassReport, Passes, RowsReport};
 pub use sampler::Sampling;
-pub use spectral::{Lines, PathSpectrum, SpectralSampler, MAX_DRAWS};
+pub use spectral::{PathSpectrum, SpectralSampler, MAX_DRAWS};
 
 use orders::{SampleTally, BACKGROUND, CLASSES, GLOSS};
 use sampler::{Mark, PathSampler};
@@ -220,6 +223,8 @@ struct Tracer<'a> {
     /// The paths waiting on their branches ([`Tracer::inside`]), kept between samples for
     /// its room.
     waiting: Vec<(Box<Waiting>, Mark)>,
+    /// Whether events act on s and p apart ([`polar`]; else on their mean, as tests compare).
+    polarised: bool,
 }
 
 impl<'a> Tracer<'a> {
@@ -242,6 +247,7 @@ impl<'a> Tracer<'a> {
             },
             tally: [0.0; CLASSES],
             waiting: Vec::with_capacity(setup.max_depth as usize),
+            polarised: true,
         }
     }
 
@@ -288,19 +294,21 @@ impl<'a> Tracer<'a> {
         let region = stone.region_at(p - normal * EPSILON_MM);
         let n = stone.index_of(region);
         let cos_i = -ray.direction.dot(normal);
-        let fresnel = fresnel_dielectric(cos_i, 1.0, n);
+        let (fs, fp) = fresnel_dielectric_sp(cos_i, 1.0, n);
+        let fresnel = 0.5 * (fs + fp);
         let mirror = reflect(ray.direction, normal);
         let gloss = fresnel * self.setup.gloss * (self.escaped(p, mirror) + self.disc(mirror));
         self.add_as(GLOSS, &plain, gloss, s);
         let Some(dir) = refract(ray.direction, normal, 1.0, n) else {
             return;
         };
-        let weight = (1.0 - fresnel) / (n * n);
+        let mut lines = PathSpectrum::default();
+        let weight = lines.event(self.plane(ray.direction, normal), 1.0 - fs, 1.0 - fp) / (n * n);
         let start = Vertex {
             pos: p,
             dir,
             weight,
-            lines: PathSpectrum::default(),
+            lines,
             skip: None,
             region,
             drawn: None,
@@ -420,129 +428,6 @@ impl<'a> Tracer<'a> {
     /// `line`'s family in `domain` met at `cos_theta` ([`Stone::line_at`]).
     fn line_at(&self, domain: u32, line: &ActiveLine, cos_theta: f32) -> BraggLine {
         self.stone.line_at(domain, line, cos_theta)
-    }
-
-    /// The light reaching `x` straight ([`Stone::light_entry`], the surface's exact
-    /// lensing), its irradiance scaled by the light's intensity.
-    fn light_inside(&self, x: Vec3) -> Option<(Vec3, f32, f32)> {
-        let light = self.setup.light?;
-        let (to_light, irradiance, distance) = self.stone.light_entry(&light.source, x)?;
-        Some((to_light, irradiance * light.intensity, distance))
-    }
-
-    /// Next-event estimation of the light at a crossing `at` of `domain` by a path along
-    /// `dir`: each of the domain's lines (in `self.lines`) whose lobe holds the half vector.
-    fn light_at_domain(&mut self, at: &Estimate, dir: Vec3, domain: u32, s: &mut CameraSample) {
-        let Estimate { x, path, weight } = *at;
-        let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
-            return;
-        };
-        let to_eye = -dir;
-        let h = (to_light + to_eye).normalize_or_zero();
-        let cos_h = h.dot(to_eye);
-        if cos_h <= 0.0 {
-            return;
-        }
-        let mut hits: [(ActiveLine, f32); 4] = [(self.lines[0], 0.0); 4];
-        let mut count = 0;
-        let lamp = self.setup.light.map_or(0.0, |l| l.disc_radius_rad);
-        for line in &self.lines {
-            let density = self.stone.lamp_density(line, h, cos_h, lamp);
-            if density > 0.0 && count < hits.len() {
-                hits[count] = (*line, density);
-                count += 1;
-            }
-        }
-        if count == 0 {
-            return;
-        }
-        let Some((transmitted, notches)) = self.towards_light(x, to_light, distance, Some(domain))
-        else {
-            return;
-        };
-        for &(line, density) in &hits[..count] {
-            let mut lines = path.reflected(
-                self.line_at(domain, &line, cos_h),
-                self.setup.spectral,
-                s.draws.uniform(),
-            );
-            for n in &notches {
-                lines.transmit(*n, self.setup.spectral);
-            }
-            let value = weight * PI * irradiance * transmitted * density / (4.0 * cos_h);
-            self.add(&lines, value, s);
-        }
-    }
-
-    /// Next-event estimation of the light at a scattering event `at` of a path travelling
-    /// along `dir` (Henyey–Greenstein phase).
-    fn light_at_potch(&mut self, at: &Estimate, dir: Vec3, s: &mut CameraSample) {
-        let Estimate { x, weight, .. } = *at;
-        let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
-            return;
-        };
-        // π × E × phase: light travelling along −to_light turned into −dir.
-        let phase = Phase {
-            incoming: dir,
-            g: self.stone.potch.anisotropy,
-        }
-        .eval(to_light);
-        self.add_towards(
-            at,
-            to_light,
-            distance,
-            None,
-            |transmitted| weight * PI * irradiance * transmitted * phase,
-            s,
-        );
-    }
-
-    /// Next-event estimation of the light at the backing, at `at` (Lambert, facing +z).
-    fn light_at_back(&mut self, at: &Estimate, s: &mut CameraSample) {
-        let Estimate { x, weight, .. } = *at;
-        let Some((to_light, irradiance, distance)) = self.light_inside(x) else {
-            return;
-        };
-        let cos = to_light.z;
-        if cos <= 0.0 {
-            return;
-        }
-        // π × ρ E cos / π (ρ is in the weight or the path's tint).
-        self.add_towards(
-            at,
-            to_light,
-            distance,
-            None,
-            |transmitted| weight * irradiance * transmitted * cos,
-            s,
-        );
-    }
-
-    /// What lies between `x` and the light's entry point ([`Stone::towards_light`]): the
-    /// transmittance and the lines of the domains crossed (except `skip`); `None` where under
-    /// 10⁻⁶ of the light passes.
-    fn towards_light(
-        &mut self,
-        x: Vec3,
-        to_light: Vec3,
-        distance: f32,
-        skip: Option<u32>,
-    ) -> Option<(f32, Vec<BraggLine>)> {
-        let mut notches = Vec::new();
-        let path = PathToLight {
-            x,
-            to_light,
-            distance,
-            hint: self.nee_hint,
-            skip,
-        };
-        let t = self.stone.towards_light(
-            path,
-            &mut self.light_spans,
-            &mut self.light_lines,
-            &mut |_, line| notches.push(line),
-        );
-        (t > 1e-6).then_some((t, notches))
     }
 }
 

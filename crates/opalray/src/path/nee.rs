@@ -197,7 +197,7 @@ impl Tracer<'_> {
         s: &mut CameraSample,
     ) {
         let Estimate { x, path, weight } = *at;
-        let Some((inbound, _, value, q)) = self.draw_area(x, s.draws) else {
+        let Some((inbound, out, value, q)) = self.draw_area(x, s.draws) else {
             return;
         };
         let to_eye = -dir;
@@ -211,6 +211,9 @@ impl Tracer<'_> {
         else {
             return;
         };
+        // The planes' reflection, then the light's refraction in (in the eye's order).
+        let bragg = self.plane(dir, h);
+        let (into, ts, tp) = self.entry_sp(inbound.entry, inbound.to_light, out);
         for (line, &p_pick) in lines.iter().zip(pick) {
             // The branch's own law: the lobe about the normal at the incidence's angle.
             let sigma = self.stone.lobe_sigma(line.kind, -dir.dot(line.normal));
@@ -225,15 +228,13 @@ impl Tracer<'_> {
             }
             let p_b = p_pick as f32 * lobe / inbound.spread;
             let mis = q / (q + p_b);
-            let mut reflected = path.reflected(
-                self.line_at(domain, line, cos_h),
-                self.setup.spectral,
-                s.draws.uniform(),
-            );
+            let l = self.line_at(domain, line, cos_h);
+            let mut reflected = path.reflected(l, self.setup.spectral, s.draws.uniform(), bragg);
             for n in &notches {
                 reflected.transmit(*n, self.setup.spectral);
             }
-            let v = weight * lobe * value * inbound.gain * transmitted * mis / q;
+            let entered = reflected.event(into, ts, tp);
+            let v = weight * lobe * value * inbound.gain * transmitted * mis * entered / q;
             self.add(&reflected, v, s);
         }
     }

@@ -16,7 +16,7 @@ use std::f64::consts::PI;
 use crate::optics::BraggLine;
 use crate::stone::ironstone_reflectance;
 
-use super::spectral::{reflectance_within, SpectralSampler, TABLE_STEP_NM};
+use super::spectral::{reflectance_sp_within, SpectralSampler, TABLE_STEP_NM};
 
 /// Side lobes each side of a line's stop band whose reflectance is evaluated as it is; past
 /// them, as its average over the lobes ([`wing_reflectance`]).
@@ -51,8 +51,15 @@ impl Notches {
         }
     }
 
-    /// A pass through `line` (factor `1 − R` within its window).
-    pub(super) fn pass(&mut self, line: &BraggLine, sampler: &SpectralSampler) {
+    /// A pass through `line` (factor `1 − R` within its window) of light whose s share in
+    /// the line's plane is `s_share` (`R = q R_s + (1 − q) R_p`; `None`: unpolarised, the
+    /// mean).
+    pub(super) fn pass(
+        &mut self,
+        line: &BraggLine,
+        sampler: &SpectralSampler,
+        s_share: Option<f64>,
+    ) {
         let window = line.window_nm();
         let n = self.t.len();
         let index = |w: f64| (w - sampler.lo_nm) / TABLE_STEP_NM;
@@ -68,18 +75,23 @@ impl Notches {
         // lobe (λ/N apart), so that the broad lines of thin stacks cost what a sharp one does.
         let lobe_steps = line.center_nm / line.layers.max(1.0) / TABLE_STEP_NM;
         let stride = ((lobe_steps / LOBE_POINTS) as usize).clamp(1, MAX_STRIDE);
-        let (mut a, mut r_a) = (first, reflectance_within(line, window, at(first)));
+        let weigh = |(rs, rp): (f64, f64)| match s_share {
+            Some(q) => q * rs + (1.0 - q) * rp,
+            None => 0.5 * (rs + rp),
+        };
+        let reflectance = |w: f64| weigh(reflectance_sp_within(line, window, w));
+        let (mut a, mut r_a) = (first, reflectance(at(first)));
         let (mut b, mut r_b) = (a, r_a);
         for i in first..last {
             let w = at(i);
             let r = match wing_reflectance(line, w) {
-                Some(r) => r,
-                None if stride == 1 => reflectance_within(line, window, w),
+                Some(r) => weigh(r),
+                None if stride == 1 => reflectance(w),
                 None => {
                     if i > b || b == a {
                         (a, r_a) = (b, r_b);
                         b = (a + stride).min(last - 1);
-                        r_b = reflectance_within(line, window, at(b));
+                        r_b = reflectance(at(b));
                     }
                     if b > a {
                         r_a + (r_b - r_a) * (i - a) as f64 / (b - a) as f64
@@ -158,9 +170,9 @@ impl Notches {
 /// [`CORE_LOBES`] side lobes each side), averaged over its side lobes: with `s² = σ² − ν²`,
 /// `R = ν² sin² s / (s² + ν² sin² s)` (`optics::line`) averages over the phase of `sin² s`
 /// to `1 − s/|σ|` (`⟨a sin²/(1 + a sin²)⟩ = 1 − 1/√(1 + a)`, `a = ν²/s²`): what the lobes
-/// take from white light, at a fraction of their cost. `None` within the core.
+/// take from white light, at a fraction of their cost: `(R_s, R_p)`. `None` within the core.
 #[inline]
-fn wing_reflectance(line: &BraggLine, wavelength_nm: f64) -> Option<f64> {
+fn wing_reflectance(line: &BraggLine, wavelength_nm: f64) -> Option<(f64, f64)> {
     let ratio = line.center_nm / wavelength_nm;
     let sigma = PI * line.layers * (ratio - 1.0);
     let (nu_s, nu_p) = (line.nu_s * ratio, line.nu_p * ratio);
@@ -168,7 +180,7 @@ fn wing_reflectance(line: &BraggLine, wavelength_nm: f64) -> Option<f64> {
         return None;
     }
     let average = |nu: f64| 1.0 - (sigma * sigma - nu * nu).sqrt() / sigma.abs();
-    Some(0.5 * (average(nu_s) + average(nu_p)))
+    Some((average(nu_s), average(nu_p)))
 }
 
 /// The trapezoid rule's weight of point `i` of `n` on the table, nm.
@@ -182,6 +194,7 @@ fn trapezoid_weight(i: usize, n: usize) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::spectral::reflectance_within;
     use super::*;
     use crate::scene::Illuminant;
     use crate::spectrum::WavelengthGrid;
@@ -211,9 +224,9 @@ mod tests {
         let other = BraggLine::new(0.0037, 500.0, 1.0, 400.0);
         let mut notches = Notches::new(&s);
         for _ in 0..60 {
-            notches.pass(&plate, &s);
+            notches.pass(&plate, &s, None);
         }
-        notches.pass(&other, &s);
+        notches.pass(&other, &s, None);
         let pass = |l: &BraggLine, w: f64| 1.0 - reflectance_within(l, l.window_nm(), w);
         let brute = brute_y(&s, |w| 1.0 - pass(&plate, w).powi(60) * pass(&other, w));
         let one = brute_y(&s, |w| 1.0 - pass(&plate, w));

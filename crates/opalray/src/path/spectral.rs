@@ -2,18 +2,18 @@
 //! is white until its first reflection by a Bragg line, and from there lies within that line.
 //!
 //! A path's geometry does not depend on wavelength (no dispersion; choices are made with
-//! wavelength-independent probabilities), so its contribution is
-//! `w · ∫ Π_k f_k(λ) S(λ) c̄(λ) dλ`, `f_k` = R or 1 − R of line k, S the light's spectrum
-//! (luminance 1), c̄ the CIE 1931 colour-matching functions. Without a reflection the product
-//! is 1 but for the lines' notches, each under 2.2 nm of the 400 nm range (at most 0.6 % of
-//! white light a line, but a path passes hundreds): the path tracer carries them exactly
-//! ([`super::notches`]), so that the light going on through a domain loses what its lines
-//! reflect; the stored method's view ([`Lines`]) still neglects them. With one, the
-//! integrand lives within the line (~2 nm): λ is drawn from a truncated Cauchy law over the
-//! first reflection line (90 %) mixed with a uniform law over the range (10 %, so that every
-//! wavelength can be drawn and the estimate is unbiased), the draws stratified over the
-//! mixture ([`SpectralSampler::draw`]). Narrow lines are thus sampled where they are, and
-//! never binned before colour.
+//! wavelength-independent probabilities), so its contribution is `w · ∫ Π_k f_k(λ) S(λ) c̄(λ) dλ`,
+//! `f_k` = R or 1 − R of line k (of the path's s and p light apart, [`super::polar`]), S the
+//! light's spectrum (luminance 1), c̄ the CIE 1931 colour-matching functions. Without a reflection
+//! the product is 1 but for the lines' notches, each under 2.2 nm of the 400 nm range (at most 0.6
+//! % of white light a line, but a path passes hundreds): the path tracer carries them exactly
+//! ([`super::notches`]), so that the light going on through a domain loses what its lines reflect;
+//! the stored method's view ([`Lines`](super::Lines)) still neglects them. With one, the integrand
+//! lives within the line (~2 nm): λ is drawn from a truncated Cauchy law over the first reflection
+//! line (90 %) mixed with a uniform law over the range (10 %, so that every wavelength can be drawn
+//! and the estimate is unbiased), the draws stratified over the mixture
+//! ([`SpectralSampler::draw`]). Narrow lines are thus sampled where they are, and never binned
+//! before colour.
 //!
 //! Two carriers of the product:
 //! - [`PathSpectrum`] (the path tracer): until its first reflection, the light's white and
@@ -22,118 +22,32 @@
 //!   wavelengths). Every later line multiplies them at once, so a path can pass any number
 //!   of lines, and the share of its light a line reflects is known exactly where the path
 //!   must choose ([`PathSpectrum::reflectances`]).
-//! - [`Lines`] (the stored method's view): the list of lines itself, its product evaluated
-//!   at the end by quadrature ([`SpectralSampler::integrate`]).
+//! - [`Lines`](super::Lines) (the stored method's view, `lines.rs`): the list of lines
+//!   itself, its product evaluated at the end by quadrature ([`SpectralSampler::integrate`]).
 //!
 //! The light × colour-matching table they are deposited through, and the wavelength draws,
-//! are the film's ([`crate::film::sensor`]); the deposits of these two carriers stay here,
-//! beside the fields they read.
+//! are the film's ([`crate::film::sensor`]); the deposits of these carriers stay beside the
+//! fields they read.
+
+use std::borrow::Cow;
 
 use crate::optics::BraggLine;
 use crate::stone::ironstone_reflectance;
 
 pub(super) use crate::film::sensor::TABLE_STEP_NM;
 pub use crate::film::sensor::{SpectralSampler, MAX_TINTS};
+use glam::Vec3;
 
 use super::notches::Notches;
 use super::orders::History;
-
-/// Most lines one contribution carries.
-pub const MAX_LINES: usize = 24;
-/// Room kept for reflections: transmission notches past `MAX_LINES − RESERVED` are dropped.
-const RESERVED: usize = 8;
-/// Largest step of [`SpectralSampler::integrate`]'s quadrature, nm.
-pub const QUADRATURE_STEP_NM: f64 = 0.25;
-
-/// The Bragg lines of one path, each reflected by or passed through.
-#[derive(Clone, Copy, Debug)]
-pub struct Lines {
-    lines: [(BraggLine, bool); MAX_LINES],
-    /// Each line's window (`BraggLine::window_nm`), outside which its R is taken as 0.
-    windows: [(f64, f64); MAX_LINES],
-    len: usize,
-    first_reflection: Option<usize>,
-    /// A reflection found no room: the path's spectrum is unknown and it adds nothing.
-    lost: bool,
-    /// Diffuse reflections by ironstone (factor [`ironstone_reflectance`] each).
-    tints: u8,
-}
-
-impl Default for Lines {
-    fn default() -> Self {
-        Lines {
-            lines: [(BraggLine::new(0.0, 1.0, 1.0, 1.0), false); MAX_LINES],
-            windows: [(0.0, 0.0); MAX_LINES],
-            len: 0,
-            first_reflection: None,
-            lost: false,
-            tints: 0,
-        }
-    }
-}
-
-impl Lines {
-    /// A reflection by `line` (factor R).
-    pub fn reflect(&mut self, line: BraggLine) {
-        self.lost |= self.len == MAX_LINES;
-        if self.len < MAX_LINES {
-            self.first_reflection.get_or_insert(self.len);
-            self.lines[self.len] = (line, true);
-            self.windows[self.len] = line.window_nm();
-            self.len += 1;
-        }
-    }
-
-    /// A pass through `line`'s planes (factor 1 − R), kept only on paths that reflect (see
-    /// the module's notes).
-    pub fn transmit(&mut self, line: BraggLine) {
-        if self.len < MAX_LINES - RESERVED {
-            self.lines[self.len] = (line, false);
-            self.windows[self.len] = line.window_nm();
-            self.len += 1;
-        }
-    }
-
-    /// A diffuse reflection by ironstone. Past [`MAX_TINTS`] the path is dropped (it then
-    /// carries under 0.22⁴ = 0.2 % of the light).
-    pub fn tint(&mut self) {
-        self.lost |= usize::from(self.tints) == MAX_TINTS;
-        self.tints = self.tints.saturating_add(1);
-    }
-
-    /// Whether the path was reflected by any line.
-    pub fn reflects(&self) -> bool {
-        self.first_reflection.is_some()
-    }
-
-    /// The spectral factor `Π f_k(λ)`.
-    #[inline]
-    pub fn factor(&self, wavelength_nm: f64) -> f64 {
-        let mut f = 1.0;
-        if self.tints > 0 {
-            f = ironstone_reflectance(wavelength_nm).powi(i32::from(self.tints));
-        }
-        for ((line, reflect), (lo, hi)) in self.lines[..self.len].iter().zip(&self.windows) {
-            let inside = (*lo..=*hi).contains(&wavelength_nm);
-            if *reflect {
-                if !inside {
-                    return 0.0;
-                }
-                f *= line.reflectance(wavelength_nm);
-            } else if inside {
-                f *= 1.0 - line.reflectance(wavelength_nm);
-            }
-        }
-        f
-    }
-}
+use super::polar::{apply, Polarisation};
 
 /// Most wavelengths a path carries (`integrator.wavelengths` is at most this).
 pub const MAX_DRAWS: usize = 64;
 
 /// `line`'s reflectance at `wavelength_nm` within `window` (its [`BraggLine::window_nm`]), 0
-/// outside.
-#[inline]
+/// outside (the tests' reference).
+#[cfg(test)]
 pub(super) fn reflectance_within(
     line: &BraggLine,
     (lo, hi): (f64, f64),
@@ -143,6 +57,20 @@ pub(super) fn reflectance_within(
         line.reflectance(wavelength_nm)
     } else {
         0.0
+    }
+}
+
+/// `line`'s reflectances `(R_s, R_p)` at `wavelength_nm` within `window`, 0 outside.
+#[inline]
+pub(super) fn reflectance_sp_within(
+    line: &BraggLine,
+    (lo, hi): (f64, f64),
+    wavelength_nm: f64,
+) -> (f64, f64) {
+    if (lo..=hi).contains(&wavelength_nm) {
+        line.reflectance_sp(wavelength_nm)
+    } else {
+        (0.0, 0.0)
     }
 }
 
@@ -166,6 +94,9 @@ pub struct PathSpectrum {
     dark: bool,
     waves: [f32; MAX_DRAWS],
     weights: [f32; MAX_DRAWS],
+    /// Its polarisation: the s share of its white, or of its light at each wavelength
+    /// carried ([`super::polar`]); the weights hold the intensities.
+    polar: Polarisation,
     /// What the path has met: its class in the tally by Bragg order ([`super::orders`]).
     pub(super) history: History,
 }
@@ -179,40 +110,57 @@ impl Default for PathSpectrum {
             dark: false,
             waves: [0.0; MAX_DRAWS],
             weights: [0.0; MAX_DRAWS],
+            polar: Polarisation::default(),
             history: History::default(),
         }
     }
 }
 
 impl PathSpectrum {
-    /// A reflection by `line` (factor R). The first draws the path's wavelengths from the
-    /// line's law with `sampler`, stratified with offset `u` in [0, 1).
+    /// A reflection by `line` (factor R, unpolarised: its plane unknown). The first draws
+    /// the path's wavelengths from the line's law with `sampler`, stratified with offset `u`
+    /// in [0, 1).
     pub fn reflect(&mut self, line: BraggLine, sampler: &SpectralSampler, u: f64) {
         let notches = self.notches.take();
-        self.reflect_through(line, sampler, u, notches.as_deref());
+        self.reflect_through(line, sampler, (u, Vec3::ZERO), notches.as_deref());
     }
 
-    /// This path reflected by `line` ([`PathSpectrum::reflect`]), without copying its notches.
-    pub fn reflected(&self, line: BraggLine, sampler: &SpectralSampler, u: f64) -> Self {
-        let mut out = PathSpectrum {
+    /// This path reflected by `line` ([`PathSpectrum::reflect`]) in the plane of s axis
+    /// `axis` ([`super::polar::SpState::s_axis`]; zero: unpolarised), the s and p parts of
+    /// its light by `R_s` and `R_p`, without copying its notches.
+    pub fn reflected(
+        &self,
+        line: BraggLine,
+        sampler: &SpectralSampler,
+        u: f64,
+        axis: Vec3,
+    ) -> Self {
+        let mut out = self.shallow();
+        out.reflect_through(line, sampler, (u, axis), self.notches.as_deref());
+        out
+    }
+
+    /// This path without its notches (a copy of everything else).
+    fn shallow(&self) -> Self {
+        PathSpectrum {
             notches: None,
             tints: self.tints,
             draws: self.draws,
             dark: self.dark,
             waves: self.waves,
             weights: self.weights,
+            polar: self.polar,
             history: self.history,
-        };
-        out.reflect_through(line, sampler, u, self.notches.as_deref());
-        out
+        }
     }
 
-    /// [`PathSpectrum::reflect`] of a path whose notches so far are `notches`.
+    /// [`PathSpectrum::reflected`] of a path whose notches so far are `notches`, with offset
+    /// `u` in the plane of s axis `axis`.
     fn reflect_through(
         &mut self,
         line: BraggLine,
         sampler: &SpectralSampler,
-        u: f64,
+        (u, axis): (f64, Vec3),
         notches: Option<&Notches>,
     ) {
         self.history.bragg();
@@ -220,11 +168,18 @@ impl PathSpectrum {
             return;
         }
         let window = line.window_nm();
+        let plane = axis != Vec3::ZERO;
         if self.draws == 0 {
             let n = sampler.draws.clamp(1, MAX_DRAWS);
-            for j in 0..n {
+            let q = self.polar.white_in(axis);
+            self.polar.turn(axis, 0);
+            let shares = self.polar.shares_mut();
+            for (j, share) in shares.iter_mut().enumerate().take(n) {
                 let (w, pdf) = sampler.draw(&line, j, u);
-                let mut f = reflectance_within(&line, window, w) / (n as f64 * pdf);
+                let (rs, rp) = reflectance_sp_within(&line, window, w);
+                let (r, q_j) = apply(q, rs, rp, plane);
+                *share = q_j;
+                let mut f = r / (n as f64 * pdf);
                 if f > 0.0 {
                     if let Some(notches) = notches {
                         f *= notches.at(sampler, w);
@@ -239,34 +194,102 @@ impl PathSpectrum {
             self.draws = n as u8;
             self.tints = 0;
         } else {
-            for (f, w) in self.carried_mut() {
-                if *f != 0.0 {
-                    *f *= reflectance_within(&line, window, w) as f32;
-                }
-            }
+            self.each_event(axis, |w| reflectance_sp_within(&line, window, w));
         }
         let dark = self.carried().all(|(f, _)| f == 0.0);
         self.dark = dark;
     }
 
-    /// A pass through `line`'s planes (factor 1 − R); `sampler` holds the table a path not
-    /// yet reflected carries its notches on.
+    /// A pass through `line`'s planes (factor 1 − R, unpolarised: their plane unknown);
+    /// `sampler` holds the table a path not yet reflected carries its notches on.
     pub fn transmit(&mut self, line: BraggLine, sampler: &SpectralSampler) {
+        self.transmit_in(line, sampler, Vec3::ZERO);
+    }
+
+    /// [`PathSpectrum::transmit`] in the plane of s axis `axis` (zero: unpolarised): the s
+    /// and p parts by `1 − R_s` and `1 − R_p`. Before the first reflection the notch takes
+    /// the white's s share turned to the plane, and leaves the share as it was (a notch
+    /// polarises only the ~2 nm it takes).
+    pub fn transmit_in(&mut self, line: BraggLine, sampler: &SpectralSampler, axis: Vec3) {
         if self.dark {
             return;
         }
         if self.draws == 0 {
+            let q = (axis != Vec3::ZERO).then(|| f64::from(self.polar.white_in(axis)));
             self.notches
                 .get_or_insert_with(|| Box::new(Notches::new(sampler)))
-                .pass(&line, sampler);
+                .pass(&line, sampler, q);
             return;
         }
         let window = line.window_nm();
-        for (f, w) in self.carried_mut() {
+        self.each_event(axis, |w| {
+            let (rs, rp) = reflectance_sp_within(&line, window, w);
+            (1.0 - rs, 1.0 - rp)
+        });
+    }
+
+    /// An event at every wavelength carried, in the plane of s axis `axis` (zero:
+    /// unpolarised), keeping `kept(λ)` = `(s, p)` of the s and p parts there.
+    #[inline]
+    fn each_event(&mut self, axis: Vec3, kept: impl Fn(f64) -> (f64, f64)) {
+        let n = usize::from(self.draws);
+        self.polar.turn(axis, n);
+        let plane = axis != Vec3::ZERO;
+        let shares = self.polar.shares_mut();
+        for ((f, w), q) in self.weights[..n]
+            .iter_mut()
+            .zip(&self.waves[..n])
+            .zip(shares)
+        {
             if *f != 0.0 {
-                *f *= (1.0 - reflectance_within(&line, window, w)) as f32;
+                let (ks, kp) = kept(f64::from(*w));
+                let (k, share) = apply(*q, ks, kp, plane);
+                *f *= k as f32;
+                *q = share;
             }
         }
+    }
+
+    /// An event that keeps `rs` of the s part and `rp` of the p part of the light at every
+    /// wavelength (the surface's Fresnel factors), in the plane of s axis `axis` (zero:
+    /// unpolarised): returns the factor on the path's weight, which before the first
+    /// reflection is the event's on the white (its share updated), and after it the mean
+    /// `(rs + rp)/2`, the wavelengths carried taking their own factor over it (so that the
+    /// weight, which the roulette reads, falls as the averaged event's does).
+    pub fn event(&mut self, axis: Vec3, rs: f32, rp: f32) -> f32 {
+        let (rs, rp) = (f64::from(rs), f64::from(rp));
+        if self.draws > 0 {
+            let mean = 0.5 * (rs + rp);
+            if mean > 0.0 {
+                self.each_event(axis, |_| (rs / mean, rp / mean));
+            }
+            return mean as f32;
+        }
+        let q = self.polar.white_in(axis);
+        self.polar.turn(axis, 0);
+        let (k, share) = apply(q, rs, rp, axis != Vec3::ZERO);
+        self.polar.set_white(share);
+        k as f32
+    }
+
+    /// What of this path an event keeping `rs` and `rp` lets through ([`PathSpectrum::event`]
+    /// on a copy, the path itself unchanged): the copy and the factor on its weight. Before
+    /// the first reflection the copy is the path itself (only the factor differs), so its
+    /// notches are not copied.
+    pub fn through(&self, axis: Vec3, rs: f32, rp: f32) -> (Cow<'_, PathSpectrum>, f32) {
+        if self.draws == 0 {
+            let q = self.polar.white_in(axis);
+            let (k, _) = apply(q, f64::from(rs), f64::from(rp), axis != Vec3::ZERO);
+            return (Cow::Borrowed(self), k as f32);
+        }
+        let mut copy = self.shallow();
+        let k = copy.event(axis, rs, rp);
+        (Cow::Owned(copy), k)
+    }
+
+    /// Its light unpolarised (a diffuse scattering or a backing).
+    pub fn depolarise(&mut self) {
+        self.polar.depolarise();
     }
     /// A diffuse reflection by ironstone.
     pub fn tint(&mut self) {
@@ -292,21 +315,21 @@ impl PathSpectrum {
         self.dark
     }
 
-    /// The share of the path's light that `line` reflects, `Σ f_j R(λ_j) / Σ f_j` over the
-    /// wavelengths carried (0 for a path not yet reflected or dark), keeping `line`'s
-    /// reflectance at each wavelength carried in `r` (0 where the path carries nothing) for
-    /// [`PathSpectrum::pass`]: a crossing weighs its lines and then passes them at the same
-    /// wavelengths.
-    pub fn reflectances(&self, line: &BraggLine, r: &mut [f32; MAX_DRAWS]) -> f64 {
+    /// The share of the path's light that `line` reflects unpolarised, `Σ f_j R(λ_j) / Σ f_j`
+    /// over the wavelengths carried (0 for a path not yet reflected or dark), keeping
+    /// `line`'s `(R_s, R_p)` at each wavelength carried in `r` (0 where the path carries
+    /// nothing) for [`PathSpectrum::pass`]: a crossing weighs its lines and then passes them
+    /// at the same wavelengths.
+    pub fn reflectances(&self, line: &BraggLine, r: &mut [[f32; 2]; MAX_DRAWS]) -> f64 {
         let window = line.window_nm();
         let (mut total, mut reflected) = (0.0f64, 0.0f64);
         for ((f, w), r) in self.carried().zip(r.iter_mut()) {
-            *r = 0.0;
+            *r = [0.0; 2];
             if f != 0.0 {
-                let here = reflectance_within(line, window, w);
-                *r = here as f32;
+                let (rs, rp) = reflectance_sp_within(line, window, w);
+                *r = [rs as f32, rp as f32];
                 total += f64::from(f);
-                reflected += f64::from(f) * here;
+                reflected += f64::from(f) * 0.5 * (rs + rp);
             }
         }
         if total > 0.0 {
@@ -316,13 +339,19 @@ impl PathSpectrum {
         }
     }
 
-    /// A pass through a line whose reflectances at the wavelengths carried are `r`, from
-    /// [`PathSpectrum::reflectances`] on this path: [`PathSpectrum::transmit`] of a reflected
-    /// path without evaluating the line again.
-    pub fn pass(&mut self, r: &[f32; MAX_DRAWS]) {
+    /// A pass in the plane of s axis `axis` through a line whose `(R_s, R_p)` at the
+    /// wavelengths carried are `r`, from [`PathSpectrum::reflectances`] on this path:
+    /// [`PathSpectrum::transmit_in`] of a reflected path without evaluating the line again.
+    pub fn pass(&mut self, r: &[[f32; 2]; MAX_DRAWS], axis: Vec3) {
         debug_assert!(self.reflects());
-        for ((f, _), r) in self.carried_mut().zip(r) {
-            *f *= 1.0 - r;
+        let n = usize::from(self.draws);
+        self.polar.turn(axis, n);
+        let plane = axis != Vec3::ZERO;
+        let shares = self.polar.shares_mut();
+        for ((f, r), q) in self.weights[..n].iter_mut().zip(r).zip(shares) {
+            let (k, share) = apply(*q, f64::from(1.0 - r[0]), f64::from(1.0 - r[1]), plane);
+            *f *= k as f32;
+            *q = share;
         }
     }
 
@@ -380,49 +409,6 @@ impl SpectralSampler {
     }
 }
 
-impl SpectralSampler {
-    /// Add `weight · ∫ Π f(λ) S(λ) c̄(λ) dλ` of `lines` to `xyz` and the binned spectrum to
-    /// `bins`, by the midpoint rule over the first reflection's window (within the range), at
-    /// steps of at most [`QUADRATURE_STEP_NM`] (a line's core, ~2 nm, takes about ten; its
-    /// side lobes, λ/N ≈ 1.5 nm apart, six each). A path without reflection adds the light's
-    /// white. Deterministic: the same lines give the same bits.
-    pub fn integrate(&self, lines: &Lines, weight: f64, xyz: &mut [f64; 3], bins: &mut [f32]) {
-        if weight == 0.0 || lines.lost {
-            return;
-        }
-        let Some(first) = lines.first_reflection else {
-            self.add_white(lines.tints, weight, xyz, bins);
-            return;
-        };
-        let (a, z) = lines.windows[first];
-        let (a, z) = (a.max(self.lo_nm), z.min(self.hi_nm));
-        if z <= a {
-            return;
-        }
-        let steps = ((z - a) / QUADRATURE_STEP_NM).ceil().max(1.0);
-        let step = (z - a) / steps;
-        let bin_width = self.grid.bin_width_nm();
-        let mut sum = [0.0f64; 3];
-        for j in 0..steps as usize {
-            let w = a + (j as f64 + 0.5) * step;
-            let f = lines.factor(w) * step;
-            if f == 0.0 {
-                continue;
-            }
-            let s = self.at(w);
-            for (v, c) in sum.iter_mut().zip(&s) {
-                *v += f * f64::from(*c);
-            }
-            if let Some(b) = self.grid.bin_of(w) {
-                bins[b] += (weight * f * f64::from(s[3]) / bin_width) as f32;
-            }
-        }
-        for (v, s) in xyz.iter_mut().zip(sum) {
-            *v += weight * s;
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -451,45 +437,6 @@ mod tests {
             2.0 * (1.0 - brute_y(&s, |w| reflectance_within(&line, line.window_nm(), w)));
         assert!(xyz[1] < 1.999, "the notch takes light: {}", xyz[1]);
         assert!((xyz[1] - expected).abs() < 1e-4, "{} vs {expected}", xyz[1]);
-    }
-
-    #[test]
-    fn the_quadrature_of_a_line_and_its_notches_matches_a_fine_sum() {
-        // Independent: the same product summed at 0.002 nm (R of the reflecting line times
-        // 1 − R of a notch half a line-width off its centre, and of a thin stack's broad one).
-        let s = SpectralSampler::new(Illuminant::D65, &WavelengthGrid::default(), 4);
-        let line = BraggLine::new(0.0037, 589.0, 1.0, 400.0);
-        let notch = BraggLine::new(0.0037, 590.0, 1.0, 300.0);
-        let broad = BraggLine::new(0.0037, 585.0, 1.0, 20.0);
-        let mut lines = Lines::default();
-        lines.reflect(line);
-        lines.transmit(notch);
-        lines.transmit(broad);
-        let mut brute = [0.0; 4];
-        let step = 0.002;
-        let mut w = 380.0 + 0.5 * step;
-        while w < 780.0 {
-            let f = lines.factor(w) * step;
-            for (b, c) in brute.iter_mut().zip(s.at(w)) {
-                *b += f * f64::from(c);
-            }
-            w += step;
-        }
-        let (mut xyz, mut bins) = ([0.0; 3], vec![0.0; 40]);
-        s.integrate(&lines, 2.0, &mut xyz, &mut bins);
-        for c in 0..3 {
-            assert!(
-                (xyz[c] / (2.0 * brute[c]) - 1.0).abs() < 0.01,
-                "{c}: {xyz:?} vs 2 × {brute:?}"
-            );
-        }
-        // The bins hold the same light: their sum × width is the integral of the spectrum.
-        let binned: f64 = bins.iter().map(|&b| f64::from(b) * 10.0).sum();
-        assert!(
-            (binned / (2.0 * brute[3]) - 1.0).abs() < 0.01,
-            "{binned} vs 2 × {}",
-            brute[3]
-        );
     }
 
     /// The mean over `n` stratification offsets of `add_path`'s Y for the path `build` makes
@@ -601,7 +548,7 @@ mod tests {
             r2 += r * r;
         }
         let share_of =
-            |path: &PathSpectrum, l: &BraggLine| path.reflectances(l, &mut [0.0; MAX_DRAWS]);
+            |path: &PathSpectrum, l: &BraggLine| path.reflectances(l, &mut [[0.0; 2]; MAX_DRAWS]);
         let mut path = PathSpectrum::default();
         path.reflect(line, &s, 0.5);
         let share = share_of(&path, &line);
