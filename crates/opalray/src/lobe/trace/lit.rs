@@ -1,0 +1,259 @@
+//! What lights the body and a backing as the eye ray sees them: the body as a lit layer, the
+//! backing under the light that reaches it through the stone, and a point light's share.
+
+use super::*;
+
+impl Tracer<'_> {
+    /// The body seen by the share `w` of the eye ray scattered in it: `reflectance` (its
+    /// Munsell value, or less for a thin layer, [`layer_reflectance`]) under the
+    /// environment's irradiance at the surface the eye ray entered (the chip's reflectance
+    /// includes the surface's `1 − F₀` on the way in, which the eye ray's weight holds
+    /// already).
+    pub(super) fn body(&mut self, w: f32, reflectance: f32, e: f32, sums: &mut Sums) {
+        let v = w * self.body_radiance(reflectance, e);
+        self.add_notched_white(f64::from(v), sums);
+    }
+
+    /// The irradiance (outside, `Ē`) that lights the body where the eye ray meets it at `at`
+    /// over `span`: under a colour bar the light reaching the potch's top through the bar
+    /// ([`PotchLight`]), elsewhere the room's and the lamp's at the surface the eye ray
+    /// entered.
+    pub(super) fn light_on_body(&self, at: Vec3, span: Span) -> f32 {
+        match self.lit.potch {
+            Some(potch) if span.domain.is_none() && potch.holds(at) => potch.at(at),
+            _ => self.irradiance_on(self.entry.normal),
+        }
+    }
+
+    /// The radiance in the stone of a body of reflectance `reflectance` lit by the outside
+    /// irradiance `e` (a chip at the surface the eye ray entered: its reflectance includes
+    /// the surface's `1 − F₀` on the way in).
+    pub(super) fn body_radiance(&self, reflectance: f32, e: f32) -> f32 {
+        let n = self.stone.n_eff;
+        n * n * reflectance * e / (1.0 - self.entry.fresnel_normal)
+    }
+
+    /// The backing seen at `at` by the eye ray with weight `w`: its reflectance under the
+    /// light that reaches it through the stone ([`BackingLight`]).
+    pub(super) fn backing(&mut self, w: f32, at: Vec3, sums: &mut Sums) {
+        let stone = self.stone;
+        let Some(back) = stone.back else {
+            return;
+        };
+        let light = self.lit.backing.map_or(0.0, |b| b.at(at));
+        let v = w * light;
+        match back.kind {
+            Backing::None => {}
+            Backing::Black => {
+                self.add_notched_white(f64::from(v * back.reflectance(550.0) as f32), sums)
+            }
+            Backing::Ironstone => {
+                let (xyz, bins) = self.setup.spectral.tinted_white(1);
+                for (sum, x) in sums.xyz.iter_mut().zip(xyz) {
+                    *sum += f64::from(v) * x;
+                }
+                for (b, t) in sums.bins.iter_mut().zip(bins) {
+                    *b += v * t;
+                }
+            }
+        }
+    }
+
+    /// The light reaching the backing at `at` (on the back plane), as the radiance a white
+    /// Lambertian backing there sends back into the stone: the mean, over
+    /// [`BACK_DIRECTIONS`] cosine-distributed directions up into the stone (a Fibonacci
+    /// spiral on the disc, lifted to the hemisphere), of what each sees through the stone —
+    /// dimmed by the potch and haze, refracted out with `(1 − F) n²` (the rest reflected
+    /// inside and followed), the environment read through a lobe of the quadrature's spacing
+    /// and the area light — and the point or directional light along its refracted path.
+    /// The lines' notches on the way are left out, and so is the light the backing sends
+    /// up that the dome reflects back to it.
+    pub(in crate::lobe) fn light_on_backing(&mut self, at: Vec3) -> f32 {
+        self.light_on(
+            at + Vec3::Z * EPSILON_MM,
+            Vec3::Z,
+            BACK_DIRECTIONS,
+            Dim::PotchAndHaze,
+        )
+    }
+
+    /// [`Tracer::light_on_backing`] at `at`, inside the stone, on a surface of unit normal
+    /// `normal` (`directions` of them, cosine-distributed about it), dimmed as `dim` says.
+    pub(in crate::lobe) fn light_on(
+        &mut self,
+        at: Vec3,
+        normal: Vec3,
+        directions: usize,
+        dim: Dim,
+    ) -> f32 {
+        let count = directions as f32;
+        // Half the spacing of the directions, over normals (`boundary_out` doubles it).
+        let sigma = 0.25 * (PI / count).sqrt();
+        let golden = PI * (3.0 - 5f32.sqrt());
+        let (t, b) = normal.any_orthonormal_pair();
+        // The cells holding `at`, where every direction's walk starts.
+        let mut start = Hint::default();
+        if dim != Dim::None && self.stone.region_at(at) == Region::Opal {
+            self.stone
+                .walk(at, normal, 0.0, EPSILON_MM, start, &mut |s| {
+                    start = s.hint;
+                    false
+                });
+        }
+        let mut sum = 0.0;
+        for k in 0..directions {
+            let r = ((k as f32 + 0.5) / count).sqrt();
+            let phi = golden * k as f32;
+            let dir = (t * (r * phi.cos()) + b * (r * phi.sin()))
+                + normal * (1.0 - r * r).max(0.0).sqrt();
+            sum += self.escape(at, dir, self.stone.region_at(at), sigma, dim, start);
+        }
+        sum / count + self.point_light_on(at, normal)
+    }
+
+    /// The point or directional light's irradiance at `x` inside the stone along its
+    /// refracted path, dimmed by the potch and haze on the way (its lines' notches left
+    /// out), as the radiance a white Lambertian surface of unit normal `normal` sends back.
+    pub(super) fn point_light_on(&mut self, x: Vec3, normal: Vec3) -> f32 {
+        let Some(light) = self.setup.light else {
+            return 0.0;
+        };
+        let stone = self.stone;
+        let Some((to_light, irradiance, distance)) = stone.light_entry(&light.source, x) else {
+            return 0.0;
+        };
+        let path = PathToLight {
+            x,
+            to_light,
+            distance,
+            hint: Hint::default(),
+            skip: None,
+        };
+        let kept = stone.towards_light(
+            path,
+            &mut self.out_spans,
+            &mut self.out_lines,
+            &mut |_, _| {},
+        );
+        light.intensity * irradiance * kept * to_light.dot(normal).max(0.0)
+    }
+
+    /// The scene's point or directional light reflected by `line` of `domain` at `x` towards
+    /// the eye ray along `dir`, with weight `w`: `π E R(λ, θ_h) D(h) / (4 cos θ_h)`.
+    pub(super) fn light_at(
+        &mut self,
+        x: Vec3,
+        dir: Vec3,
+        domain: u32,
+        line: &ActiveLine,
+        w: f32,
+        sums: &mut Sums,
+    ) {
+        let stone = self.stone;
+        let Some(light) = self.setup.light else {
+            return;
+        };
+        let Some((to_light, irradiance, distance)) = stone.light_entry(&light.source, x) else {
+            return;
+        };
+        let h = (to_light - dir).normalize_or_zero();
+        let cos_h = h.dot(to_light);
+        if cos_h <= 0.0 {
+            return;
+        }
+        let density = stone.lobe_density(line, h, cos_h);
+        if density <= 0.0 {
+            return;
+        }
+        let at_h = stone.line_at(domain, line, cos_h);
+        let wavelength = at_h.center_nm;
+        let mut notches = 1.0f64;
+        let path = PathToLight {
+            x,
+            to_light,
+            distance,
+            hint: Hint::default(),
+            skip: Some(domain),
+        };
+        let kept = stone.towards_light(
+            path,
+            &mut self.out_spans,
+            &mut self.out_lines,
+            &mut |_, l| {
+                let (lo, hi) = l.window_nm();
+                if wavelength > lo && wavelength < hi {
+                    notches *= 1.0 - l.reflectance(wavelength);
+                }
+            },
+        );
+        let (xyz, s) = self.colours.of(&at_h);
+        let value = w
+            * PI
+            * irradiance
+            * light.intensity
+            * kept
+            * notches as f32
+            * self.eye_transmittance(wavelength) as f32
+            * density
+            / (4.0 * cos_h);
+        self.add_line(f64::from(value), xyz, s, wavelength, sums);
+    }
+}
+
+impl Tracer<'_> {
+    /// Kubelka–Munk scattering thickness `S X` of `span`: `S = ¾ σ_s (1 − g)` of the potch
+    /// (σ_s its extinction times its albedo) or of a milky domain's haze.
+    pub(super) fn km_scattering(&self, span: &Span) -> f32 {
+        let potch = &self.stone.potch;
+        let sigma_s = match span.domain {
+            None => potch.extinction_per_mm * potch.albedo,
+            Some(_) => potch.domain_scattering_per_mm,
+        };
+        0.75 * sigma_s * (1.0 - potch.anisotropy) * (span.t1 - span.t0)
+    }
+}
+
+/// The reflectance of a layer of body of scattering thickness `sx` (Kubelka–Munk `S X`)
+/// over a ground of reflectance `ground`, the body's own reflectance when thick being
+/// `thick` (Kubelka & Munk 1931; Judd & Wyszecki, *Color in Business, Science and
+/// Industry*, §3.8): `R = (1 − R_g (a − b coth bSX)) / (a − R_g + b coth bSX)`,
+/// `a = (1 + R∞²)/(2 R∞)`, `b = √(a² − 1)`. A thick layer shows `R∞`, a thin one its ground.
+pub(super) fn layer_reflectance(thick: f32, sx: f32, ground: f32) -> f32 {
+    let r_inf = f64::from(thick).clamp(1e-4, 0.9999);
+    let a = (1.0 + r_inf * r_inf) / (2.0 * r_inf);
+    let b = (a * a - 1.0).sqrt();
+    let x = (b * f64::from(sx.max(0.0))).max(1e-9);
+    if x > 20.0 {
+        return thick;
+    }
+    let coth = 1.0 / x.tanh();
+    let g = f64::from(ground);
+    ((1.0 - g * (a - b * coth)) / (a - g + b * coth)) as f32
+}
+
+/// The reflectance of what lies beyond a segment in the opal that ends at `boundary`: the
+/// backing's (at 550 nm) or nothing.
+pub(super) fn ground_of(stone: &Stone, boundary: Boundary) -> f32 {
+    match (boundary, stone.back) {
+        (Boundary::Back, Some(back)) => back.reflectance(550.0) as f32,
+        _ => 0.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::layer_reflectance;
+
+    #[test]
+    fn a_layer_shows_its_ground_when_thin_and_its_own_reflectance_when_thick() {
+        assert!((layer_reflectance(0.3, 1e-6, 0.03) - 0.03).abs() < 1e-4);
+        assert!((layer_reflectance(0.3, 50.0, 0.03) - 0.3).abs() < 1e-6);
+        // Over a ground of its own reflectance a layer of any thickness shows that.
+        for sx in [0.1, 1.0, 3.0] {
+            assert!((layer_reflectance(0.3, sx, 0.3) - 0.3).abs() < 1e-5, "{sx}");
+        }
+        // Kubelka–Munk over black: R = 1 / (a + b coth bSX); R∞ = 0.5, SX = 1 gives
+        // a = 1.25, b = 0.75, R = 1 / (1.25 + 0.75 coth 0.75) = 0.4114 (hand computed).
+        assert!((layer_reflectance(0.5, 1.0, 0.0) - 0.4114).abs() < 1e-3);
+    }
+}

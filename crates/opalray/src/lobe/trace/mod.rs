@@ -1,0 +1,404 @@
+//! One camera ray of the lobe integrator (module notes in [`super`]): a loop over the eye
+//! ray's segments, and for every line it meets a loop over the reflected ray's segments out
+//! of the stone. Bounded loops, no recursion, no random numbers.
+
+use std::f32::consts::PI;
+
+use glam::Vec3;
+
+use super::potch::PotchLight;
+use super::{BackingLight, Irradiance, LineColours, LobeSetup};
+use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
+use crate::lights::emitters::seen;
+use crate::optics::BraggLine;
+use crate::scene::Backing;
+use crate::stone::{ActiveLine, Boundary, Hint, PathToLight, Region, Span, Stone};
+
+/// Most segments of a ray inside the stone between surface events (its refraction in or its
+/// reflection, then up to seven internal reflections: light caught by total reflection in a
+/// clear dome after three carries about 1 % of the `crystal` preset's light).
+mod lit;
+mod out;
+mod seen;
+
+use lit::{ground_of, layer_reflectance};
+
+pub const MAX_SEGMENTS: usize = 8;
+/// Offset of a new ray's origin along its way, mm (0.1 µm).
+const EPSILON_MM: f32 = 1e-4;
+/// An eye ray whose weight falls below this adds nothing more.
+const MIN_WEIGHT: f32 = 1e-4;
+/// A line's reflection adding less luminance than this (relative to a white diffuser under
+/// the light) is left out: 1/30 of the darkest step of an 8-bit sRGB image.
+const CUT: f32 = 1e-5;
+/// A reflection whose light through the surface is under [`CUT`] is followed for the body's
+/// light alone (walked without its lines) only where that could add more than this: a dark
+/// body's light seen in reflections is a few tenths of a per cent of the black opal's, and
+/// following every reflection for it took half as long again.
+const BODY_CUT: f32 = 1e-3;
+/// A reflection's walk out that loses more than this share of its weight at the surface was
+/// partly reflected there (total internal reflection keeps all of it).
+const PARTIAL: f32 = 0.99;
+/// Most lines of the eye ray kept for the notches of later reflections.
+const MAX_EYE_LINES: usize = 96;
+/// Directions of the quadrature of the light reaching a point of the backing.
+const BACK_DIRECTIONS: usize = 24;
+
+/// What one pixel's camera rays add up to.
+pub(super) struct Sums<'b> {
+    /// Radiance of the light's white (its spectrum, luminance 1) added.
+    pub white: f64,
+    /// XYZ of the rest.
+    pub xyz: [f64; 3],
+    /// Bins of the rest.
+    pub bins: &'b mut [f32],
+}
+
+/// One thread's camera rays.
+pub(super) struct Tracer<'a> {
+    stone: &'a Stone,
+    setup: &'a LobeSetup<'a>,
+    colours: &'a LineColours,
+    irradiance: &'a Irradiance,
+    /// The light reaching the backing and the potch under a bar (none while they are made).
+    lit: Lit<'a>,
+    spans: Vec<Span>,
+    lines: Vec<ActiveLine>,
+    out_spans: Vec<Span>,
+    out_lines: Vec<ActiveLine>,
+    /// The colours `(XYZ, S)` of the lines of the crossing at hand, and what the eye ray's
+    /// earlier lines leave of each line's centre.
+    line_colours: Vec<([f64; 3], f64, f64)>,
+    /// The lines the eye ray has crossed.
+    eye_lines: Vec<BraggLine>,
+    /// Their windows (`BraggLine::window_nm`), apart: what every wavelength is checked against.
+    eye_windows: Vec<(f64, f64)>,
+    /// XYZ the eye ray's notches take from a white of luminance 1.
+    notch_xyz: [f64; 3],
+    /// The same per bin.
+    notch_bins: Vec<f32>,
+    bin_width_nm: f64,
+    /// The most radiance any reflection can see: the environment's peak or an area light's
+    /// value, through the surface.
+    peak: f32,
+    /// The scene's light as the body sees it: the direction towards it from the stone's
+    /// centre and its irradiance there on a plane facing it.
+    body_light: Option<(Vec3, f32)>,
+    /// Where the camera ray at hand entered the stone.
+    entry: Entry,
+    /// The most radiance the body can send (in the stone), 0 without a scattering body:
+    /// what a reflection can see besides the light through the surface.
+    body_peak: f32,
+}
+
+impl<'a> Tracer<'a> {
+    pub(super) fn new(
+        stone: &'a Stone,
+        setup: &'a LobeSetup<'a>,
+        colours: &'a LineColours,
+        irradiance: &'a Irradiance,
+        lit: Lit<'a>,
+    ) -> Self {
+        let body_light = setup
+            .light
+            .map(|l| (l.source.direction_to_light(Vec3::ZERO), l.intensity))
+            .or(setup
+                .area_light
+                .map(|a| (a.center().normalize(), setup.light_intensity)));
+        let mut tracer = Tracer {
+            stone,
+            setup,
+            colours,
+            irradiance,
+            lit,
+            spans: Vec::with_capacity(64),
+            lines: Vec::with_capacity(16),
+            out_spans: Vec::with_capacity(64),
+            out_lines: Vec::with_capacity(16),
+            line_colours: Vec::with_capacity(16),
+            eye_lines: Vec::with_capacity(MAX_EYE_LINES),
+            eye_windows: Vec::with_capacity(MAX_EYE_LINES),
+            notch_xyz: [0.0; 3],
+            notch_bins: vec![0.0; setup.spectral.grid.bins],
+            bin_width_nm: setup.spectral.grid.bin_width_nm(),
+            peak: setup
+                .environment
+                .peak()
+                .max(setup.area_light.map_or(0.0, |a| a.value()))
+                * stone.n_eff
+                * stone.n_eff,
+            body_light,
+            entry: Entry {
+                normal: Vec3::Z,
+                fresnel_normal: fresnel_dielectric(1.0, 1.0, stone.n_eff),
+            },
+            body_peak: 0.0,
+        };
+        tracer.body_peak = tracer.body_peak(irradiance);
+        tracer
+    }
+
+    /// The most radiance the body can send into the stone ([`Tracer::body_radiance`] at its
+    /// brightest light), 0 where nothing scatters.
+    fn body_peak(&self, irradiance: &Irradiance) -> f32 {
+        let potch = &self.stone.potch;
+        if potch.extinction_per_mm <= 0.0 && potch.domain_scattering_per_mm <= 0.0 {
+            return 0.0;
+        }
+        let lamp = self.body_light.map_or(0.0, |(_, e)| e);
+        let lit = irradiance
+            .peak()
+            .max(self.lit.potch.map_or(0.0, |p| p.peak()))
+            + lamp;
+        self.body_radiance(self.setup.body_reflectance, lit)
+    }
+
+    /// One camera ray.
+    pub(super) fn sample(&mut self, ray: Ray, sums: &mut Sums) {
+        let stone = self.stone;
+        let Some((t0, _)) = stone.shape.intersect(&ray).filter(|&(t0, _)| t0 > 0.0) else {
+            sums.white += f64::from(self.seen_sharp(ray.origin, ray.direction));
+            return;
+        };
+        self.eye_lines.clear();
+        self.eye_windows.clear();
+        self.notch_xyz = [0.0; 3];
+        self.notch_bins.iter_mut().for_each(|b| *b = 0.0);
+        // The surface: the gloss, and the refracted part goes in.
+        let p = ray.at(t0);
+        let normal = stone.shape.normal(p);
+        let region = stone.region_at(p - normal * EPSILON_MM);
+        let n = stone.index_of(region);
+        let fresnel = fresnel_dielectric(-ray.direction.dot(normal), 1.0, n);
+        let mirror = reflect(ray.direction, normal);
+        sums.white += f64::from(
+            fresnel * self.setup.gloss * (self.seen_sharp(p, mirror) + self.disc(mirror)),
+        );
+        let Some(dir) = refract(ray.direction, normal, 1.0, n) else {
+            return;
+        };
+        let entry = Entry {
+            normal,
+            fresnel_normal: fresnel_dielectric(1.0, 1.0, n),
+        };
+        self.entry = entry;
+        self.inside(p, dir, region, (1.0 - fresnel) / (n * n), sums);
+    }
+
+    /// The eye ray inside the stone from `pos` along `dir` in `region`, with weight `w`.
+    fn inside(
+        &mut self,
+        mut pos: Vec3,
+        mut dir: Vec3,
+        mut region: Region,
+        mut w: f32,
+        sums: &mut Sums,
+    ) {
+        let stone = self.stone;
+        let potch = stone.potch;
+        for _ in 0..MAX_SEGMENTS {
+            let ray = Ray {
+                origin: pos,
+                direction: dir,
+            };
+            let Some((t_end, boundary)) = stone.exit(&ray, region) else {
+                return;
+            };
+            if region == Region::Opal {
+                self.spans.clear();
+                let spans = &mut self.spans;
+                stone.walk(pos, dir, 0.0, t_end, Hint::default(), &mut |s| {
+                    spans.push(s);
+                    true
+                });
+                // The body's scattering thickness from each span to the segment's end, and
+                // what lies beyond it: the body there is a layer of that thickness.
+                let ground = ground_of(stone, boundary);
+                let mut beyond: f32 = self.spans.iter().map(|s| self.km_scattering(s)).sum();
+                for k in 0..self.spans.len() {
+                    let span = self.spans[k];
+                    let layer = beyond;
+                    beyond -= self.km_scattering(&span);
+                    let sigma = match span.domain {
+                        None => potch.extinction_per_mm,
+                        Some(domain) => {
+                            self.cross(&ray, span, domain, w, sums);
+                            potch.domain_scattering_per_mm
+                        }
+                    };
+                    if sigma > 0.0 {
+                        let tau = sigma * (span.t1 - span.t0);
+                        let kept = (-tau).exp();
+                        let r = layer_reflectance(self.setup.body_reflectance, layer, ground);
+                        let lit = self.light_on_body(ray.at(span.t0), span);
+                        self.body(w * (1.0 - kept), r, lit, sums);
+                        w *= kept;
+                    }
+                    if w < MIN_WEIGHT {
+                        return;
+                    }
+                }
+            }
+            let at = ray.at(t_end);
+            match boundary {
+                Boundary::Surface => {
+                    let n = stone.index_of(region);
+                    let normal = stone.shape.normal(at);
+                    let f = fresnel_dielectric(dir.dot(normal), n, 1.0);
+                    if let Some(out) = refract(dir, normal, n, 1.0) {
+                        let v = w * (1.0 - f) * n * n * self.seen_sharp(at, out);
+                        self.add_notched_white(f64::from(v), sums);
+                    }
+                    w *= f;
+                    dir = reflect(dir, normal);
+                    pos = at - normal * EPSILON_MM;
+                }
+                Boundary::Back => {
+                    self.backing(w, at, sums);
+                    return;
+                }
+                Boundary::CapPlane => {
+                    (pos, dir, region, w) = self.cap_plane(at, dir, region, w);
+                }
+            }
+            if w < MIN_WEIGHT {
+                return;
+            }
+        }
+    }
+
+    /// The eye ray along `ray` crossing `domain` over `span`, with weight `w`: every line's
+    /// reflection of the lights, then its notch on the way on.
+    fn cross(&mut self, ray: &Ray, span: Span, domain: u32, w: f32, sums: &mut Sums) {
+        let stone = self.stone;
+        let dir = ray.direction;
+        let mut lines = std::mem::take(&mut self.lines);
+        lines.clear();
+        stone.lines(domain, dir, span.t1 - span.t0, &mut lines);
+        let face = ray.at(span.t0);
+        let mut colours = std::mem::take(&mut self.line_colours);
+        colours.clear();
+        for l in &lines {
+            let (xyz, s) = self.colours.of(&l.line);
+            let t_in = self.eye_transmittance(l.line.center_nm);
+            colours.push((xyz, s, t_in));
+            let weight = w * t_in as f32;
+            if weight * xyz[1] as f32 * (self.peak + self.body_peak) > CUT {
+                let cos_theta = -dir.dot(l.normal);
+                let sigma = stone.lobe_sigma(l.kind, cos_theta);
+                // The line as the lobe's normals spread it.
+                let (xyz, s, center) =
+                    self.colours
+                        .in_lobe(&l.line, (xyz, s), cos_theta.into(), sigma.into());
+                let mirror = reflect(dir, l.normal);
+                let out = Out {
+                    face,
+                    dir: mirror,
+                    domain,
+                    hint: span.hint,
+                };
+                let seen = self.reflected(&out, &l.line, sigma, weight * xyz[1] as f32);
+                self.add_line(f64::from(weight * seen), xyz, s, center, sums);
+            }
+            if self.setup.light.is_some() {
+                self.light_at(ray.at(span.t0 + EPSILON_MM), dir, domain, l, weight, sums);
+            }
+        }
+        // The ray goes on through, carrying each line's notch: what the earlier lines, this
+        // crossing's before it among them, leave of its centre.
+        for (k, (l, &(xyz, s, t_in))) in lines.iter().zip(&colours).enumerate() {
+            if self.eye_lines.len() >= MAX_EYE_LINES {
+                break;
+            }
+            let centre = l.line.center_nm;
+            let mut t_prev = t_in;
+            for before in &lines[..k] {
+                let (lo, hi) = before.line.window_nm();
+                if centre > lo && centre < hi {
+                    t_prev *= 1.0 - before.line.reflectance(centre);
+                }
+            }
+            for (n, v) in self.notch_xyz.iter_mut().zip(xyz) {
+                *n += t_prev * v;
+            }
+            if let Some(b) = self.setup.spectral.grid.bin_of(l.line.center_nm) {
+                self.notch_bins[b] += (t_prev * s / self.bin_width_nm) as f32;
+            }
+            self.eye_windows.push(l.line.window_nm());
+            self.eye_lines.push(l.line);
+        }
+        self.line_colours = colours;
+        self.lines = lines;
+    }
+
+    /// `Π (1 − R)` at `wavelength_nm` of the lines the eye ray has crossed.
+    fn eye_transmittance(&self, wavelength_nm: f64) -> f64 {
+        let mut t = 1.0;
+        for (k, (lo, hi)) in self.eye_windows.iter().enumerate() {
+            if wavelength_nm > *lo && wavelength_nm < *hi {
+                t *= 1.0 - self.eye_lines[k].reflectance(wavelength_nm);
+            }
+        }
+        t
+    }
+
+    /// The radiance (in the stone, relative to the light's) that reaches the domain's face
+    /// `face` against `dir`, the mirror direction of `line` whose lobe has width `sigma`
+    /// (over normals, radians): the environment through the lobe, carried in through every
+    /// surface event up to [`MAX_SEGMENTS`], notched at the line's centre by the lines on
+    /// the way and dimmed by the potch and haze. Where `weight` times the line's luminance
+    /// times what the surface alone lets through is under [`CUT`], 0: the walks through the
+    /// domains, which only dim it, are then left out.
+    fn reflected(&mut self, out: &Out, line: &BraggLine, sigma: f32, weight: f32) -> f32 {
+        let bound = self.seen_out(out.face, out.dir, Region::Opal, sigma);
+        if weight * bound >= CUT {
+            self.follow_out(out, line.center_nm, sigma, true)
+        } else if weight * self.body_peak >= BODY_CUT {
+            // Only the body can add enough: its light along the way, the lines not read.
+            self.follow_out(out, line.center_nm, sigma, false)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// What dims a ray on its way out ([`Tracer::escape`]).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Dim {
+    /// Nothing: the surface alone.
+    None,
+    /// The potch, whose light is the body's own (a milky domain's haze sends on most of
+    /// what it scatters, down to the potch under a colour bar).
+    Potch,
+    /// The potch and the domains' haze.
+    PotchAndHaze,
+    /// The potch under a colour bar alone (its chord, without a walk).
+    Bar,
+}
+
+/// The tables of light inside the stone a tracer reads (none while they are being made).
+#[derive(Clone, Copy, Default)]
+pub(super) struct Lit<'a> {
+    /// The light reaching the backing.
+    pub backing: Option<&'a BackingLight>,
+    /// The light reaching the potch under a colour bar.
+    pub potch: Option<&'a PotchLight>,
+}
+
+/// A reflection leaving a domain: its face, its direction, the domain (the reflected ray
+/// leaves it through that face) and the cells likely to hold the face.
+struct Out {
+    face: Vec3,
+    dir: Vec3,
+    domain: u32,
+    hint: Hint,
+}
+
+/// Where the eye ray entered the stone.
+#[derive(Clone, Copy)]
+struct Entry {
+    /// The surface's outward normal there.
+    normal: Vec3,
+    /// The surface's Fresnel reflectance at normal incidence.
+    fresnel_normal: f32,
+}

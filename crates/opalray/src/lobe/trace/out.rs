@@ -1,0 +1,241 @@
+//! The reflected ray's way out of the stone: through the domains (their notches and second
+//! reflections) or through the surface alone, and what it sees at each surface event.
+
+use super::*;
+
+impl Tracer<'_> {
+    /// [`Tracer::reflected`] through the domains: each segment in the opal walked, dimmed by
+    /// the potch and haze, whose own light it sees on the way (the body's radiance where it
+    /// scatters, as the eye ray sees it), and, with `lines`, notched at `wavelength` by the
+    /// lines it crosses; what a line takes from it is reflected again and seen through the
+    /// surface along its own mirror direction ([`Tracer::seen_out`]: a second Bragg
+    /// reflection, so that no light is lost).
+    pub(super) fn follow_out(
+        &mut self,
+        out: &Out,
+        wavelength: f64,
+        sigma: f32,
+        lines: bool,
+    ) -> f32 {
+        let stone = self.stone;
+        let potch = stone.potch;
+        let (mut pos, mut dir, mut region) = (out.face, out.dir, Region::Opal);
+        let mut skip = Some(out.domain);
+        let mut hint = out.hint;
+        let (mut w, mut seen) = (1.0f32, 0.0f32);
+        for _ in 0..MAX_SEGMENTS {
+            let ray = Ray {
+                origin: pos,
+                direction: dir,
+            };
+            let Some((t_end, boundary)) = stone.exit(&ray, region) else {
+                break;
+            };
+            if region == Region::Opal {
+                self.out_spans.clear();
+                let spans = &mut self.out_spans;
+                stone.walk(pos, dir, 0.0, t_end, std::mem::take(&mut hint), &mut |s| {
+                    spans.push(s);
+                    true
+                });
+                let skipped = skip.take();
+                let ground = ground_of(stone, boundary);
+                let mut beyond: f32 = self.out_spans.iter().map(|s| self.km_scattering(s)).sum();
+                for k in 0..self.out_spans.len() {
+                    let span = self.out_spans[k];
+                    let len = span.t1 - span.t0;
+                    let layer = beyond;
+                    beyond -= self.km_scattering(&span);
+                    let sigma_t = match span.domain {
+                        None => potch.extinction_per_mm,
+                        Some(_) => potch.domain_scattering_per_mm,
+                    };
+                    let kept = (-sigma_t * len).exp();
+                    if sigma_t > 0.0 {
+                        // The body seen along the reflection: its light in the line's colour.
+                        let r = layer_reflectance(self.setup.body_reflectance, layer, ground);
+                        let lit = self.light_on_body(ray.at(span.t0), span);
+                        seen += w * (1.0 - kept) * self.body_radiance(r, lit);
+                    }
+                    w *= kept;
+                    let Some(domain) = span.domain else {
+                        continue;
+                    };
+                    if !lines || Some(domain) == skipped {
+                        continue;
+                    }
+                    self.out_lines.clear();
+                    stone.lines_at(domain, dir, len, wavelength, &mut self.out_lines);
+                    for l in &self.out_lines {
+                        let r = l.line.reflectance(wavelength) as f32;
+                        let again = reflect(dir, l.normal);
+                        seen += w * r * self.seen_out(ray.at(span.t0), again, region, sigma);
+                        w *= 1.0 - r;
+                    }
+                }
+            }
+            if w < MIN_WEIGHT {
+                break;
+            }
+            let at = ray.at(t_end);
+            let before = w;
+            let event;
+            (event, pos, dir, region, w) = self.boundary_out(at, dir, region, boundary, w, sigma);
+            seen += event;
+            if boundary == Boundary::Back {
+                break;
+            }
+            if boundary == Boundary::Surface && w < PARTIAL * before {
+                // A partial reflection at the surface: the share sent back inside is
+                // followed through the surface alone, dimmed by the potch under a bar.
+                seen += w * self.escape(pos, dir, region, sigma, Dim::Bar, Hint::default());
+                break;
+            }
+        }
+        seen
+    }
+
+    /// What a ray from `pos` along `dir` in `region` sees through the surface (up to
+    /// [`MAX_SEGMENTS`] surface events, no domains on the way): the environment through a
+    /// lobe of width `sigma` over normals, in the stone's radiance.
+    pub(super) fn seen_out(&self, pos: Vec3, dir: Vec3, region: Region, sigma: f32) -> f32 {
+        self.escape(pos, dir, region, sigma, Dim::None, Hint::default())
+    }
+
+    /// [`Tracer::seen_out`], dimmed on every segment in the opal as `dim` says; `hint` holds
+    /// the cells of `pos`, if known (the first walk starts from them), each later segment's
+    /// walk starting from the cells where the last one ended.
+    pub(super) fn escape(
+        &self,
+        pos: Vec3,
+        dir: Vec3,
+        region: Region,
+        sigma: f32,
+        dim: Dim,
+        mut hint: Hint,
+    ) -> f32 {
+        let stone = self.stone;
+        let potch = stone.potch;
+        let (mut pos, mut dir, mut region) = (pos, dir, region);
+        let (mut w, mut seen) = (1.0f32, 0.0f32);
+        for _ in 0..MAX_SEGMENTS {
+            let ray = Ray {
+                origin: pos,
+                direction: dir,
+            };
+            let Some((t_end, boundary)) = stone.exit(&ray, region) else {
+                break;
+            };
+            if dim == Dim::Bar && region == Region::Opal {
+                w *= (-potch.extinction_per_mm * stone.bar_chord(&ray, t_end)).exp();
+                if w < MIN_WEIGHT {
+                    break;
+                }
+            } else if dim != Dim::None && region == Region::Opal {
+                let mut tau = 0.0f32;
+                hint = stone.walk(pos, dir, 0.0, t_end, hint, &mut |s| {
+                    let sigma = match (s.domain, dim) {
+                        (None, _) => potch.extinction_per_mm,
+                        (Some(_), Dim::PotchAndHaze) => potch.domain_scattering_per_mm,
+                        (Some(_), _) => 0.0,
+                    };
+                    if sigma <= 0.0 {
+                        return true;
+                    }
+                    tau += sigma * (s.t1 - s.t0);
+                    // Once the ray is dimmed under MIN_WEIGHT, the rest of the walk (which
+                    // can only dim it more) is left: it ends below.
+                    w * (-tau).exp() >= MIN_WEIGHT
+                });
+                w *= (-tau).exp();
+                if w < MIN_WEIGHT {
+                    break;
+                }
+            }
+            let event;
+            (event, pos, dir, region, w) =
+                self.boundary_out(ray.at(t_end), dir, region, boundary, w, sigma);
+            seen += event;
+            if boundary == Boundary::Back || w < MIN_WEIGHT {
+                break;
+            }
+        }
+        seen
+    }
+
+    /// A ray of weight `w` along `dir` in `region` meeting `boundary` at `at`: what it sees
+    /// escaping there (the environment through a lobe of width `sigma` over normals, times
+    /// `(1 − F) n²`), and the ray going on (reflected inside, or into a triplet's other
+    /// region; a backing ends it).
+    pub(super) fn boundary_out(
+        &self,
+        at: Vec3,
+        dir: Vec3,
+        region: Region,
+        boundary: Boundary,
+        w: f32,
+        sigma: f32,
+    ) -> (f32, Vec3, Vec3, Region, f32) {
+        let stone = self.stone;
+        match boundary {
+            Boundary::Surface => {
+                let n = stone.index_of(region);
+                let normal = stone.shape.normal(at);
+                let cos_in = dir.dot(normal);
+                let f = fresnel_dielectric(cos_in, n, 1.0);
+                let mut seen = 0.0;
+                if let Some(out) = refract(dir, normal, n, 1.0) {
+                    // The lobe's width over directions, twice its width over normals,
+                    // widened by the refraction out (its mean over the two axes).
+                    let cos_out = out.dot(normal).max(1e-3);
+                    let spread = 2.0 * sigma * stone.n_eff * (cos_in.max(1e-3) / cos_out).sqrt();
+                    seen = w * (1.0 - f) * n * n * self.seen_through_lobe(at, out, spread);
+                }
+                (
+                    seen,
+                    at - normal * EPSILON_MM,
+                    reflect(dir, normal),
+                    region,
+                    w * f,
+                )
+            }
+            Boundary::Back => (0.0, at, dir, region, 0.0),
+            Boundary::CapPlane => {
+                let (pos, dir, region, w) = self.cap_plane(at, dir, region, w);
+                (0.0, pos, dir, region, w)
+            }
+        }
+    }
+
+    /// A ray along `dir` with weight `w` in `region` meeting the plane between a triplet's
+    /// slice and its cap at `at`: refracted into the other region with `(1 − F)` and the
+    /// radiance's `(n₁/n₂)²`, or reflected whole beyond the critical angle (the plane's
+    /// partial reflection is left out: F is under 10⁻³ between silica and quartz).
+    pub(super) fn cap_plane(
+        &self,
+        at: Vec3,
+        dir: Vec3,
+        region: Region,
+        w: f32,
+    ) -> (Vec3, Vec3, Region, f32) {
+        let stone = self.stone;
+        let other = match region {
+            Region::Opal => Region::Cap,
+            Region::Cap => Region::Opal,
+        };
+        let (n1, n2) = (stone.index_of(region), stone.index_of(other));
+        let facing = if dir.z > 0.0 { -Vec3::Z } else { Vec3::Z };
+        match refract(dir, facing, n1, n2) {
+            Some(d) => {
+                let f = fresnel_dielectric(-dir.dot(facing), n1, n2);
+                (
+                    at - facing * EPSILON_MM,
+                    d,
+                    other,
+                    w * (1.0 - f) * (n1 / n2) * (n1 / n2),
+                )
+            }
+            None => (at + facing * EPSILON_MM, reflect(dir, facing), region, w),
+        }
+    }
+}
