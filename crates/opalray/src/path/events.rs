@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::nee::Drawn;
+use super::area::Drawn;
 use super::sampler::PathSampler;
 use super::vertex::{Segment, Step, Vertex, Waiting, WaitingAt};
 use super::{scattering_split, CameraSample, Estimate, Tracer, EPSILON_MM, MIN_REACH};

@@ -39,11 +39,12 @@
 //!   law `λ = 2 d n̄ cos θ_h`. The reflection happens at the domain's entry face (the stack
 //!   reflects within its penetration depth, tens of µm).
 //! - **The light** (directional or point): next-event estimation at every domain crossing and
-//!   potch scattering, through the one refracted path from the light ([`refracted_entry`]),
-//!   with the surface's exact lensing, its spectrum filtered by every domain and potch on the
-//!   way. A sphere or rect light is estimated at the same events and backings (`nee.rs`;
-//!   at a crossing, only on a path not yet reflected), balanced against the escaping paths
-//!   that meet it. A domain adds
+//!   potch scattering, through the one refracted path from the light
+//!   ([`refracted_entry`](crate::geometry::refracted_entry)), with the surface's exact
+//!   lensing, its spectrum filtered by every domain and potch on the way (`lamp.rs`; the
+//!   environment's estimate: `nee.rs`). A sphere or rect light is estimated at the same
+//!   events and backings (`area.rs`; at a crossing, only on a path not yet reflected),
+//!   balanced against the escaping paths that meet it. A domain adds
 //!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals convolved with
 //!   the lamp's disc ([`Stone::lamp_density`]), so that a mirror shows the lamp's disc.
 //! - Russian roulette below a weight of 0.02; at most `max_depth` events besides the
@@ -58,6 +59,7 @@
 //! threads nor on how the passes fall ([`passes`]). Its noise: [`noise`]; its light
 //! by class of path (Bragg events, the body, a backing): [`orders`].
 
+mod area;
 mod crossing;
 mod events;
 mod image;
@@ -74,7 +76,6 @@ mod shares;
 pub mod spectral;
 mod vertex;
 
-use crate::geometry::refracted_entry;
 use crate::geometry::LightSource;
 use crate::geometry::{fresnel_dielectric_sp, reflect, refract, Camera, Ray};
 use crate::lights::emitters;
@@ -354,18 +355,6 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// Whether the environment's draw of `out` at `from` finds the refracted path that leaves
-    /// the stone at `exit` ([`Tracer::environment_at`]'s solve).
-    fn entry_found(&self, from: Vec3, out: Vec3, exit: Vec3) -> bool {
-        let source = LightSource::Directional { direction: -out };
-        refracted_entry(&self.stone.shape, &source, self.n_eff, from, None).is_some_and(
-            |(entry, _, _)| {
-                (entry - exit).length_squared() < 1e-4
-                    && !self.stone.back.is_some_and(|b| entry.z <= b.z + EPSILON_MM)
-            },
-        )
-    }
-
     /// Russian roulette below [`ROULETTE_BELOW`]: `false` if the path ends.
     fn roulette(&self, weight: &mut f32, sampler: &mut PathSampler) -> bool {
         if *weight < ROULETTE_BELOW {
@@ -377,54 +366,6 @@ impl<'a> Tracer<'a> {
         true
     }
 
-    /// Next-event estimation of the environment (and an area light in front of it) at a
-    /// scattering point (`at`) in the opal whose scattering density towards a direction (per
-    /// steradian, inside) is `density`: one direction drawn from the environment's
-    /// distribution, refracted in through the surface ([`refracted_entry`]), weighted by the
-    /// balance heuristic against the scattering's own draw (see the escape in
-    /// [`Tracer::surface`]).
-    fn environment_at(
-        &mut self,
-        at: &Estimate,
-        density: &dyn Fn(Vec3) -> f32,
-        s: &mut CameraSample,
-    ) {
-        let Estimate { x, weight, .. } = *at;
-        let u = [s.draws.uniform_f32(), s.draws.uniform_f32()];
-        let sample = self.setup.environment.sample(u);
-        if sample.pdf <= 0.0 {
-            return;
-        }
-        let Some(inbound) = self.refracted_in(x, sample.direction) else {
-            return;
-        };
-        let f = density(inbound.to_light);
-        if f <= 0.0 {
-            return;
-        }
-        let (value, light) = self.escaped_to(inbound.entry, sample.direction);
-        if value <= 0.0 {
-            return;
-        }
-        let p_b = f / inbound.spread;
-        // Where it meets the area light, that light's own draw finds the same path.
-        let p_area = if light {
-            self.area_pdf(x, sample.direction)
-        } else {
-            0.0
-        };
-        let mis = sample.pdf / (sample.pdf + p_b + p_area);
-        let irradiance = inbound.gain;
-        self.add_towards(
-            at,
-            inbound.to_light,
-            inbound.distance,
-            None,
-            |transmitted| weight * f * value * irradiance * transmitted * mis / sample.pdf,
-            s,
-        );
-    }
-
     /// `line`'s family in `domain` met at `cos_theta` ([`Stone::line_at`]).
     fn line_at(&self, domain: u32, line: &ActiveLine, cos_theta: f32) -> BraggLine {
         self.stone.line_at(domain, line, cos_theta)
@@ -432,35 +373,4 @@ impl<'a> Tracer<'a> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::nee::tests::{mean_y_with, studio_8x8};
-    use super::*;
-
-    #[test]
-    fn the_roulette_on_first_reflections_keeps_the_mean() {
-        // The harlequin's cabochon under the studio, seen whole: with every reflection of the
-        // camera ray's first segment followed, and with each followed at random (the bar
-        // raised over the room's brightest, so that nearly every one is followed with
-        // probability ¼, its weight over that), the mean is the same (4 standard errors).
-        let mut scene = crate::scene::preset("harlequin").unwrap();
-        scene.structure.seed = 1;
-        let stone = Stone::new(&scene).unwrap();
-        let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
-        let setup = studio_8x8(&sampler, 1.0, None, 12.0, 3);
-        let tracer = Tracer::new(&stone, &setup);
-        assert!(tracer.follow_from > 0.0);
-        // A reflection straight up from the centre looks out through the camera's dark side
-        // of the room: followed with the least probability.
-        let p = tracer.follow_probability(Vec3::ZERO, Vec3::Z);
-        assert_eq!(p, MIN_FOLLOW);
-        let spp = 400;
-        let [all, se_all, _] = mean_y_with(&stone, &setup, 0, spp, |t| t.follow_from = 0.0);
-        let bar = 4.0 * setup.environment.peak();
-        let [some, se_some, _] = mean_y_with(&stone, &setup, 1, spp, |t| t.follow_from = bar);
-        let se = (se_all * se_all + se_some * se_some).sqrt();
-        assert!(
-            (some - all).abs() <= 4.0 * se,
-            "roulette {some} vs all {all} ± {se}"
-        );
-    }
-}
+mod tests;

@@ -12,9 +12,9 @@
 
 use glam::Vec3;
 
+use super::area::Drawn;
 use super::crossing::{Crossing, DomainSpan, OpenCrossing};
 use super::events::Scattering;
-use super::nee::Drawn;
 use super::sampler::Mark;
 use super::spectral::PathSpectrum;
 use super::{CameraSample, Tracer};

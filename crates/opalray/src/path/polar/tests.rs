@@ -4,7 +4,7 @@ use super::*;
 use crate::geometry::{reflect, Camera, LightSource, Ray};
 use crate::lights::Environment;
 use crate::optics::BraggLine;
-use crate::path::nee::tests::mean_y_with;
+use crate::path::tests::mean_y_with;
 use crate::path::{PathLight, PathSetup, PathSpectrum, SpectralSampler};
 use crate::scene::{FamilyChoice, Scene};
 use crate::stone::Stone;
