@@ -52,7 +52,8 @@
 //!   `max_depth`'s).
 //!
 //! The loop over a path's events, its branches waiting on a small stack rather than recursing:
-//! `vertex.rs`; one method per event: `events.rs`, `crossing.rs`.
+//! `vertex.rs`; one method per event: `events.rs`, `crossing/` (a reflection's branch:
+//! `crossing/branch.rs`).
 //!
 //! Spectra: see [`spectral`]. Every sample of every pixel draws its own numbers ([`sampler`]); rows are
 //! rendered in parallel into pre-sized buffers, so the image does not depend on the number of
