@@ -5,7 +5,8 @@
 //! `docs/python.md`.
 //!
 //! - [`scene`]: dict ↔ `Scene`, errors as `ValueError`.
-//! - [`stages`]: `prepare` and `render`, the structure and optics as arrays.
+//! - [`stages`]: `prepare`, renders of the prepared scene, the structure and optics as arrays.
+//! - [`render`]: `render`, the whole chain in one call with progress callbacks.
 //! - [`deadline`]: waiting for the core without the GIL, within `time_limit`.
 //! - [`frame`]: a rendered frame's arrays and files.
 //! - [`light`]: the light pass's stored light as arrays.
@@ -18,6 +19,7 @@
 pub mod deadline;
 pub mod frame;
 pub mod light;
+pub mod render;
 pub mod scene;
 pub mod stages;
 pub mod stone;
@@ -43,7 +45,7 @@ fn _opalray(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::to_toml_text, m)?)?;
     m.add_function(wrap_pyfunction!(scene::read_scene, m)?)?;
     m.add_function(wrap_pyfunction!(stages::prepare, m)?)?;
-    m.add_function(wrap_pyfunction!(stages::render, m)?)?;
+    m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::write_sheet, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::write_animation, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::write_png_rgb8, m)?)?;
