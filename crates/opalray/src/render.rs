@@ -248,6 +248,21 @@ mod tests {
     }
 
     #[test]
+    fn a_grain_stone_rendered_by_a_stone_method_reports_no_void_ratio() {
+        // A grain stone is no voxel growth: no void ratio for `--stats` (issue 45 found the
+        // paper's growth's reported for it), and no structure grown behind its back.
+        for method in [Method::Path, Method::Lobe] {
+            let mut scene = tiny("crystal");
+            scene.integrator = IntegratorConfig::of(method);
+            let prepared = prepare(&scene).unwrap();
+            let stone = prepared.stone.as_deref().unwrap();
+            assert!(stone.voxels().is_none(), "{method:?}");
+            assert!(prepared.structure.get().is_none(), "{method:?}");
+            assert_eq!(prepared.render(30.0).void_ratio, None, "{method:?}");
+        }
+    }
+
+    #[test]
     fn a_structure_asked_of_a_stone_method_is_the_two_passes_one() {
         let two_pass = prepare(&tiny("paper")).unwrap();
         let mut scene = tiny("paper");
