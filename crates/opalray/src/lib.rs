@@ -4,19 +4,19 @@
 //! (`docs/architecture.md`; the physics as built: `docs/model.md`):
 //!
 //! ```text
-//! spectrum geometry sampling scatter error   foundations, no scene
-//! scene (TOML | preset = scenes/*.toml; parse, validate)  ->  color, optics (R, T, Bragg lines),
-//!   structure (growth)
-//!   -> stone (the stone model: layout, crystal, lobe widths, cut, potch; the walk along a
-//!      ray; the path to a light)  +  lights (environment and its built-in kinds, the .hdr /
-//!      .exr readers, area lights)
-//!   -> film (the sensor table, the even/odd accumulation, the noise, the denoiser)
-//!   -> an integrator: light_pass + view_pass (paper, on the stone's voxels; the light's
-//!      walk in named steps, its energy booked in one place) | path (on the film) | stored
-//!      | lobe, each with a method.rs implementing integrator::Integrator (one table)
-//!   -> render.rs: prepare(scene) (integrator::check, then its prepare), render -> Frame
-//!      (render/frame.rs; the light and camera placed: render/placement.rs)
-//!   -> to_rgb (CIE 1931 -> XYZ -> RGB, gamut-mapped) -> output (PNG | EXR | spectral EXR)
+//! error spectrum geometry sampling simd cancel   foundations: know no scene
+//! scatter      what happens at a point: phase, mosaic lobe, backing (sample, density, eval)
+//! scene        TOML | preset = scenes/*.toml; parse, validate; [integrator] one variant a method
+//! color optics structure     CIE and colour spaces; R, T, Bragg lines; the paper's growth
+//! stone        the one stone model: layout, crystal, lobe widths, cut, potch; the walk along a
+//!              ray; the path to a light; its voxel view (Stone::voxels) for the paper's passes
+//! lights       environment (built-in kinds, .hdr / .exr readers), area lights
+//! film         sensor table, even/odd sums, noise, denoiser
+//! integrators  light_pass + view_pass (the paper's, on the voxels) | path | stored | lobe,
+//!              each with a method.rs implementing integrator::Integrator
+//! integrator   the seam: trait Integrator, one table line a method, check(scene)
+//! render       prepare(scene) -> Prepared (the method's prepare) -> render(angle) -> Frame
+//! output       to_rgb (CIE 1931 -> XYZ -> RGB, gamut-mapped) -> PNG | EXR | spectral EXR
 //! ```
 #![warn(missing_docs)]
 
