@@ -73,13 +73,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let mut scene = args.scene.load()?;
     if let Some(angle) = args.light_angle {
-        if !(angle.is_finite() && (-89.0..=89.0).contains(&angle)) {
-            anyhow::bail!(
-                "--light-angle {angle} (light.angle_deg): must be within −89° … 89°; try 30"
-            );
-        }
-        super::motion::check_light_angle(&scene)?;
-        scene.light.angle_deg = angle;
+        set_light_angle(&mut scene, angle)?;
     }
     // The renderer first: what --time-limit may do depends on it.
     args.look.apply_method(&mut scene)?;
@@ -128,6 +122,33 @@ pub fn run(args: Args) -> Result<()> {
             opalray::output::write_spectral_exr(path, &frame.spectral, &provenance)
         })?;
     }
+    note_frame(&scene, &frame);
+    if let Some(stats) = stats {
+        let value = stats_json(&scene, &frame);
+        outputs.write(stats, |path| write_json(path, &value))?;
+    }
+    outputs.commit()?;
+    crate::stdio::out(format_args!("wrote {}", args.output.display()))?;
+    for path in [&args.spectral, &args.stats].into_iter().flatten() {
+        crate::stdio::out(format_args!("wrote {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// `--light-angle`: `scene`'s light at `angle` (degrees), checked: within −89° … 89°, and a
+/// scene with a light to turn.
+fn set_light_angle(scene: &mut Scene, angle: f64) -> Result<()> {
+    if !(angle.is_finite() && (-89.0..=89.0).contains(&angle)) {
+        anyhow::bail!("--light-angle {angle} (light.angle_deg): must be within −89° … 89°; try 30");
+    }
+    super::motion::check_light_angle(scene)?;
+    scene.light.angle_deg = angle;
+    Ok(())
+}
+
+/// The notes on stderr after a render of `scene`: the stage times, and the path tracer's
+/// samples, passes and noise or the stored method's rays and stored light.
+fn note_frame(scene: &Scene, frame: &opalray::Frame) {
     let t = frame.times;
     crate::stdio::note(format_args!(
         "structure {:.1} ms | optics {:.1} ms | light pass {:.1} ms | view pass {:.1} ms | colour {:.1} ms | total {:.1} ms",
@@ -182,16 +203,6 @@ pub fn run(args: Args) -> Result<()> {
             l.bytes as f64 / 1e6
         ));
     }
-    if let Some(stats) = stats {
-        let value = stats_json(&scene, &frame);
-        outputs.write(stats, |path| write_json(path, &value))?;
-    }
-    outputs.commit()?;
-    crate::stdio::out(format_args!("wrote {}", args.output.display()))?;
-    for path in [&args.spectral, &args.stats].into_iter().flatten() {
-        crate::stdio::out(format_args!("wrote {}", path.display()))?;
-    }
-    Ok(())
 }
 
 /// The `--stats` JSON of `frame`, rendered from `scene`: the stage times, the image's size,
