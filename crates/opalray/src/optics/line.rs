@@ -162,7 +162,7 @@ fn sin_squared(x: f64) -> f64 {
     // and x − k·PI_HI loses nothing (Cody & Waite); what is left of π is under 10⁻²⁶.
     const PI_HI: f64 = 3.141_592_653_468_251_2;
     const PI_LO: f64 = 1.215_420_101_301_238_4e-10;
-    let k = (x * (1.0 / PI)).round();
+    let k = round_half_away(x * (1.0 / PI));
     let r = (x - k * PI_HI) - k * PI_LO;
     let r2 = r * r;
     // sin r = r (1 − r²/3! + r⁴/5! − … − r¹⁴/15!), in Horner form.
@@ -176,6 +176,17 @@ fn sin_squared(x: f64) -> f64 {
     p = p * r2 + 1.0;
     let sn = r * p;
     sn * sn
+}
+
+/// `y.round()` (halves away from 0) for `|y| < 2⁵²`, without the library call that `round`
+/// is on processors before SSE4.1 (3 % of a render's instructions).
+#[inline]
+fn round_half_away(y: f64) -> f64 {
+    let a = y.abs();
+    // The integer part (exact below 2⁶³), and one more where the fraction (exact) is ½ or more.
+    let whole = a as i64 as f64;
+    let k = if a - whole >= 0.5 { whole + 1.0 } else { whole };
+    k.copysign(y)
 }
 
 /// Full width at half maximum of the rocking curve, radians: the reflectance at the fixed
@@ -241,6 +252,33 @@ mod tests {
             worst_near_zero < 1e-6,
             "largest relative difference near zeros {worst_near_zero:e}"
         );
+    }
+
+    #[test]
+    fn round_half_away_is_round() {
+        // Halves, their neighbours an ulp away, and the reduction's range of multiples of π.
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            2.5,
+            -2.5,
+            0.499_999_999_999_999_94,
+        ];
+        for k in 0..400_000 {
+            let y = f64::from(k) * 0.8 - 2e5 + f64::from(k % 13) * 1e-3;
+            xs.extend([
+                y,
+                (y.floor() + 0.5),
+                (y.floor() + 0.5).next_down(),
+                y.next_up(),
+            ]);
+        }
+        for y in xs {
+            assert_eq!(round_half_away(y).to_bits(), y.round().to_bits(), "{y:e}");
+        }
     }
 
     #[test]

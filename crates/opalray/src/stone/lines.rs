@@ -49,6 +49,9 @@ pub(super) struct SlotTable {
     reach: Vec<Vec4>,
     /// Per block, the lanes holding a slot (bit `l` for lane `l`).
     lanes: Vec<u32>,
+    /// Per block, per lane, the slot's `d / D`, coupling `g` and layer cap (`f32`; unused
+    /// lanes 1, 0, 1): what [`WindowTest`] reads.
+    lane_optics: Vec<[Vec4; 3]>,
 }
 
 impl SlotTable {
@@ -87,10 +90,26 @@ impl SlotTable {
                     .sum()
             })
             .collect();
+        let lane_optics = (0..blocks)
+            .map(|b| {
+                let lane = |l: usize, f: fn(&SlotOptics) -> f64, unused: f32| {
+                    optics.get(4 * b + l).map_or(unused, |s| f(s) as f32)
+                };
+                let column = |f: fn(&SlotOptics) -> f64, unused: f32| {
+                    Vec4::from_array(std::array::from_fn(|l| lane(l, f, unused)))
+                };
+                [
+                    column(|s| s.spacing_over_diameter, 1.0),
+                    column(|s| s.coupling, 0.0),
+                    column(|s| s.layer_cap, 1.0),
+                ]
+            })
+            .collect();
         SlotTable {
             optics,
             reach,
             lanes,
+            lane_optics,
         }
     }
 
@@ -146,19 +165,44 @@ impl Stone {
         wavelength_nm: f64,
         out: &mut Vec<ActiveLine>,
     ) {
-        self.push_lines(domain, dir, chord_mm, Some(wavelength_nm), out);
+        let at = self.line_wavelength(wavelength_nm);
+        self.push_lines(domain, dir, chord_mm, Some(at), out);
     }
 
-    /// [`Stone::lines`], keeping only the lines whose window holds `wavelength_nm` if given.
-    /// Four slots at a time are tested against their reach ([`SlotTable`]); the few left are
-    /// built one by one.
+    /// `wavelength_nm` as [`Stone::lines_at_wavelength`] tests it (with the dispersion, its
+    /// centre at the constant index, solved once for every crossing of one ray).
+    pub fn line_wavelength(&self, wavelength_nm: f64) -> LineWavelength {
+        let index = &self.families.index;
+        LineWavelength {
+            wavelength_nm,
+            constant_wavelength_nm: (!index.is_constant())
+                .then(|| index.constant_centre_nm(wavelength_nm)),
+        }
+    }
+
+    /// [`Stone::lines_at`] at a wavelength prepared by [`Stone::line_wavelength`]: the same
+    /// lines, for a ray that crosses many domains at one wavelength.
+    pub fn lines_at_wavelength(
+        &self,
+        domain: u32,
+        dir: Vec3,
+        chord_mm: f32,
+        at: LineWavelength,
+        out: &mut Vec<ActiveLine>,
+    ) {
+        self.push_lines(domain, dir, chord_mm, Some(at), out);
+    }
+
+    /// [`Stone::lines`], keeping only the lines whose window holds `at`'s wavelength if
+    /// given. Four slots at a time are tested against their reach ([`SlotTable`]); the few
+    /// left are built one by one.
     #[inline(always)]
     fn push_lines(
         &self,
         domain: u32,
         dir: Vec3,
         chord_mm: f32,
-        wavelength_nm: Option<f64>,
+        at: Option<LineWavelength>,
         out: &mut Vec<ActiveLine>,
     ) {
         let table = &self.slots;
@@ -170,20 +214,20 @@ impl Stone {
             diameter_nm: f64::from(diameter),
             two_n: 2.0 * f64::from(self.n_eff) * f64::from(diameter),
             chord_nm: f64::from(chord_mm) * 1e6,
-            wavelength_nm,
-            constant_wavelength_nm: match wavelength_nm {
-                Some(w) if !self.families.index.is_constant() => {
-                    Some(self.families.index.constant_centre_nm(w))
-                }
-                _ => None,
-            },
+            wavelength_nm: at.map(|a| a.wavelength_nm),
+            constant_wavelength_nm: at.and_then(|a| a.constant_wavelength_nm),
         };
-        for (b, n) in blocks.iter().enumerate() {
+        let window = at.map(|at| WindowTest::new(at, &lines, diameter));
+        let per_block = blocks.iter().zip(&table.reach).zip(&table.lanes);
+        for (b, ((n, &reach), &lanes)) in per_block.enumerate() {
             // `n · dir` lane by lane, summed as `Vec3::dot` sums.
             let dot = n.x * dx + n.y * dy + n.z * dz;
             // Short of its reach (NaN is not), a slot has no line.
-            let short = dot.abs().cmplt(table.reach[b] * per_diameter).bitmask();
-            let mut left = !short & table.lanes[b];
+            let short = dot.abs().cmplt(reach * per_diameter).bitmask();
+            let mut left = !short & lanes;
+            if let (Some(window), true) = (&window, left != 0) {
+                left &= window.may_hold(&table.lane_optics[b], dot.abs());
+            }
             let dots = dot.to_array();
             while left != 0 {
                 let l = left.trailing_zeros() as usize;
@@ -260,6 +304,71 @@ impl Stone {
     }
 }
 
+/// A wavelength that [`Stone::lines_at_wavelength`] keeps the lines of (whose window holds
+/// it), made by [`Stone::line_wavelength`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineWavelength {
+    /// The wavelength, nm.
+    wavelength_nm: f64,
+    /// With the dispersion, its centre at the constant index
+    /// ([`crate::optics::CrystalIndex::constant_centre_nm`]).
+    constant_wavelength_nm: Option<f64>,
+}
+
+/// [`BraggLine::window_may_hold`] for four slots at once in `f32`, made looser by
+/// [`WindowTest::MARGIN`] and [`WindowTest::SLACK_NM`] than the `f64` tests of
+/// [`Stone::push_line`] it stands for (the constant-index window widened by [`WINDOW_SLACK`]
+/// with the dispersion, the line's own window without it), so that it turns away only slots
+/// those turn away: most of the slots left after the reach, before any is built.
+struct WindowTest {
+    /// The wavelength the window must hold (with the dispersion, its constant-index centre).
+    x_nm: Vec4,
+    /// `2 n̄ D`, nm.
+    two_n: Vec4,
+    /// The chord over `D`.
+    chord_over_diameter: Vec4,
+    /// What the coupling is multiplied by and the layers divided by in the test.
+    slack: f32,
+}
+
+impl WindowTest {
+    /// Relative margin on the bounds: far above the `f32` roundings of either side (~10⁻⁶).
+    const MARGIN: f32 = 1e-3;
+    /// What the distance to the centre is taken short by, nm: above its `f32` rounding at the
+    /// range's wavelengths (~10⁻⁴ nm).
+    const SLACK_NM: f32 = 1e-2;
+
+    fn new(at: LineWavelength, args: &LineArgs, diameter_nm: f32) -> Self {
+        let (x, slack) = match at.constant_wavelength_nm {
+            Some(x) => (x, WINDOW_SLACK as f32),
+            None => (at.wavelength_nm, 1.0),
+        };
+        WindowTest {
+            x_nm: Vec4::splat(x as f32),
+            two_n: Vec4::splat(args.two_n as f32),
+            chord_over_diameter: Vec4::splat((args.chord_nm / f64::from(diameter_nm)) as f32),
+            slack,
+        }
+    }
+
+    /// The lanes whose window may hold the wavelength, for slots of `(d / D, g, layer cap)`
+    /// `optics` met at `|cos θ|` `cos`.
+    #[inline(always)]
+    fn may_hold(&self, [spacing, coupling, cap]: &[Vec4; 3], cos: Vec4) -> u32 {
+        let c = cos.clamp(Vec4::splat(1e-3), Vec4::ONE);
+        let center = self.two_n * *spacing * c;
+        let off = (self.x_nm - center).abs() - Vec4::splat(Self::SLACK_NM);
+        let layers = (self.chord_over_diameter * c / *spacing)
+            .min(*cap)
+            .max(Vec4::ONE)
+            / self.slack;
+        let reach = center * (1.0 + Self::MARGIN);
+        let beyond_band = (off * c * c).cmpge(20.0 * self.slack * *coupling * reach);
+        let beyond_lobes = (off * layers.max(Vec4::ONE)).cmpge(8.0 * reach);
+        !(beyond_band & beyond_lobes).bitmask()
+    }
+}
+
 /// What every slot's line of one crossing shares.
 struct LineArgs {
     /// The domain's sphere diameter, nm.
@@ -321,10 +430,18 @@ mod tests {
 
     #[test]
     fn lines_at_a_wavelength_are_the_lines_whose_window_holds_it() {
-        // The default stone (all families): random domains, directions and chords (corner
-        // chords of a few layers to a colour bar's width), at the centres of the lines met
-        // and at wavelengths over the range, against `lines` filtered by the window.
-        let stone = Stone::new(&crate::scene::preset("black-opal").unwrap()).unwrap();
+        // The default stone (all families), with silica's dispersion and without: random
+        // domains, directions and chords (corner chords of a few layers to a colour bar's
+        // width), at the centres of the lines met and at wavelengths over the range, against
+        // `lines` filtered by the window.
+        let mut scene = crate::scene::preset("black-opal").unwrap();
+        assert!(scene.crystal.dispersion == crate::scene::Dispersion::Silica);
+        lines_at_agree(&Stone::new(&scene).unwrap());
+        scene.crystal.dispersion = crate::scene::Dispersion::None;
+        lines_at_agree(&Stone::new(&scene).unwrap());
+    }
+
+    fn lines_at_agree(stone: &Stone) {
         let mut rng = Rng::new(11, stage::STONE, 96);
         let (mut kept, mut checked) = (0, 0);
         let (mut all, mut at) = (Vec::new(), Vec::new());

@@ -46,6 +46,7 @@ use cut::Surfaces;
 use grains::Grains;
 use layout::lay_out;
 pub use light_path::{PathToLight, LOBE_SIGMAS};
+pub use lines::LineWavelength;
 use lines::{normal_blocks, NormalBlock, SlotTable};
 pub use regions::{ironstone_reflectance, BackSurface, Boundary, Cap, Potch, Region};
 use rough::Outlines;

@@ -93,12 +93,14 @@ impl LineColours {
     /// incidence moves the line's centre by `λ tan θ δ`, and any tilt `α` by `−λ α²/2` on
     /// average: against an environment even over the lobe, the reflection is the line
     /// convolved with a Gaussian of `λ tan θ σ`, centred `λ σ²` to the blue (its area, the
-    /// equivalent width, unchanged): the Lorentzian's and the Gaussian's convolution, a Voigt
-    /// ([`LineColours::voigt`]).
+    /// equivalent width, unchanged): the Lorentzian's and the Gaussian's convolution, a Voigt.
+    /// `sharp` is the line's own colour and `profile` its [`LineProfile`] (as
+    /// [`LineColours::of_profile`] reads them).
     pub fn in_lobe(
         &self,
         line: &BraggLine,
         sharp: ([f64; 3], f64),
+        profile: &LineProfile,
         cos_theta: f64,
         sigma: f64,
     ) -> ([f64; 3], f64, f64) {
@@ -113,14 +115,8 @@ impl LineColours {
         // its tails beyond left as they are (a Gaussian moves them by less than their own
         // scale). The core is taken as all at the centre: its second moment, 2γσ/π, is a few
         // per cent of the Gaussian's where the spread matters.
-        let scale = line.center_nm / line.layers.max(1.0);
         let mut core = 0.0;
-        for nu in [line.nu_s, line.nu_p] {
-            let width = 0.5 * scale * nu * nu.tanh();
-            if width <= 0.0 {
-                continue;
-            }
-            let gamma = lorentz_half_width(nu) * scale / std::f64::consts::PI;
+        for &(width, gamma) in profile.parts() {
             core += width * ((spread / gamma).atan() / REACH.atan()).min(1.0);
         }
         let row = (SPREADS_PER_OCTAVE as f64 * (spread / FIRST_SPREAD_NM).log2())
@@ -137,16 +133,14 @@ impl LineColours {
 
     /// `(XYZ, S)` of `line`: `∫ R S c̄ dλ` and `∫ R S dλ` (relative to the light's luminance).
     pub fn of(&self, line: &BraggLine) -> ([f64; 3], f64) {
-        let scale = line.center_nm / line.layers.max(1.0);
+        self.of_profile(&LineProfile::of(line))
+    }
+
+    /// [`LineColours::of`] of the line whose [`LineProfile`] is `profile`.
+    pub fn of_profile(&self, profile: &LineProfile) -> ([f64; 3], f64) {
         let mut out = ([0.0f64; 3], 0.0f64);
-        for nu in [line.nu_s, line.nu_p] {
-            // Half the light is each polarisation's.
-            let width = 0.5 * scale * nu * nu.tanh();
-            if width <= 0.0 {
-                continue;
-            }
-            let gamma = lorentz_half_width(nu) * scale / std::f64::consts::PI;
-            let v = self.at(line.center_nm, gamma);
+        for &(width, gamma) in profile.parts() {
+            let v = self.at(profile.center_nm, gamma);
             for (o, x) in out.0.iter_mut().zip(v) {
                 *o += width * x;
             }
@@ -161,28 +155,79 @@ impl LineColours {
     }
 
     /// `table`'s rows at `center_nm`, interpolated at the fractional row `row_f` (a kernel of
-    /// width `width_nm`).
+    /// width `width_nm`). A row weighed 0 is not read (it would add `0 × v`: the same sums).
     fn read(&self, table: &[[f32; 4]], row_f: f64, center_nm: f64, width_nm: f64) -> [f64; 4] {
         if !(center_nm > self.lo_nm - 4.0 * width_nm && center_nm < self.hi_nm + 4.0 * width_nm) {
             return [0.0; 4];
         }
-        let rows = table.len() / self.columns;
-        let r0 = (row_f.floor() as usize).min(rows - 2);
-        let fr = (row_f - r0 as f64).clamp(0.0, 1.0);
         let x = (center_nm - self.lo_nm) / STEP_NM;
+        if x < 0.0 || x > (self.columns - 1) as f64 {
+            return [0.0; 4];
+        }
+        let rows = table.len() / self.columns;
+        // `row_f as usize` is `row_f.floor() as usize` for every value (a negative one or NaN
+        // gives 0 both ways), without the library call `floor` is before SSE4.1.
+        let r0 = (row_f as usize).min(rows - 2);
+        let fr = (row_f - r0 as f64).clamp(0.0, 1.0);
+        let i = (x as usize).min(self.columns - 2);
+        let f = x - i as f64;
         let read = |row: usize| -> [f64; 4] {
-            let cells = &table[row * self.columns..][..self.columns];
-            if x < 0.0 || x > (self.columns - 1) as f64 {
-                return [0.0; 4];
-            }
-            let i = (x as usize).min(self.columns - 2);
-            let f = x - i as f64;
-            std::array::from_fn(|c| {
-                f64::from(cells[i][c]) * (1.0 - f) + f64::from(cells[i + 1][c]) * f
-            })
+            let [a, b] = [
+                table[row * self.columns + i],
+                table[row * self.columns + i + 1],
+            ];
+            std::array::from_fn(|c| f64::from(a[c]) * (1.0 - f) + f64::from(b[c]) * f)
         };
+        // The table holds no negative values, infinities or NaN: `v × 1 + w × 0` is `v`.
+        if fr == 0.0 {
+            return read(r0);
+        }
+        if fr == 1.0 {
+            return read(r0 + 1);
+        }
         let (a, b) = (read(r0), read(r0 + 1));
         std::array::from_fn(|c| a[c] * (1.0 - fr) + b[c] * fr)
+    }
+}
+
+/// A line's profile as [`LineColours`] reads it: per polarisation with any light, its share
+/// of the equivalent width (nm) and its Lorentzian's half-width (nm) (module notes). The
+/// same for [`LineColours::of_profile`] and [`LineColours::in_lobe`], so formed once a line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineProfile {
+    /// The line's centre, nm.
+    pub center_nm: f64,
+    /// `(width, γ)` of the s and then the p polarisation, the first `count` of them.
+    parts: [(f64, f64); 2],
+    /// Polarisations with a positive width.
+    count: usize,
+}
+
+impl LineProfile {
+    /// The profile of `line`.
+    pub fn of(line: &BraggLine) -> Self {
+        let scale = line.center_nm / line.layers.max(1.0);
+        let mut profile = LineProfile {
+            center_nm: line.center_nm,
+            parts: [(0.0, 0.0); 2],
+            count: 0,
+        };
+        for nu in [line.nu_s, line.nu_p] {
+            // Half the light is each polarisation's.
+            let width = 0.5 * scale * nu * nu.tanh();
+            if width <= 0.0 {
+                continue;
+            }
+            let gamma = lorentz_half_width(nu) * scale / std::f64::consts::PI;
+            profile.parts[profile.count] = (width, gamma);
+            profile.count += 1;
+        }
+        profile
+    }
+
+    /// The polarisations' `(width, γ)`, nm.
+    fn parts(&self) -> &[(f64, f64)] {
+        &self.parts[..self.count]
     }
 }
 

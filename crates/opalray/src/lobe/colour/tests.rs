@@ -218,7 +218,13 @@ fn a_lines_colour_over_a_mosaic_lobe_matches_the_line_averaged_over_its_normals(
     ] {
         let sigma = f64::to_radians(sigma_deg);
         let line = BraggLine::new(0.0066, lambda0, cos, layers);
-        let (xyz, _, _) = colours.in_lobe(&line, colours.of(&line), cos, sigma);
+        let (xyz, _, _) = colours.in_lobe(
+            &line,
+            colours.of(&line),
+            &LineProfile::of(&line),
+            cos,
+            sigma,
+        );
         let exact = over_normals(lambda0, cos, layers, sigma, &s);
         let de = delta_e_2000(lab(exact, white), lab(xyz, white));
         let (sharp, _) = colours.of(&line);

@@ -6,6 +6,7 @@ use std::f32::consts::PI;
 
 use glam::Vec3;
 
+use super::colour::LineProfile;
 use super::potch::PotchLight;
 use super::{BackingLight, Irradiance, LineColours, LobeSetup};
 use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
@@ -279,7 +280,8 @@ impl<'a> Tracer<'a> {
         let mut colours = std::mem::take(&mut self.line_colours);
         colours.clear();
         for l in &lines {
-            let (xyz, s) = self.colours.of(&l.line);
+            let profile = LineProfile::of(&l.line);
+            let (xyz, s) = self.colours.of_profile(&profile);
             let t_in = self.eye_transmittance(l.line.center_nm);
             colours.push((xyz, s, t_in));
             let weight = w * t_in as f32;
@@ -287,9 +289,13 @@ impl<'a> Tracer<'a> {
                 let cos_theta = -dir.dot(l.normal);
                 let sigma = stone.lobe_sigma(l.kind, cos_theta);
                 // The line as the lobe's normals spread it.
-                let (xyz, s, center) =
-                    self.colours
-                        .in_lobe(&l.line, (xyz, s), cos_theta.into(), sigma.into());
+                let (xyz, s, center) = self.colours.in_lobe(
+                    &l.line,
+                    (xyz, s),
+                    &profile,
+                    cos_theta.into(),
+                    sigma.into(),
+                );
                 let mirror = reflect(dir, l.normal);
                 let out = Out {
                     face,

@@ -23,6 +23,7 @@ impl Tracer<'_> {
         let mut skip = Some(out.domain);
         let mut hint = out.hint;
         let (mut w, mut seen) = (1.0f32, 0.0f32);
+        let at_wavelength = stone.line_wavelength(wavelength);
         for _ in 0..MAX_SEGMENTS {
             let ray = Ray {
                 origin: pos,
@@ -65,7 +66,7 @@ impl Tracer<'_> {
                         continue;
                     }
                     self.out_lines.clear();
-                    stone.lines_at(domain, dir, len, wavelength, &mut self.out_lines);
+                    stone.lines_at_wavelength(domain, dir, len, at_wavelength, &mut self.out_lines);
                     for l in &self.out_lines {
                         let r = l.line.reflectance(wavelength) as f32;
                         let again = reflect(dir, l.normal);
