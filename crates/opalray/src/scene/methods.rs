@@ -110,7 +110,7 @@ pub struct LobeConfig {
     pub seed: u64,
     /// Walk the strongest reflections that the dome traps by total internal reflection for
     /// their second Bragg reflections (most of the blue the lobe integrator misses against
-    /// the path tracer), at about 1.5 to 2 × the view pass; default false (and then not
+    /// the path tracer), at 2 to 3 × the render's time; default false (and then not
     /// written out).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub trapped: bool,
