@@ -29,6 +29,7 @@ fn face(stone: &Stone, scene: &Scene, env: &Environment, n: usize, frac: f32) ->
             seed: 3,
             body_reflectance: 0.0,
             spectral: &sampler,
+            trapped: false,
         },
     )
 }

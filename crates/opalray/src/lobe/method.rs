@@ -51,6 +51,7 @@ impl Integrator for LobeMethod {
             seed: f.seed,
             body_reflectance: munsell_y(f64::from(s.render.body_tone)) as f32,
             spectral: &f.sampler,
+            trapped: c.trapped,
         };
         let start = Instant::now();
         let image = render_lobes_reporting(f.stone, &setup, passes);

@@ -88,6 +88,9 @@ pub struct LobeSetup<'a> {
     pub body_reflectance: f32,
     /// Wavelength range, the light's spectrum and the colour-matching functions.
     pub spectral: &'a SpectralSampler,
+    /// Walk the reflections the dome traps for their second Bragg reflections
+    /// (`integrator.trapped`).
+    pub trapped: bool,
 }
 
 /// The lobe integrator's image.
@@ -288,6 +291,7 @@ mod tests {
             seed: 1,
             body_reflectance: 0.0,
             spectral: &sampler,
+            trapped: false,
         };
         let colours = LineColours::new(&sampler);
         let irradiance = Irradiance::new(&env);

@@ -64,7 +64,7 @@ impl Method {
                 "denoise",
             ],
             Method::Stored => &["spp", "seed", "cell_mm"],
-            Method::Lobe => &["spp", "seed"],
+            Method::Lobe => &["spp", "seed", "trapped"],
         }
     }
 }
@@ -149,6 +149,9 @@ impl IntegratorConfig {
         }
         if drop("denoise") {
             f.denoise = None;
+        }
+        if drop("trapped") {
+            f.trapped = None;
         }
         IntegratorConfig::try_from(f).expect("only the method's own fields are kept")
     }
@@ -277,6 +280,11 @@ mod tests {
             ),
             ("spp = 4", "integrator.spp", "\"lobe\""),
             (
+                "method = \"path\"\ntrapped = true",
+                "integrator.trapped",
+                "\"lobe\"",
+            ),
+            (
                 "method = \"lobe\"\nwavelengths = 4",
                 "integrator.wavelengths",
                 "\"path\"",
@@ -297,7 +305,7 @@ mod tests {
                 .fields()
                 .iter()
                 .map(|f| match *f {
-                    "denoise" => "denoise = true\n".to_string(),
+                    "denoise" | "trapped" => format!("{f} = true\n"),
                     "cell_mm" => "cell_mm = 0.25\n".to_string(),
                     other => format!("{other} = 3\n"),
                 })
@@ -321,7 +329,11 @@ mod tests {
         });
         assert_eq!(
             path.switched(Method::Lobe),
-            IntegratorConfig::Lobe(LobeConfig { spp: 5, seed: 7 })
+            IntegratorConfig::Lobe(LobeConfig {
+                spp: 5,
+                seed: 7,
+                trapped: false
+            })
         );
         assert_eq!(
             path.switched(Method::Stored),

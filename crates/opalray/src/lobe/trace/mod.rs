@@ -21,6 +21,7 @@ use crate::stone::{ActiveLine, Boundary, Hint, PathToLight, Region, Span, Stone}
 mod lit;
 mod out;
 mod seen;
+mod trapped;
 
 use lit::{ground_of, layer_reflectance};
 
@@ -303,7 +304,8 @@ impl<'a> Tracer<'a> {
                     domain,
                     hint: span.hint,
                 };
-                let seen = self.reflected(&out, &l.line, sigma, weight * xyz[1] as f32);
+                let vivid = weight * xyz.iter().fold(0.0f64, |a, &b| a.max(b)) as f32;
+                let seen = self.reflected(&out, &l.line, sigma, weight * xyz[1] as f32, vivid);
                 self.add_line(f64::from(weight * seen), xyz, s, center, sums);
             }
             if self.setup.light.is_some() {
@@ -354,10 +356,19 @@ impl<'a> Tracer<'a> {
     /// surface event up to [`MAX_SEGMENTS`], notched at the line's centre by the lines on
     /// the way and dimmed by the potch and haze. Where `weight` times the line's luminance
     /// times what the surface alone lets through is under [`CUT`], 0: the walks through the
-    /// domains, which only dim it, are then left out.
-    fn reflected(&mut self, out: &Out, line: &BraggLine, sigma: f32, weight: f32) -> f32 {
+    /// domains, which only dim it, are then left out — unless the dome traps it and `vivid`,
+    /// its colour's largest tristimulus value times the eye ray's weight, is large enough
+    /// for its second reflections to be walked ([`Tracer::trapped`]).
+    fn reflected(
+        &mut self,
+        out: &Out,
+        line: &BraggLine,
+        sigma: f32,
+        weight: f32,
+        vivid: f32,
+    ) -> f32 {
         let bound = self.seen_out(out.face, out.dir, Region::Opal, sigma);
-        if weight * bound >= CUT {
+        if weight * bound >= CUT || self.trapped(out, vivid) {
             self.follow_out(out, line.center_nm, sigma, true)
         } else if weight * self.body_peak >= BODY_CUT {
             // Only the body can add enough: its light along the way, the lines not read.

@@ -28,6 +28,8 @@ pub(super) struct IntegratorFields {
     pub(super) cell_mm: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) denoise: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) trapped: Option<bool>,
 }
 
 impl IntegratorFields {
@@ -41,6 +43,7 @@ impl IntegratorFields {
             ("seed", self.seed.is_some()),
             ("cell_mm", self.cell_mm.is_some()),
             ("denoise", self.denoise.is_some()),
+            ("trapped", self.trapped.is_some()),
         ]
         .into_iter()
         .filter_map(|(name, given)| given.then_some(name))
@@ -100,7 +103,11 @@ impl TryFrom<IntegratorFields> for IntegratorConfig {
                 seed,
                 cell_mm: f.cell_mm.unwrap_or(StoredConfig::default().cell_mm),
             }),
-            Method::Lobe => IntegratorConfig::Lobe(LobeConfig { spp, seed }),
+            Method::Lobe => IntegratorConfig::Lobe(LobeConfig {
+                spp,
+                seed,
+                trapped: f.trapped.unwrap_or(false),
+            }),
         })
     }
 }
