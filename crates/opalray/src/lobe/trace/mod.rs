@@ -369,10 +369,10 @@ impl<'a> Tracer<'a> {
     ) -> f32 {
         let bound = self.seen_out(out.face, out.dir, Region::Opal, sigma);
         if weight * bound >= CUT || self.trapped(out, vivid) {
-            self.follow_out(out, line.center_nm, sigma, true)
+            self.follow_out(out, line.center_nm, sigma, true, vivid)
         } else if weight * self.body_peak >= BODY_CUT {
             // Only the body can add enough: its light along the way, the lines not read.
-            self.follow_out(out, line.center_nm, sigma, false)
+            self.follow_out(out, line.center_nm, sigma, false, vivid)
         } else {
             0.0
         }

@@ -9,13 +9,16 @@ impl Tracer<'_> {
     /// scatters, as the eye ray sees it), and, with `lines`, notched at `wavelength` by the
     /// lines it crosses; what a line takes from it is reflected again and seen through the
     /// surface along its own mirror direction ([`Tracer::seen_out`]: a second Bragg
-    /// reflection, so that no light is lost).
+    /// reflection, so that no light is lost), where `gain` (the eye ray's weight times the
+    /// line's largest tristimulus value) times what it takes times the brightest light
+    /// reaches [`CUT`], as the first reflection's cull has it; under that, it is only taken.
     pub(super) fn follow_out(
         &mut self,
         out: &Out,
         wavelength: f64,
         sigma: f32,
         lines: bool,
+        gain: f32,
     ) -> f32 {
         let stone = self.stone;
         let potch = stone.potch;
@@ -69,8 +72,10 @@ impl Tracer<'_> {
                     stone.lines_at_wavelength(domain, dir, len, at_wavelength, &mut self.out_lines);
                     for l in &self.out_lines {
                         let r = l.line.reflectance(wavelength) as f32;
-                        let again = reflect(dir, l.normal);
-                        seen += w * r * self.seen_out(ray.at(span.t0), again, region, sigma);
+                        if gain * w * r * self.peak >= CUT {
+                            let again = reflect(dir, l.normal);
+                            seen += w * r * self.seen_out(ray.at(span.t0), again, region, sigma);
+                        }
                         w *= 1.0 - r;
                     }
                 }
