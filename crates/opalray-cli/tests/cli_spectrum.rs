@@ -149,6 +149,51 @@ fn inside_angles_skip_the_refraction() {
     assert!(inside[0].1 < air[0].1);
 }
 
+#[test]
+fn silica_dispersion_moves_the_face_on_peak_by_the_fixed_points_shift() {
+    // docs/model.md's table (scripts/dispersion.py, Malitson's law in Python): the face-on
+    // (111) line of D = 350 nm moves from 824.32 to 821.21 nm (−3.11 nm), of D = 200 nm from
+    // 471.04 to 472.85 nm (+1.81 nm). The scan's peak (0.01 nm step) moves by as much, and
+    // the Bragg–Snell column names the new centre.
+    for (diameter, from, to, constant, silica) in [
+        ("350", "810", "835", 824.32, 821.21),
+        ("200", "462", "480", 471.04, 472.85),
+    ] {
+        let run = |law: &str| {
+            let out = opalray(&[
+                "--diameter",
+                diameter,
+                "--angles",
+                "0",
+                "--from-nm",
+                from,
+                "--to-nm",
+                to,
+                "--step-nm",
+                "0.01",
+                "--dispersion",
+                law,
+            ]);
+            let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            assert!(stdout.contains(&format!("dispersion {law}")), "{stdout}");
+            peaks(&stdout)[0]
+        };
+        let (none, with) = (run("none"), run("silica"));
+        let shift = with.1 - none.1;
+        assert!(
+            (shift - (silica - constant)).abs() < 0.025,
+            "D {diameter}: {none:?} → {with:?}"
+        );
+        assert!((none.3 - constant).abs() < 0.006, "D {diameter}: {none:?}");
+        assert!((with.3 - silica).abs() < 0.006, "D {diameter}: {with:?}");
+    }
+}
+
 fn assert_refused(args: &[&str], flag: &str, output: &Path) {
     let out = opalray(args);
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -179,6 +224,7 @@ fn bad_input_is_refused_with_the_flag_and_no_file() {
         (&["--step-nm", "1e-9"], "--step-nm"),
         (&["--from-nm", "700", "--to-nm", "500"], "--to-nm"),
         (&["--from-nm", "-5"], "--from-nm"),
+        (&["--dispersion", "glass"], "--dispersion"),
     ] {
         let args: Vec<&str> = bad.iter().copied().chain(["--output", csv]).collect();
         assert_refused(&args, flag, &path);
@@ -214,6 +260,7 @@ fn help_names_every_flag() {
         "--step-nm",
         "--output",
         "--plot",
+        "--dispersion",
         "Bragg",
     ] {
         assert!(help.contains(flag), "{flag} missing from:\n{help}");

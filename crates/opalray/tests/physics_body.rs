@@ -74,8 +74,10 @@ fn a_thick_slab_of_potch_shows_its_tones_munsell_value() {
     // Viewed face-on under diffuse white light: the gloss F₀ plus the body's Y(tone) (ASTM
     // D1535: N9 0.767, N5 0.193, N1 0.0118), rendered at the path tracer's default depth
     // (its scatterings in the body are not counted against it: a white body's walks are
-    // long). Within 0.005, N9 within 0.01 (its calibration's own 40 000 walks have a
-    // standard error of 0.0025).
+    // long). Within 0.005, N9 within 0.01: under this dome (radii of curvature 7 and 12.5 mm
+    // at the apex) N9 reads about 0.008 above a flat chip, the light it spreads sideways
+    // (about 0.4 mm) leaving more readily where the surface curves towards it (the flat
+    // chip, gloss off: `physics_body_flat.rs`).
     let mut failures = Vec::new();
     for (tone, spp, tolerance) in [(9u8, 256, 0.01), (5, 64, 0.005), (1, 16, 0.005)] {
         let mut scene = potch_scene(tone);

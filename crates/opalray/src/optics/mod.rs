@@ -14,6 +14,8 @@
 //!   (Chebyshev polynomials of the second kind).
 //! - [`fine`]: the fine wavelength sampling (≤ 1 nm, finer at the Bragg lines) and its
 //!   integration into the bins.
+//! - [`scan`]: one cluster's exact R and T at any wavelength and angle, with the indices of
+//!   each wavelength (the tables' and `opalray spectrum`'s evaluation).
 //! - [`tables`]: the tables, built in parallel over angles.
 //!
 //! Bragg–Snell (DESIGN §4): the first-order peak for light meeting the (111) planes at θ
@@ -25,6 +27,7 @@ pub mod families;
 pub mod fcc;
 pub mod fine;
 pub mod line;
+pub mod scan;
 pub mod tables;
 pub mod tmm;
 
@@ -32,6 +35,7 @@ pub use dispersion::{CrystalIndex, LineIndex};
 pub use families::{Families, FamilyKind, FamilyOptics};
 pub use fcc::{ClusterStack, StackAtAngle};
 pub use line::{rocking_fwhm_rad, BraggLine};
+pub use scan::{ClusterOptics, OpticsAtAngle};
 pub use tables::{build_optics, OpticsTables};
 pub use tmm::Polarization;
 

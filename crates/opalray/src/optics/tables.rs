@@ -13,9 +13,8 @@
 
 use rayon::prelude::*;
 
-use super::dispersion::CrystalIndex;
-use super::fcc::ClusterStack;
 use super::fine::{integrate_bins, RowPlan};
+use super::scan::ClusterOptics;
 use crate::error::Result;
 use crate::scene::CrystalConfig;
 use crate::spectrum::WavelengthGrid;
@@ -98,8 +97,7 @@ fn row_cos_theta(i: usize, angles: usize) -> f64 {
 /// does not depend on the number of threads.
 pub fn build_optics(crystal: &CrystalConfig, grid: &WavelengthGrid) -> Result<OpticsTables> {
     grid.validate("spectrum")?;
-    let stack = ClusterStack::new(crystal)?;
-    let index = CrystalIndex::new(crystal);
+    let optics = ClusterOptics::new(crystal)?;
     let (angles, bins) = (crystal.angles, grid.bins);
     let delta = crystal.diffuse_fraction;
     let mut reflectance = vec![0.0f32; angles * bins];
@@ -114,19 +112,10 @@ pub fn build_optics(crystal: &CrystalConfig, grid: &WavelengthGrid) -> Result<Op
             || (vec![0.0f64; bins], vec![0.0f64; bins]),
             |(r_avg, t_avg), (i, ((r, t), d))| {
                 let cos_theta = row_cos_theta(i, angles);
-                let plan = RowPlan::new(&stack, &index, cos_theta, grid);
-                if index.is_constant() {
-                    let at = stack.at(cos_theta);
-                    integrate_bins(grid, &plan, |wl| at.rt_unpolarized(wl), r_avg, t_avg);
-                } else {
-                    // The stack of the indices at each wavelength (optics::dispersion).
-                    let rt = |wl: f64| {
-                        let (n_s, n_m) = index.indices(wl);
-                        let stack = ClusterStack::with_indices(crystal, n_s, n_m);
-                        stack.at(cos_theta).rt_unpolarized(wl)
-                    };
-                    integrate_bins(grid, &plan, rt, r_avg, t_avg);
-                }
+                let plan = RowPlan::new(&optics.stack, &optics.index, cos_theta, grid);
+                // The stack of the indices at each wavelength (optics::scan).
+                let at = optics.at(cos_theta);
+                integrate_bins(grid, &plan, |wl| at.rt_unpolarized(wl), r_avg, t_avg);
                 for k in 0..bins {
                     r[k] = ((1.0 - delta) * r_avg[k]) as f32;
                     t[k] = t_avg[k] as f32;
@@ -136,8 +125,8 @@ pub fn build_optics(crystal: &CrystalConfig, grid: &WavelengthGrid) -> Result<Op
         );
     Ok(OpticsTables {
         grid: *grid,
-        n_eff: stack.n_eff,
-        d111_nm: stack.d111_nm,
+        n_eff: optics.stack.n_eff,
+        d111_nm: optics.stack.d111_nm,
         angles,
         reflectance,
         transmittance,

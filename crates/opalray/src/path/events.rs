@@ -121,6 +121,7 @@ impl Tracer<'_> {
                 first_in_cap: v.region == Region::Cap,
                 level: v.level + 1,
                 scatterings: v.scatterings,
+                walking: true,
             };
             return Step::Fork(Box::new(Waiting {
                 vertex: std::mem::replace(v, child),
@@ -134,12 +135,15 @@ impl Tracer<'_> {
         .sample(s.draws);
         v.drawn = sc.drawn(dir);
         v.dir = dir;
+        v.walking = true;
         self.go_on(v, s.draws)
     }
 
     /// The surface from inside: what escapes (its share 1 − F) is added now, the path goes
     /// on reflected with weight × F (both ways at once, no random choice); s and p apart
-    /// (`F_s`, `F_p`).
+    /// (`F_s`, `F_p`). The reflection of a segment drawn at a scattering is a step of the
+    /// body's walk (which the calibration's walks take without limit), counted with the
+    /// scatterings rather than against `max_depth`.
     pub(super) fn surface(
         &mut self,
         v: &mut Vertex,
@@ -168,6 +172,9 @@ impl Tracer<'_> {
             }
         }
         v.weight *= v.lines.event(axis, fs, fp);
+        if std::mem::take(&mut v.walking) {
+            v.scatterings += 1;
+        }
         v.lines.history.reflected_inside();
         v.dir = reflect(dir, normal);
         v.pos = exit - normal * EPSILON_MM;
@@ -189,6 +196,7 @@ impl Tracer<'_> {
         v.pos = segment.ray.at(segment.t_end) + Vec3::Z * EPSILON_MM;
         v.lines.history.backed();
         v.lines.depolarise();
+        v.walking = false;
         v.weight *= match back.kind {
             Backing::Ironstone => {
                 v.lines.tint();
@@ -242,6 +250,7 @@ impl Tracer<'_> {
         let f = 0.5 * (fs + fp);
         let axis = self.plane(dir, facing);
         let at = segment.ray.at(segment.t_end);
+        v.walking = false;
         match refract(dir, facing, n1, n2).filter(|_| s.draws.uniform_f32() >= f) {
             Some(d) => {
                 v.dir = d;

@@ -48,8 +48,8 @@
 //!   `π E R(λ, θ_h) D(h) / (4 cos θ_h)`, D the lobe's density over normals convolved with
 //!   the lamp's disc ([`Stone::lamp_density`]), so that a mirror shows the lamp's disc.
 //! - Russian roulette below a weight of 0.02; at most `max_depth` events besides the
-//!   scatterings in the body, and `max_scatterings` of those (0: they count among
-//!   `max_depth`'s).
+//!   scatterings in the body and the reflections at the surface between them, and
+//!   `max_scatterings` of those (0: they count among `max_depth`'s).
 //!
 //! The loop over a path's events, its branches waiting on a small stack rather than recursing:
 //! `vertex.rs`; one method per event: `events.rs`, `crossing/` (a reflection's branch:
@@ -320,6 +320,7 @@ impl<'a> Tracer<'a> {
             first_in_cap: region == Region::Cap,
             level: 0,
             scatterings: 0,
+            walking: false,
         };
         self.inside(start, s);
     }
@@ -346,9 +347,10 @@ impl<'a> Tracer<'a> {
     }
 
     /// Whether the path `v` goes on to its next event: within `max_depth` events besides its
-    /// scatterings in the body (a light body's light comes back after hundreds of them: the
-    /// weight's roulette ends those paths, not a count) and within `max_scatterings` of
-    /// those; with `max_scatterings` 0, within `max_depth` events of any kind.
+    /// scatterings in the body and the surface's reflections of the segments drawn at them
+    /// (a light body's light comes back after hundreds of them: the weight's roulette ends
+    /// those paths, not a count) and within `max_scatterings` of those; with
+    /// `max_scatterings` 0, within `max_depth` events of any kind.
     fn goes_deeper(&self, v: &vertex::Vertex) -> bool {
         match self.setup.max_scatterings {
             0 => v.level < self.setup.max_depth,

@@ -46,9 +46,13 @@ pub(super) struct Vertex {
     pub first_in_cap: bool,
     /// Its event, counted from 0 (the sampler's event, [`super::sampler`]).
     pub level: u32,
-    /// How many of its events were scatterings in the body or a domain's haze: not counted
-    /// against `max_depth` ([`Tracer::goes_deeper`]).
+    /// How many of its events were scatterings in the body or a domain's haze, and
+    /// reflections at the surface of segments drawn at one: not counted against `max_depth`
+    /// ([`Tracer::goes_deeper`]).
     pub scatterings: u32,
+    /// Whether its segment was drawn at a scattering: a reflection at the surface that ends
+    /// it is a step of the body's walk, counted with the scatterings.
+    pub walking: bool,
 }
 
 /// The segment of a path from its vertex to the boundary of its region.

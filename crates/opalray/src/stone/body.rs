@@ -25,9 +25,10 @@ use crate::geometry::fresnel_dielectric;
 use crate::sampling::{stage, Rng};
 pub use crate::scatter::{hg_cos, hg_phase};
 
-/// Walks of the stored calibration: R's standard error is below 0.5/√N = 0.0025.
+/// Walks of the stored calibration: R's standard error is below 0.5/√N = 0.0008 (measured:
+/// 0.0006 at N9).
 #[cfg(test)]
-const WALKS: usize = 40_000;
+const WALKS: usize = 400_000;
 /// Walks of a calibration made while preparing a stone (another `g` or index): standard
 /// error below 0.005, about 0.5 s, once per process.
 const WALKS_AT_RUNTIME: usize = 10_000;
@@ -39,9 +40,11 @@ pub const STORED_G: f64 = 0.4;
 /// The index of the stored calibration: the default crystal's effective index.
 pub const STORED_N: f64 = 1.442_260;
 /// Albedo per body tone N1…N9 for [`STORED_G`] and [`STORED_N`], from [`SlabWalks`] with
-/// [`WALKS`] walks (the test `the_stored_calibration_is_the_walks_own` recomputes it).
+/// [`WALKS`] walks (the test `the_stored_calibration_is_the_walks_own` recomputes it). The
+/// 40 000 walks of the first calibration read 0.0017 (N9) to 0.002 (N5) above these
+/// walks' R at their albedos: within their noise, but every body was that much too dark.
 const STORED_ALBEDO: [f32; 9] = [
-    0.35021, 0.56739, 0.73469, 0.84808, 0.91801, 0.95877, 0.98156, 0.99350, 0.99879,
+    0.35529, 0.57291, 0.73880, 0.85047, 0.91918, 0.95932, 0.98179, 0.99357, 0.99881,
 ];
 
 /// Luminous reflectance of Munsell value `v` (0–10), ASTM D1535, as a fraction.
@@ -209,9 +212,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_stored_calibration_is_the_walks_own() {
-        let walks = SlabWalks::new(STORED_G, STORED_N, WALKS);
+    /// The stored albedos against `walks` walks' R, within `tolerance` of Y(V).
+    fn check_stored_albedos(walks: usize, tolerance: f64) {
+        let walks = SlabWalks::new(STORED_G, STORED_N, walks);
         let mut last = 0.0;
         for tone in 1..=9u8 {
             let a = potch_albedo(tone, STORED_G, STORED_N);
@@ -219,15 +222,28 @@ mod tests {
             last = a;
             let r = walks.reflectance(f64::from(a));
             assert!(
-                (r - munsell_y(f64::from(tone))).abs() < 0.002,
+                (r - munsell_y(f64::from(tone))).abs() < tolerance,
                 "N{tone}: {r}"
             );
         }
     }
 
     #[test]
+    #[ignore = "400 000 walks, about 30 s: run when the walk or the stored albedos change"]
+    fn the_stored_calibration_is_the_walks_own() {
+        // Five decimals of an albedo move N9's R by up to 0.0003.
+        check_stored_albedos(WALKS, 5e-4);
+    }
+
+    #[test]
+    fn the_stored_calibration_holds_for_fewer_walks_within_their_noise() {
+        // 40 000 walks (the same stream's first): R's standard error about 0.002.
+        check_stored_albedos(40_000, 0.005);
+    }
+
+    #[test]
     fn a_runtime_calibration_gives_each_tones_value() {
-        let walks = SlabWalks::new(0.2, 1.5, WALKS);
+        let walks = SlabWalks::new(0.2, 1.5, 40_000);
         for tone in [2u8, 8] {
             let r = walks.reflectance(f64::from(potch_albedo(tone, 0.2, 1.5)));
             assert!(

@@ -7,6 +7,8 @@
 //! `wavelength_nm,angle_deg,reflectance,transmittance` on the requested wavelength step
 //! (point values, not bin averages); with `--plot` an image of R over wavelength × angle
 //! ([`plot`]). Each angle's whole curve is kept, so the peak and the colour read the same data.
+//! With `--dispersion silica` the stack at each wavelength has silica's indices at that
+//! wavelength (`optics::scan`, as the reflectance tables are built).
 
 mod label;
 mod plot;
@@ -16,11 +18,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Result};
 use opalray::color::SpectrumColor;
-use opalray::optics::{
-    bragg_wavelength_air_nm, bragg_wavelength_inside_nm, cos_inside_from_air, ClusterStack,
-    Polarization,
-};
-use opalray::scene::{CrystalConfig, Illuminant};
+use opalray::optics::{cos_inside_from_air, ClusterOptics, ClusterStack};
+use opalray::scene::{CrystalConfig, Dispersion, Illuminant};
 
 use crate::outputs::Outputs;
 use plot::{write_plot, PlotAxes};
@@ -36,7 +35,13 @@ const MAX_SAMPLES: usize = 5_000_000;
         planes, as in laboratory reflectance measurements, and refracted into the cluster's \
         effective index n_eff; with --inside they are angles inside the stone. The peak \
         follows Bragg–Snell, λ = 2·d111·√(n_eff² − sin²θ), and moves to shorter wavelengths \
-        as the angle grows. R and T are unpolarised (mean of s and p). The sRGB column is the \
+        as the angle grows. With --dispersion silica both indices follow fused silica's \
+        Sellmeier law (Malitson 1965) shifted to --n-sphere and --n-matrix at the sodium d \
+        line (589.3 nm), as in the gem presets: the stack at each wavelength has that \
+        wavelength's indices, the Bragg–Snell column solves λ = 2·d111·n_eff(λ)·cos θ, and \
+        angles in air are refracted at the d line's n_eff, as the renderers' surface does. \
+        The default, none, is an empty scene's [crystal] like every other default here, and \
+        keeps the paper's constant indices (Bragg–Snell exactly). R and T are unpolarised (mean of s and p). The sRGB column is the \
         colour of the reflected light: the curve as a reflectance lit by D65 (a white \
         reflector is #ffffff; a single narrow line reflects little light, so it is dark), \
         integrated over --from-nm..--to-nm only.\n\n\
@@ -47,6 +52,7 @@ const MAX_SAMPLES: usize = 5_000_000;
         opalray spectrum\n  \
         opalray spectrum --diameter 220 --angles 0,15,30,45 --output opal.csv\n  \
         opalray spectrum --angles 0,30,60 --plot opal-spectrum.png\n  \
+        opalray spectrum --diameter 200 --dispersion silica --angles 0\n  \
         opalray spectrum --n-matrix 1.0 --layers 20 --from-nm 400 --to-nm 700 --step-nm 0.5"
 )]
 pub struct Args {
@@ -70,6 +76,11 @@ pub struct Args {
         default_value = "0,30,60"
     )]
     angles: Vec<f64>,
+    /// How the indices vary with wavelength: none (constant, the paper's and an empty
+    /// scene's) or silica (the gem presets': fused silica's dispersion through the d-line
+    /// indices).
+    #[arg(long, value_name = "LAW", value_enum, default_value_t = DispersionFlag::None)]
+    dispersion: DispersionFlag,
     /// Take --angles as angles inside the stone (between the ray and the (111) normal).
     #[arg(long)]
     inside: bool,
@@ -88,6 +99,15 @@ pub struct Args {
     /// Draw R over wavelength × angle (0° to the largest of --angles) to this PNG.
     #[arg(long, value_name = "FILE.png")]
     plot: Option<PathBuf>,
+}
+
+/// `--dispersion`: the scene's `crystal.dispersion`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum DispersionFlag {
+    /// Constant indices (the paper's; an empty scene's `crystal.dispersion`).
+    None,
+    /// Fused silica's Sellmeier law through the d-line indices (the gem presets').
+    Silica,
 }
 
 /// R and T over wavelength at one angle.
@@ -138,11 +158,11 @@ pub fn run(args: Args) -> Result<()> {
         Some(path) => Some(outputs.add("--plot", path, &["png"])?),
         None => None,
     };
-    let stack = ClusterStack::new(&crystal)?;
+    let optics = ClusterOptics::new(&crystal)?;
     let curves: Vec<AngleCurve> = args
         .angles
         .iter()
-        .map(|&angle_deg| curve(&stack, angle_deg, args.inside, &wavelengths))
+        .map(|&angle_deg| curve(&optics, angle_deg, args.inside, &wavelengths))
         .collect();
     if let Some(csv) = csv {
         outputs.write(csv, |path| {
@@ -166,10 +186,10 @@ pub fn run(args: Args) -> Result<()> {
                 "angle of incidence in air (°)"
             },
         };
-        outputs.write(plot_out, |path| write_plot(path, &stack, &axes))?;
+        outputs.write(plot_out, |path| write_plot(path, &optics, &axes))?;
     }
     outputs.commit()?;
-    crate::stdio::out_raw(&summary(&crystal, &stack, &curves, &args))?;
+    crate::stdio::out_raw(&summary(&optics, &curves, &args))?;
     if let Some(path) = &args.plot {
         crate::stdio::out(format_args!(
             "wrote {} ({} × {} px)",
@@ -195,6 +215,10 @@ fn crystal_from_flags(args: &Args) -> Result<CrystalConfig> {
         n_sphere: args.n_sphere,
         n_matrix: args.n_matrix,
         layers,
+        dispersion: match args.dispersion {
+            DispersionFlag::None => Dispersion::None,
+            DispersionFlag::Silica => Dispersion::Silica,
+        },
         ..CrystalConfig::default()
     };
     crystal.validate().map_err(|err| match err {
@@ -261,18 +285,16 @@ fn cos_of_air(stack: &ClusterStack, angle_deg: f64) -> f64 {
     cos_inside_from_air(stack.n_eff, angle_deg.to_radians())
 }
 
-fn curve(stack: &ClusterStack, angle_deg: f64, inside: bool, wavelengths: &[f64]) -> AngleCurve {
-    let theta = angle_deg.to_radians();
-    let (cos_inside, bragg_nm) = if inside {
-        let c = cos_of_inside(stack, angle_deg);
-        (c, bragg_wavelength_inside_nm(stack.d111_nm, stack.n_eff, c))
+/// R and T at `angle_deg` (inside, or in air refracted at the d line's `n_eff`) over
+/// `wavelengths`, and the Bragg–Snell centre there (with a law, its fixed point).
+fn curve(optics: &ClusterOptics, angle_deg: f64, inside: bool, wavelengths: &[f64]) -> AngleCurve {
+    let cos_inside = if inside {
+        cos_of_inside(&optics.stack, angle_deg)
     } else {
-        (
-            cos_of_air(stack, angle_deg),
-            bragg_wavelength_air_nm(stack.d111_nm, stack.n_eff, theta),
-        )
+        cos_of_air(&optics.stack, angle_deg)
     };
-    let at = stack.at(cos_inside);
+    let bragg_nm = optics.bragg_wavelength_nm(cos_inside);
+    let at = optics.at(cos_inside);
     let samples = wavelengths
         .iter()
         .map(|&wl| {
@@ -311,28 +333,29 @@ fn write_csv(path: &Path, curves: &[AngleCurve], decimals: usize) -> opalray::Re
 }
 
 /// The report printed on stdout.
-fn summary(
-    crystal: &CrystalConfig,
-    stack: &ClusterStack,
-    curves: &[AngleCurve],
-    args: &Args,
-) -> String {
+fn summary(optics: &ClusterOptics, curves: &[AngleCurve], args: &Args) -> String {
+    let (crystal, stack) = (&optics.crystal, &optics.stack);
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "FCC cluster: D {} nm, n_sphere {}, n_matrix {}, filling {}, {} layers",
+        "FCC cluster: D {} nm, n_sphere {}, n_matrix {} (at 589.3 nm), filling {}, {} layers, \
+         dispersion {}",
         crystal.sphere_diameter_nm,
         crystal.n_sphere,
         crystal.n_matrix,
         crystal.filling_fraction,
-        crystal.layers
+        crystal.layers,
+        match crystal.dispersion {
+            Dispersion::None => "none",
+            Dispersion::Silica => "silica",
+        }
     );
     let _ = write!(
         out,
         "  d111 {:.2} nm, n_eff {:.4}",
         stack.d111_nm, stack.n_eff
     );
-    match stack.stop_band_nm(1.0, Polarization::S) {
+    match optics.stop_band_nm() {
         Some((lo, hi)) => {
             let _ = writeln!(
                 out,

@@ -13,7 +13,7 @@
 use std::path::Path;
 
 use opalray::color::{encode_srgb8, wavelength_linear_srgb};
-use opalray::optics::ClusterStack;
+use opalray::optics::{ClusterOptics, ClusterStack};
 use opalray::output::write_png_rgb8;
 use rayon::prelude::*;
 
@@ -101,9 +101,9 @@ impl PlotAxes {
     }
 }
 
-/// Draw the plot of `stack` over `axes` and write it to `path` (a `.png`), atomically.
-pub fn write_plot(path: &Path, stack: &ClusterStack, axes: &PlotAxes) -> opalray::Result<()> {
-    let data = data_pixels(stack, axes);
+/// Draw the plot of `optics` over `axes` and write it to `path` (a `.png`), atomically.
+pub fn write_plot(path: &Path, optics: &ClusterOptics, axes: &PlotAxes) -> opalray::Result<()> {
+    let data = data_pixels(optics, axes);
     let mut rgb = vec![0u8; WIDTH_PX * HEIGHT_PX * 3];
     for (row, line) in data.chunks_exact(DATA_COLUMNS * 3).enumerate() {
         let at = 3 * ((TOP_PX + row) * WIDTH_PX + LEFT_PX);
@@ -115,7 +115,7 @@ pub fn write_plot(path: &Path, stack: &ClusterStack, axes: &PlotAxes) -> opalray
 
 /// RGB8 codes of the data area, rows top to bottom: each wavelength's colour times the mean
 /// R over the pixel's wavelength span.
-fn data_pixels(stack: &ClusterStack, axes: &PlotAxes) -> Vec<u8> {
+fn data_pixels(optics: &ClusterOptics, axes: &PlotAxes) -> Vec<u8> {
     let width_nm = axes.column_width_nm();
     let subs = ((width_nm / SUB_STEP_NM).ceil() as usize).clamp(1, MAX_SUB_SAMPLES);
     let hues: Vec<[f32; 3]> = (0..DATA_COLUMNS)
@@ -125,7 +125,7 @@ fn data_pixels(stack: &ClusterStack, axes: &PlotAxes) -> Vec<u8> {
     data.par_chunks_mut(DATA_COLUMNS * 3)
         .enumerate()
         .for_each(|(row, line)| {
-            let at = stack.at((axes.cos_inside)(stack, axes.row_angle_deg(row)));
+            let at = optics.at((axes.cos_inside)(&optics.stack, axes.row_angle_deg(row)));
             for (col, (pixel, hue)) in line.chunks_exact_mut(3).zip(&hues).enumerate() {
                 let left_nm = axes.from_nm + col as f64 * width_nm;
                 let sum: f64 = (0..subs)

@@ -71,6 +71,7 @@ impl Tracer<'_> {
             first_in_cap: false,
             level: path.level,
             scatterings: path.scatterings,
+            walking: false,
         })
     }
 
