@@ -38,6 +38,7 @@
 //! except those of the eye ray, and the cap plane's reflection of a triplet.
 
 pub mod colour;
+mod layer;
 mod method;
 mod potch;
 mod tables;
