@@ -26,8 +26,6 @@ pub(crate) struct BodyLayer {
     r_inside: f64,
     /// The tone's value over the model's own thick-layer reflectance.
     scale: f64,
-    /// The most `R + T` of any layer ([`BodyLayer::peak`]).
-    peak: f32,
 }
 
 impl BodyLayer {
@@ -53,25 +51,10 @@ impl BodyLayer {
             b,
             r_inside,
             scale: 1.0,
-            peak: 0.0,
         };
         let thick = layer.seen(a - b);
         layer.scale = f64::from(tone_reflectance) / thick.max(1e-9);
-        // Thickness from 10⁻³ to 10² (S X), four points an octave: R + T falls with it but
-        // for a layer over a brighter ground.
-        layer.peak = (0..=68)
-            .map(|k| {
-                let (r, t) = layer.of(1e-3 * 2f32.powf(k as f32 / 4.0), None);
-                r + t
-            })
-            .fold(tone_reflectance, f32::max);
         layer
-    }
-
-    /// The most a layer can send back per unit irradiance (above and beyond both), at
-    /// least the tone's value: the bound of the body's light.
-    pub(crate) fn peak(&self) -> f32 {
-        self.peak
     }
 
     /// What a layer of scattering thickness `sx` (`S X`, [`super::trace`]'s `km_scattering`

@@ -154,7 +154,10 @@ impl<'a> Tracer<'a> {
             .peak()
             .max(self.lit.potch.map_or(0.0, |p| p.peak()))
             + lamp;
-        self.body_radiance(self.layer.peak() * lit)
+        // The tone's value: a thin layer lit from beyond sends more (`BodyLayer::of`), but
+        // bounding by what a scattering sees of it on average made black-opal's view pass
+        // 31 % longer (BENCHMARKS.md); a reflection walked for the body alone misses it.
+        self.body_radiance(self.setup.body_reflectance * lit)
     }
 
     /// One camera ray.
