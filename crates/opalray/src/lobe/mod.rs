@@ -23,11 +23,12 @@
 //!   half vector, as the path tracer's estimate does; a sphere or rect light is read
 //!   through the lobe ([`crate::lights::AreaLight::lobe_share`]). The ray goes on through.
 //! - **Body**: where the eye ray is scattered by the potch (or a milky domain's haze), with
-//!   probability `1 − e^{−τ}` over a span, it sees the body as a chip of its Munsell value
-//!   lit by the environment's irradiance at the surface it entered ([`Irradiance`]), or,
-//!   for the potch under a colour bar, by the light reaching its top through the bar
-//!   ([`potch::PotchLight`]) — the calibrated slab's reflectance as a Lambertian response,
-//!   not its multiple scattering.
+//!   probability `1 − e^{−τ}` over a span, it sees the body as a layer of the stone's
+//!   thickness ([`layer::BodyLayer`], its Munsell value when thick) lit by the
+//!   environment's irradiance at the surface it entered ([`Irradiance`]), or, for the potch
+//!   under a colour bar, by the light reaching its top through the bar
+//!   ([`potch::PotchLight`]), and by the irradiance beyond its far surface — the calibrated
+//!   slab's reflectance as a Lambertian response, not its multiple scattering.
 //! - **Exit**: the environment through the far surface (`(1 − F) n²`, the rest reflected
 //!   inside, bounded); a backing shows its reflectance under the light that reaches it
 //!   through the stone ([`BackingLight`]).
@@ -38,6 +39,7 @@
 //! except those of the eye ray, and the cap plane's reflection of a triplet.
 
 pub mod colour;
+mod layer;
 mod method;
 mod potch;
 mod tables;

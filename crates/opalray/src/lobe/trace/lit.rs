@@ -4,13 +4,13 @@
 use super::*;
 
 impl Tracer<'_> {
-    /// The body seen by the share `w` of the eye ray scattered in it: `reflectance` (its
-    /// Munsell value, or less for a thin layer, [`layer_reflectance`]) under the
-    /// environment's irradiance at the surface the eye ray entered (the chip's reflectance
-    /// includes the surface's `1 − F₀` on the way in, which the eye ray's weight holds
-    /// already).
-    pub(super) fn body(&mut self, w: f32, reflectance: f32, e: f32, sums: &mut Sums) {
-        let v = w * self.body_radiance(reflectance, e);
+    /// The body seen by the share `w` of the eye ray scattered in it, sending back `light`:
+    /// its layer's reflectance ([`BodyLayer::of`], the tone's Munsell value when thick)
+    /// times the irradiance that lights it, plus its transmittance times the irradiance
+    /// beyond (the chip's reflectance includes the surface's `1 − F₀` on the way in, which
+    /// the eye ray's weight holds already).
+    pub(super) fn body(&mut self, w: f32, light: f32, sums: &mut Sums) {
+        let v = w * self.body_radiance(light);
         self.add_notched_white(f64::from(v), sums);
     }
 
@@ -25,12 +25,21 @@ impl Tracer<'_> {
         }
     }
 
-    /// The radiance in the stone of a body of reflectance `reflectance` lit by the outside
-    /// irradiance `e` (a chip at the surface the eye ray entered: its reflectance includes
-    /// the surface's `1 − F₀` on the way in).
-    pub(super) fn body_radiance(&self, reflectance: f32, e: f32) -> f32 {
+    /// The radiance in the stone of a body sending back `light` (its reflectance times the
+    /// outside irradiance, as a chip at the surface the eye ray entered: its reflectance
+    /// includes the surface's `1 − F₀` on the way in).
+    pub(super) fn body_radiance(&self, light: f32) -> f32 {
         let n = self.stone.n_eff;
-        n * n * reflectance * e / (1.0 - self.entry.fresnel_normal)
+        n * n * light / (1.0 - self.entry.fresnel_normal)
+    }
+
+    /// The irradiance outside the surface where a segment inside ends at `at` on
+    /// `boundary`: what comes into the body from beyond it (0 at a backing or the cap).
+    pub(super) fn light_beyond(&self, at: Vec3, boundary: Boundary) -> f32 {
+        match boundary {
+            Boundary::Surface => self.irradiance_on(self.stone.shape.normal(at)),
+            Boundary::Back | Boundary::CapPlane => 0.0,
+        }
     }
 
     /// The backing seen at `at` by the eye ray with weight `w`: its reflectance under the
@@ -213,47 +222,11 @@ impl Tracer<'_> {
     }
 }
 
-/// The reflectance of a layer of body of scattering thickness `sx` (Kubelka–Munk `S X`)
-/// over a ground of reflectance `ground`, the body's own reflectance when thick being
-/// `thick` (Kubelka & Munk 1931; Judd & Wyszecki, *Color in Business, Science and
-/// Industry*, §3.8): `R = (1 − R_g (a − b coth bSX)) / (a − R_g + b coth bSX)`,
-/// `a = (1 + R∞²)/(2 R∞)`, `b = √(a² − 1)`. A thick layer shows `R∞`, a thin one its ground.
-pub(super) fn layer_reflectance(thick: f32, sx: f32, ground: f32) -> f32 {
-    let r_inf = f64::from(thick).clamp(1e-4, 0.9999);
-    let a = (1.0 + r_inf * r_inf) / (2.0 * r_inf);
-    let b = (a * a - 1.0).sqrt();
-    let x = (b * f64::from(sx.max(0.0))).max(1e-9);
-    if x > 20.0 {
-        return thick;
-    }
-    let coth = 1.0 / x.tanh();
-    let g = f64::from(ground);
-    ((1.0 - g * (a - b * coth)) / (a - g + b * coth)) as f32
-}
-
-/// The reflectance of what lies beyond a segment in the opal that ends at `boundary`: the
-/// backing's (at 550 nm) or nothing.
-pub(super) fn ground_of(stone: &Stone, boundary: Boundary) -> f32 {
+/// What lies beyond a segment in the opal that ends at `boundary`: a backing in contact
+/// (its reflectance at 550 nm), or `None`, a polished surface ([`BodyLayer::of`]).
+pub(super) fn ground_of(stone: &Stone, boundary: Boundary) -> Option<f32> {
     match (boundary, stone.back) {
-        (Boundary::Back, Some(back)) => back.reflectance(550.0) as f32,
-        _ => 0.0,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::layer_reflectance;
-
-    #[test]
-    fn a_layer_shows_its_ground_when_thin_and_its_own_reflectance_when_thick() {
-        assert!((layer_reflectance(0.3, 1e-6, 0.03) - 0.03).abs() < 1e-4);
-        assert!((layer_reflectance(0.3, 50.0, 0.03) - 0.3).abs() < 1e-6);
-        // Over a ground of its own reflectance a layer of any thickness shows that.
-        for sx in [0.1, 1.0, 3.0] {
-            assert!((layer_reflectance(0.3, sx, 0.3) - 0.3).abs() < 1e-5, "{sx}");
-        }
-        // Kubelka–Munk over black: R = 1 / (a + b coth bSX); R∞ = 0.5, SX = 1 gives
-        // a = 1.25, b = 0.75, R = 1 / (1.25 + 0.75 coth 0.75) = 0.4114 (hand computed).
-        assert!((layer_reflectance(0.5, 1.0, 0.0) - 0.4114).abs() < 1e-3);
+        (Boundary::Back, Some(back)) => Some(back.reflectance(550.0) as f32),
+        _ => None,
     }
 }

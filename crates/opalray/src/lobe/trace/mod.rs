@@ -7,6 +7,7 @@ use std::f32::consts::PI;
 use glam::Vec3;
 
 use super::colour::LineProfile;
+use super::layer::BodyLayer;
 use super::potch::PotchLight;
 use super::{BackingLight, Irradiance, LineColours, LobeSetup};
 use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
@@ -23,7 +24,7 @@ mod out;
 mod seen;
 mod trapped;
 
-use lit::{ground_of, layer_reflectance};
+use lit::ground_of;
 
 pub const MAX_SEGMENTS: usize = 8;
 /// Offset of a new ray's origin along its way, mm (0.1 µm).
@@ -91,6 +92,8 @@ pub(super) struct Tracer<'a> {
     /// The most radiance the body can send (in the stone), 0 without a scattering body:
     /// what a reflection can see besides the light through the surface.
     body_peak: f32,
+    /// The body as a layer of the stone's thickness.
+    layer: BodyLayer,
 }
 
 impl<'a> Tracer<'a> {
@@ -135,6 +138,7 @@ impl<'a> Tracer<'a> {
                 fresnel_normal: fresnel_dielectric(1.0, 1.0, stone.n_eff),
             },
             body_peak: 0.0,
+            layer: BodyLayer::new(&stone.potch, stone.n_eff, setup.body_reflectance),
         };
         tracer.body_peak = tracer.body_peak(irradiance);
         tracer
@@ -152,7 +156,10 @@ impl<'a> Tracer<'a> {
             .peak()
             .max(self.lit.potch.map_or(0.0, |p| p.peak()))
             + lamp;
-        self.body_radiance(self.setup.body_reflectance, lit)
+        // The tone's value: a thin layer lit from beyond sends more (`BodyLayer::of`), but
+        // bounding by what a scattering sees of it on average made black-opal's view pass
+        // 31 % longer (BENCHMARKS.md); a reflection walked for the body alone misses it.
+        self.body_radiance(self.setup.body_reflectance * lit)
     }
 
     /// One camera ray.
@@ -216,6 +223,7 @@ impl<'a> Tracer<'a> {
                 // The body's scattering thickness from each span to the segment's end, and
                 // what lies beyond it: the body there is a layer of that thickness.
                 let ground = ground_of(stone, boundary);
+                let light_beyond = self.light_beyond(ray.at(t_end), boundary);
                 let mut beyond: f32 = self.spans.iter().map(|s| self.km_scattering(s)).sum();
                 for k in 0..self.spans.len() {
                     let span = self.spans[k];
@@ -231,9 +239,9 @@ impl<'a> Tracer<'a> {
                     if sigma > 0.0 {
                         let tau = sigma * (span.t1 - span.t0);
                         let kept = (-tau).exp();
-                        let r = layer_reflectance(self.setup.body_reflectance, layer, ground);
+                        let (r, t) = self.layer.of(layer, ground);
                         let lit = self.light_on_body(ray.at(span.t0), span);
-                        self.body(w * (1.0 - kept), r, lit, sums);
+                        self.body(w * (1.0 - kept), r * lit + t * light_beyond, sums);
                         w *= kept;
                     }
                     if w < MIN_WEIGHT {

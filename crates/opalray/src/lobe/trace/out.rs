@@ -44,6 +44,7 @@ impl Tracer<'_> {
                 });
                 let skipped = skip.take();
                 let ground = ground_of(stone, boundary);
+                let light_beyond = self.light_beyond(ray.at(t_end), boundary);
                 let mut beyond: f32 = self.out_spans.iter().map(|s| self.km_scattering(s)).sum();
                 for k in 0..self.out_spans.len() {
                     let span = self.out_spans[k];
@@ -57,9 +58,9 @@ impl Tracer<'_> {
                     let kept = (-sigma_t * len).exp();
                     if sigma_t > 0.0 {
                         // The body seen along the reflection: its light in the line's colour.
-                        let r = layer_reflectance(self.setup.body_reflectance, layer, ground);
-                        let lit = self.light_on_body(ray.at(span.t0), span);
-                        seen += w * (1.0 - kept) * self.body_radiance(r, lit);
+                        let (r, t) = self.layer.of(layer, ground);
+                        let lit = r * self.light_on_body(ray.at(span.t0), span) + t * light_beyond;
+                        seen += w * (1.0 - kept) * self.body_radiance(lit);
                     }
                     w *= kept;
                     let Some(domain) = span.domain else {
