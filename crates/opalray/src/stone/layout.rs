@@ -52,7 +52,7 @@ pub(super) fn lay_out(scene: &Scene, axes: Vec3) -> Result<(Layout, Vec<Domain>)
                 .collect();
             Ok((Layout::Balls(balls), domains))
         }
-        Pattern::Grains => Ok(lay_out_grains(scene, axes, &diameters)),
+        Pattern::Grains => lay_out_grains(scene, axes, &diameters),
     }
 }
 
@@ -78,8 +78,12 @@ impl Diameters<'_> {
 }
 
 /// The grains of `scene` in the box of semi-axes `axes`: each a domain or, with probability
-/// `domains.void_fraction`, potch.
-fn lay_out_grains(scene: &Scene, axes: Vec3, diameters: &Diameters) -> (Layout, Vec<Domain>) {
+/// `domains.void_fraction`, potch. A cancelled preparation stops between blocks of grains.
+fn lay_out_grains(
+    scene: &Scene,
+    axes: Vec3,
+    diameters: &Diameters,
+) -> Result<(Layout, Vec<Domain>)> {
     let d = &scene.domains;
     let seed = scene.structure.seed;
     let laws = GrainLaws::new(scene, axes);
@@ -94,6 +98,9 @@ fn lay_out_grains(scene: &Scene, axes: Vec3, diameters: &Diameters) -> (Layout, 
     let mut domains = Vec::new();
     let mut domain_of = Vec::with_capacity(grains.seeds.len());
     for (i, &seed_q) in grains.seeds.iter().enumerate() {
+        if i % 1024 == 0 {
+            crate::cancel::Cancel::check_current()?;
+        }
         let mut rng = Rng::new(seed, stage::STONE, GRAIN_STREAM + i as u64);
         if rng.uniform() < d.void_fraction {
             domain_of.push(None);
@@ -106,12 +113,13 @@ fn lay_out_grains(scene: &Scene, axes: Vec3, diameters: &Diameters) -> (Layout, 
             sphere_diameter_nm: laws.diameter(i, seed_q, diameters),
         });
     }
+    crate::cancel::Cancel::check_current()?;
     let layout = Layout::Grains {
         grains: Box::new(grains),
         domain_of,
         outlines: ragged_outlines(scene, axes, laws.stretch),
     };
-    (layout, domains)
+    Ok((layout, domains))
 }
 
 /// Ragged outlines (`domains.boundary_roughness` > 0): columns that shift the grains each by
