@@ -1,0 +1,115 @@
+//! The eye ray crossing a domain: every line's reflection of the lights, walked out where
+//! it can add light ([`Tracer::reflected`]'s cull), and the notches it carries on.
+
+use super::*;
+
+impl Tracer<'_> {
+    /// The eye ray along `ray` crossing `domain` over `span`, with weight `w`: every line's
+    /// reflection of the lights, then its notch on the way on.
+    pub(super) fn cross(&mut self, ray: &Ray, span: Span, domain: u32, w: f32, sums: &mut Sums) {
+        let stone = self.stone;
+        let dir = ray.direction;
+        let mut lines = std::mem::take(&mut self.lines);
+        lines.clear();
+        stone.lines(domain, dir, span.t1 - span.t0, &mut lines);
+        let face = ray.at(span.t0);
+        let mut colours = std::mem::take(&mut self.line_colours);
+        colours.clear();
+        for l in &lines {
+            let profile = LineProfile::of(&l.line);
+            let (xyz, s) = self.colours.of_profile(&profile);
+            let t_in = self.eye_transmittance(l.line.center_nm);
+            colours.push((xyz, s, t_in));
+            let weight = w * t_in as f32;
+            if weight * xyz[1] as f32 * (self.peak + self.body_peak) > CUT {
+                let cos_theta = -dir.dot(l.normal);
+                let sigma = stone.lobe_sigma(l.kind, cos_theta);
+                // The line as the lobe's normals spread it.
+                let (xyz, s, center) = self.colours.in_lobe(
+                    &l.line,
+                    (xyz, s),
+                    &profile,
+                    cos_theta.into(),
+                    sigma.into(),
+                );
+                let mirror = reflect(dir, l.normal);
+                let out = Out {
+                    face,
+                    dir: mirror,
+                    domain,
+                    hint: span.hint,
+                };
+                let vivid = weight * xyz.iter().fold(0.0f64, |a, &b| a.max(b)) as f32;
+                let seen = self.reflected(&out, &l.line, sigma, weight * xyz[1] as f32, vivid);
+                self.add_line(f64::from(weight * seen), xyz, s, center, sums);
+            }
+            if self.setup.light.is_some() {
+                self.light_at(ray.at(span.t0 + EPSILON_MM), dir, domain, l, weight, sums);
+            }
+        }
+        // The ray goes on through, carrying each line's notch: what the earlier lines, this
+        // crossing's before it among them, leave of its centre.
+        for (k, (l, &(xyz, s, t_in))) in lines.iter().zip(&colours).enumerate() {
+            if self.eye_lines.len() >= MAX_EYE_LINES {
+                break;
+            }
+            let centre = l.line.center_nm;
+            let mut t_prev = t_in;
+            for before in &lines[..k] {
+                let (lo, hi) = before.line.window_nm();
+                if centre > lo && centre < hi {
+                    t_prev *= 1.0 - before.line.reflectance(centre);
+                }
+            }
+            for (n, v) in self.notch_xyz.iter_mut().zip(xyz) {
+                *n += t_prev * v;
+            }
+            if let Some(b) = self.setup.spectral.grid.bin_of(l.line.center_nm) {
+                self.notch_bins[b] += (t_prev * s / self.bin_width_nm) as f32;
+            }
+            self.eye_windows.push(l.line.window_nm());
+            self.eye_lines.push(l.line);
+        }
+        self.line_colours = colours;
+        self.lines = lines;
+    }
+
+    /// `Π (1 − R)` at `wavelength_nm` of the lines the eye ray has crossed.
+    pub(super) fn eye_transmittance(&self, wavelength_nm: f64) -> f64 {
+        let mut t = 1.0;
+        for (k, (lo, hi)) in self.eye_windows.iter().enumerate() {
+            if wavelength_nm > *lo && wavelength_nm < *hi {
+                t *= 1.0 - self.eye_lines[k].reflectance(wavelength_nm);
+            }
+        }
+        t
+    }
+
+    /// The radiance (in the stone, relative to the light's) that reaches the domain's face
+    /// `face` against `dir`, the mirror direction of `line` whose lobe has width `sigma`
+    /// (over normals, radians): the environment through the lobe, carried in through every
+    /// surface event up to [`MAX_SEGMENTS`], notched at the line's centre by the lines on
+    /// the way and dimmed by the potch and haze. Where `weight` times the line's luminance
+    /// times what the surface alone lets through is under [`CUT`], 0: the walks through the
+    /// domains, which only dim it, are then left out — unless the dome traps it and `vivid`,
+    /// its colour's largest tristimulus value times the eye ray's weight, is large enough
+    /// for its second reflections to be walked ([`Tracer::trapped`]).
+    pub(super) fn reflected(
+        &mut self,
+        out: &Out,
+        line: &BraggLine,
+        sigma: f32,
+        weight: f32,
+        vivid: f32,
+    ) -> f32 {
+        let bound = self.seen_out(out.face, out.dir, Region::Opal, sigma);
+        if weight * bound >= CUT || self.trapped(out, vivid) {
+            self.follow_out(out, line.center_nm, sigma, true, vivid)
+        } else if weight * self.body_peak >= BODY_CUT {
+            // Only the body can add enough: its light along the way, the lines not read.
+            self.follow_out(out, line.center_nm, sigma, false, vivid)
+        } else {
+            0.0
+        }
+    }
+}
