@@ -16,18 +16,18 @@
 //! result is the same at any thread count.
 
 mod accumulate;
-mod cells;
 pub(crate) mod direct;
 mod interaction;
 mod shape;
 mod smooth;
 mod source;
 mod tiles;
+mod voxel_layout;
 mod walk;
 
-pub use cells::{stone_geometry, StoneCells};
 pub use interaction::{ClusterOptics, Split, Transmission};
 pub use source::{LightSource, RayLattice};
+pub use voxel_layout::{voxel_geometry, VoxelLayout};
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
@@ -51,7 +51,7 @@ pub const LOBES: usize = 3;
 const SCATTERED_LOBES: usize = 2;
 /// Marks a cell with no storage (outside the stone).
 pub const NO_SLOT: u32 = u32::MAX;
-/// The patch of a cell that is not a cluster (see [`StoneCells::patch_normals`]).
+/// The patch of a cell that is not a cluster (see [`VoxelLayout::patch_normals`]).
 pub const NO_PATCH: u32 = u32::MAX;
 /// Work items are square tiles of the ray lattice, this many rays on a side: neighbouring
 /// rays cross the same cells, so a tile's deposits stay in cache.
@@ -181,22 +181,22 @@ impl LightField {
     }
 }
 
-/// Trace the light pass (paper §3.2) through `structure`, whose cells `cells` lays out
-/// ([`StoneCells::new`] of the same structure).
+/// Trace the light pass (paper §3.2) through `structure`, whose voxels `voxels` lays out
+/// ([`VoxelLayout::new`] of the same structure).
 pub fn trace_light(
     structure: &Structure,
-    cells: &StoneCells,
+    voxels: &VoxelLayout,
     optics: &OpticsTables,
     setup: &LightSetup,
 ) -> LightField {
     assert_eq!(
-        cells.slot_of_cell.len(),
+        voxels.slot_of_cell.len(),
         structure.cells.len(),
-        "the cells must be laid out from this structure"
+        "the voxels must be laid out from this structure"
     );
-    let slots = cells.slots();
+    let slots = voxels.slots();
     let bins = optics.grid.bins;
-    let walker = Walker::new(cells, optics, setup);
+    let walker = Walker::new(voxels, optics, setup);
     let side = walker.lattice.side();
     let tiles_per_row = side.div_ceil(TILE);
     let order = heaviest_first(&walker, side, tiles_per_row);
@@ -268,10 +268,10 @@ pub fn trace_light(
     let stride = sums.stride();
     let mut sums = sums.into_sums();
     walker.fill_direct(&mut sums, stride, LOBES);
-    let (directions, concentration) = smooth::smooth_sums(&mut sums, cells, stride);
+    let (directions, concentration) = smooth::smooth_sums(&mut sums, voxels, stride);
     LightField {
         grid: optics.grid,
-        slot_of_cell: cells.slot_of_cell.clone(),
+        slot_of_cell: voxels.slot_of_cell.clone(),
         fluence: sums,
         directions,
         concentration,

@@ -8,9 +8,9 @@
 use glam::Vec3;
 
 use super::accumulate::TileSums;
-use super::cells::{Site, StoneCells};
 use super::interaction::ClusterOptics;
 use super::source::{LightSource, RayLattice};
+use super::voxel_layout::{Site, VoxelLayout};
 use super::{EnergyLedger, LightSetup, Termination, TILE};
 use crate::geometry::{fresnel_dielectric, refract, CellGrid, Ellipsoid, Ray};
 use crate::optics::OpticsTables;
@@ -37,7 +37,7 @@ pub(crate) struct Walker<'a> {
     pub patch_normals: &'a [Vec3],
     pub cell_of_slot: &'a [usize],
     pub optics: ClusterOptics<'a>,
-    pub shape: Ellipsoid,
+    pub ellipsoid: Ellipsoid,
     pub grid: CellGrid,
     pub n_eff: f32,
     pub spectrum: &'a [f32],
@@ -56,25 +56,27 @@ pub(crate) struct Walker<'a> {
 }
 
 impl<'a> Walker<'a> {
-    /// The light rays' view of `cells`, `optics` and the light `setup`.
-    pub fn new(cells: &'a StoneCells, optics: &'a OpticsTables, setup: &LightSetup<'a>) -> Self {
-        let StoneCells { shape, grid, .. } = *cells;
+    /// The light rays' view of `voxels`, `optics` and the light `setup`.
+    pub fn new(voxels: &'a VoxelLayout, optics: &'a OpticsTables, setup: &LightSetup<'a>) -> Self {
+        let VoxelLayout {
+            ellipsoid, grid, ..
+        } = *voxels;
         Walker {
-            sites: &cells.sites,
-            patch_normals: &cells.patch_normals,
-            cell_of_slot: &cells.cell_of_slot,
+            sites: &voxels.sites,
+            patch_normals: &voxels.patch_normals,
+            cell_of_slot: &voxels.cell_of_slot,
             optics: ClusterOptics::new(optics),
-            shape,
+            ellipsoid,
             grid,
             n_eff: optics.n_eff as f32,
             spectrum: setup.spectrum,
             bin_width_nm: optics.grid.bin_width_nm() as f32,
             source: setup.source,
-            lattice: RayLattice::new(setup.source, &shape, setup.rays),
+            lattice: RayLattice::new(setup.source, &ellipsoid, setup.rays),
             body_albedo: setup.body_albedo,
             body_extinction_per_mm: setup.body_extinction_per_mm,
-            inv_volume: &cells.inv_volume,
-            whole_inv_volume: cells.whole_inv_volume,
+            inv_volume: &voxels.inv_volume,
+            whole_inv_volume: voxels.whole_inv_volume,
             seed: setup.seed,
             termination: setup.termination,
         }
@@ -221,7 +223,7 @@ impl Walker<'_> {
         rng: &mut Rng,
     ) {
         ledger.rays += 1;
-        let Some((t_hit, _)) = self.shape.intersect(&ray) else {
+        let Some((t_hit, _)) = self.ellipsoid.intersect(&ray) else {
             return;
         };
         if t_hit <= 0.0 {
@@ -229,7 +231,7 @@ impl Walker<'_> {
         }
         // Refract into the stone; the Fresnel-reflected part is the surface's gloss.
         let p = ray.at(t_hit);
-        let normal = self.shape.normal(p);
+        let normal = self.ellipsoid.normal(p);
         let weight = share * self.lattice.power_per_ray * self.source.irradiance_at(p);
         let p_in = self.power(self.spectrum) * weight;
         let fresnel = fresnel_dielectric(-ray.direction.dot(normal), 1.0, self.n_eff);
@@ -287,7 +289,7 @@ impl Walker<'_> {
         } = branch;
         let lobe = lobe_of(kind, direction);
         let ray = Ray { origin, direction };
-        let Some((t0, t1)) = self.shape.intersect(&ray) else {
+        let Some((t0, t1)) = self.ellipsoid.intersect(&ray) else {
             budget.ledger.book(Booking::Escaped(power));
             scratch.pool.push(shape);
             return;

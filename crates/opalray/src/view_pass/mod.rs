@@ -21,7 +21,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::geometry::{fresnel_dielectric, refract, Camera, CellGrid, Ellipsoid};
-use crate::light_pass::{stone_geometry, ClusterOptics, LightField, LightSource, Transmission};
+use crate::light_pass::{voxel_geometry, ClusterOptics, LightField, LightSource, Transmission};
 use crate::optics::OpticsTables;
 use crate::spectrum::SpectralImage;
 use crate::structure::Structure;
@@ -63,14 +63,14 @@ pub fn trace_view(
     shading: &Shading,
     setup: &ViewSetup,
 ) -> SpectralImage {
-    let (shape, grid) = stone_geometry(structure);
+    let (ellipsoid, grid) = voxel_geometry(structure);
     let cluster_optics = ClusterOptics::new(optics);
     let bins = light.grid.bins;
     let n_eff = optics.n_eff as f32;
     let ctx = View {
         shading,
         setup,
-        shape,
+        ellipsoid,
         grid,
         optics: cluster_optics,
         bins,
@@ -176,7 +176,7 @@ impl BlockScratch {
 struct View<'a> {
     shading: &'a Shading,
     setup: &'a ViewSetup<'a>,
-    shape: Ellipsoid,
+    ellipsoid: Ellipsoid,
     grid: CellGrid,
     optics: ClusterOptics<'a>,
     bins: usize,
@@ -301,7 +301,7 @@ impl View<'_> {
         transmission: &mut Transmission,
     ) -> Option<Deferred> {
         let ray = self.setup.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
-        let Some((t_hit, _)) = self.shape.intersect(&ray).filter(|h| h.0 > 0.0) else {
+        let Some((t_hit, _)) = self.ellipsoid.intersect(&ray).filter(|h| h.0 > 0.0) else {
             for (p, s) in pixel.iter_mut().zip(self.setup.light_spectrum) {
                 *p = self.setup.background * s;
             }
@@ -309,7 +309,7 @@ impl View<'_> {
         };
         // Surface: the gloss of the light, and the refracted ray.
         let p = ray.at(t_hit);
-        let normal = self.shape.normal(p);
+        let normal = self.ellipsoid.normal(p);
         let to_eye = -ray.direction;
         let fresnel = fresnel_dielectric(to_eye.dot(normal), 1.0, self.n_eff);
         let to_light = self.setup.source.direction_to_light(p);

@@ -70,7 +70,7 @@ impl View<'_> {
                         origin,
                         direction: dir,
                     };
-                    let (t0, t1) = self.shape.intersect(&inner)?;
+                    let (t0, t1) = self.ellipsoid.intersect(&inner)?;
                     let to_eye = -dir;
                     // Along one segment, cells of one patch meet the ray at the same angle and
                     // share their transmittance.
@@ -180,7 +180,7 @@ impl View<'_> {
         (pixel, shape_thr): (&mut [f32], &[f32]),
         scale: f32,
     ) -> (f32, Vec3) {
-        let n_q = self.shape.normal(q);
+        let n_q = self.ellipsoid.normal(q);
         let f_out = fresnel_dielectric(dir.dot(n_q), self.n_eff, 1.0);
         let seen = (1.0 - f_out) * self.n_eff * self.n_eff * self.setup.background;
         add_filtered(pixel, shape_thr, self.setup.light_spectrum, scale * seen);
