@@ -93,6 +93,22 @@ pub(crate) struct Scratch {
     pool: Vec<Vec<f32>>,
 }
 
+impl Scratch {
+    /// The reflectance, transmittance and diffuse scratch as one [`Fractions`], the stack of
+    /// branches waiting and the pool of spare spectra.
+    #[inline(always)]
+    fn split(&mut self) -> (Fractions<'_>, &mut Vec<Branch>, &mut Vec<Vec<f32>>) {
+        let Scratch {
+            r,
+            t,
+            d,
+            stack,
+            pool,
+        } = self;
+        (Fractions { r, t, d }, stack, pool)
+    }
+}
+
 /// A branch's spectrum is `scale × shape`: filters flat in wavelength (most clusters, voids,
 /// the surface) change the scale only, a Bragg line the bins of its window.
 struct Branch {
@@ -302,14 +318,7 @@ impl Walker<'_> {
         };
         let mut alive = true;
         let mut last = PatchSplit::NONE;
-        let Scratch {
-            r,
-            t,
-            d,
-            stack,
-            pool,
-        } = scratch;
-        let mut fractions = Fractions { r, t, d };
+        let (mut fractions, stack, pool) = scratch.split();
         self.grid.traverse(
             &ray,
             t0.max(0.0),
@@ -350,11 +359,26 @@ impl Walker<'_> {
                 alive
             },
         );
-        if !alive {
+        let exit = alive.then(|| (ray.at(t1), direction));
+        self.end_branch::<ROULETTE>(exit, carried, bounces, (pool, stack), budget);
+    }
+
+    /// End a branch's walk: one that faded (`exit` `None`) returns its shape to `pool`; one
+    /// that reached the surface at `exit` (point, direction) leaves or reflects there, the
+    /// reflection pushed on `stack`.
+    #[inline(always)]
+    fn end_branch<const ROULETTE: bool>(
+        &self,
+        exit: Option<(Vec3, Vec3)>,
+        carried: Carried,
+        bounces: u32,
+        (pool, stack): (&mut Vec<Vec<f32>>, &mut Vec<Branch>),
+        budget: &mut Budget,
+    ) {
+        let Some(exit) = exit else {
             pool.push(carried.shape);
             return;
-        }
-        let exit = (ray.at(t1), direction);
+        };
         if let Some(next) = self.leave_or_reflect::<ROULETTE>(exit, carried, bounces, pool, budget)
         {
             stack.push(next);

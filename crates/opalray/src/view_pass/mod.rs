@@ -200,6 +200,38 @@ impl View<'_> {
         rows: &mut [f32],
         scratch: &mut BlockScratch,
     ) {
+        self.shade_block_pixels((x0, y0), block, rows, scratch);
+        if scratch.deferred.is_empty() {
+            return;
+        }
+        let n = scratch.deferred.len() as f32;
+        let origin = scratch.deferred.iter().map(|(_, d)| d.origin).sum::<Vec3>() / n;
+        let direction = scratch
+            .deferred
+            .iter()
+            .map(|(_, d)| d.direction)
+            .sum::<Vec3>()
+            .normalize_or_zero();
+        let together = scratch
+            .deferred
+            .iter()
+            .all(|(_, d)| d.direction.dot(direction) >= SHARED_SPREAD_COS);
+        if together {
+            self.walk_reflections_together(origin, direction, rows, scratch);
+        } else {
+            self.walk_reflections_apart(rows, scratch);
+        }
+    }
+
+    /// Shade each pixel of the block at `(x0, y0)` (see [`View::shade_block`]), keeping in
+    /// `scratch.deferred` and `scratch.shapes` the weak first reflections to be walked later.
+    fn shade_block_pixels(
+        &self,
+        (x0, y0): (usize, usize),
+        block: usize,
+        rows: &mut [f32],
+        scratch: &mut BlockScratch,
+    ) {
         let (width, bins) = (self.setup.width, self.bins);
         let x1 = (x0 + block).min(width);
         let y1 = (y0 + block).min(self.setup.height);
@@ -223,64 +255,64 @@ impl View<'_> {
                 }
             }
         }
-        if scratch.deferred.is_empty() {
-            return;
+    }
+
+    /// Walk the block's deferred reflections once, from their mean `origin` along their mean
+    /// `direction`, and add what that path sees to each deferred pixel through its own
+    /// throughput.
+    fn walk_reflections_together(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        rows: &mut [f32],
+        scratch: &mut BlockScratch,
+    ) {
+        let bins = self.bins;
+        let s0 = scratch
+            .deferred
+            .iter()
+            .fold(0.0f32, |m, (_, d)| m.max(d.scale));
+        scratch.shape.fill(1.0);
+        scratch.shared.fill(0.0);
+        let mut peak = 0;
+        let start = WalkStart {
+            origin,
+            direction,
+            scale: s0,
+        };
+        let buffers = RayBuffers {
+            pixel: &mut scratch.shared,
+            shape_thr: &mut scratch.shape,
+            transmission: &mut scratch.transmission,
+        };
+        self.walk(start, &mut peak, REFLECTED, buffers);
+        for (k, &(at, d)) in scratch.deferred.iter().enumerate() {
+            let pixel = &mut rows[at * bins..(at + 1) * bins];
+            let shape = &scratch.shapes[k * bins..(k + 1) * bins];
+            add_filtered(pixel, shape, &scratch.shared, d.scale / s0);
         }
-        let n = scratch.deferred.len() as f32;
-        let origin = scratch.deferred.iter().map(|(_, d)| d.origin).sum::<Vec3>() / n;
-        let direction = scratch
-            .deferred
-            .iter()
-            .map(|(_, d)| d.direction)
-            .sum::<Vec3>()
-            .normalize_or_zero();
-        let together = scratch
-            .deferred
-            .iter()
-            .all(|(_, d)| d.direction.dot(direction) >= SHARED_SPREAD_COS);
-        if together {
-            let s0 = scratch
-                .deferred
-                .iter()
-                .fold(0.0f32, |m, (_, d)| m.max(d.scale));
-            scratch.shape.fill(1.0);
-            scratch.shared.fill(0.0);
-            let mut peak = 0;
+    }
+
+    /// Walk each of the block's deferred reflections on its own, into its pixel.
+    fn walk_reflections_apart(&self, rows: &mut [f32], scratch: &mut BlockScratch) {
+        let bins = self.bins;
+        for (k, &(at, d)) in scratch.deferred.iter().enumerate() {
+            let pixel = &mut rows[at * bins..(at + 1) * bins];
+            scratch
+                .shape
+                .copy_from_slice(&scratch.shapes[k * bins..(k + 1) * bins]);
+            let mut peak = d.peak;
             let start = WalkStart {
-                origin,
-                direction,
-                scale: s0,
+                origin: d.origin,
+                direction: d.direction,
+                scale: d.scale,
             };
             let buffers = RayBuffers {
-                pixel: &mut scratch.shared,
+                pixel,
                 shape_thr: &mut scratch.shape,
                 transmission: &mut scratch.transmission,
             };
             self.walk(start, &mut peak, REFLECTED, buffers);
-            for (k, &(at, d)) in scratch.deferred.iter().enumerate() {
-                let pixel = &mut rows[at * bins..(at + 1) * bins];
-                let shape = &scratch.shapes[k * bins..(k + 1) * bins];
-                add_filtered(pixel, shape, &scratch.shared, d.scale / s0);
-            }
-        } else {
-            for (k, &(at, d)) in scratch.deferred.iter().enumerate() {
-                let pixel = &mut rows[at * bins..(at + 1) * bins];
-                scratch
-                    .shape
-                    .copy_from_slice(&scratch.shapes[k * bins..(k + 1) * bins]);
-                let mut peak = d.peak;
-                let start = WalkStart {
-                    origin: d.origin,
-                    direction: d.direction,
-                    scale: d.scale,
-                };
-                let buffers = RayBuffers {
-                    pixel,
-                    shape_thr: &mut scratch.shape,
-                    transmission: &mut scratch.transmission,
-                };
-                self.walk(start, &mut peak, REFLECTED, buffers);
-            }
         }
     }
 
