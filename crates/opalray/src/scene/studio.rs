@@ -174,7 +174,20 @@ impl DomainsConfig {
     pub fn validate(&self) -> Result<()> {
         self.validate_grains()?;
         self.validate_correlations()?;
-        self.validate_mosaic_and_boundaries()
+        check_range(
+            "domains.mosaic_spread_deg",
+            self.mosaic_spread_deg,
+            0.0,
+            20.0,
+            0.5,
+        )?;
+        check_range(
+            "domains.boundary_roughness",
+            self.boundary_roughness,
+            0.0,
+            1.0,
+            0.4,
+        )
     }
 
     /// The grains' size, shape, orientations, voids and sphere diameters.
@@ -255,24 +268,6 @@ impl DomainsConfig {
             ));
         }
         Ok(())
-    }
-
-    /// The domains' mosaic spread and their boundaries' roughness.
-    fn validate_mosaic_and_boundaries(&self) -> Result<()> {
-        check_range(
-            "domains.mosaic_spread_deg",
-            self.mosaic_spread_deg,
-            0.0,
-            20.0,
-            0.5,
-        )?;
-        check_range(
-            "domains.boundary_roughness",
-            self.boundary_roughness,
-            0.0,
-            1.0,
-            0.4,
-        )
     }
 }
 
