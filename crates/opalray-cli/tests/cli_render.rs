@@ -1,13 +1,13 @@
-//! `opalray render`, `sweep` and `bench` as a user runs them: files that open, statistics,
-//! identical bytes at any thread count, and one-line errors with exit code 2 and no output
-//! left behind for bad input.
+//! `opalray render` as a user runs it: files that open, statistics, identical bytes at any
+//! thread count, and one-line errors with exit code 2 and no output left behind for bad input
+//! (`sweep` and `bench`: `cli_sweep_bench.rs`).
 
 mod common;
 
 use std::path::Path;
 use std::process::Output;
 
-use common::{files_in, opalray_with_env, opalray_with_threads, stderr};
+use common::{args, files_in, opalray_with_env, opalray_with_threads, stderr};
 
 fn opalray(dir: &Path, args: &[&str], threads: Option<&str>) -> Output {
     opalray_with_threads(dir, args, threads)
@@ -17,10 +17,6 @@ fn opalray(dir: &Path, args: &[&str], threads: Option<&str>) -> Output {
 const SMALL: &[&str] = &[
     "--preset", "paper", "--width", "64", "--height", "48", "--bins", "16", "--rays", "20000",
 ];
-
-fn args<'a>(first: &[&'a str], rest: &[&'a str]) -> Vec<&'a str> {
-    first.iter().chain(rest).copied().collect()
-}
 
 #[test]
 fn render_writes_an_image_and_its_statistics() {
@@ -244,87 +240,6 @@ fn render_bytes_do_not_depend_on_the_vector_instructions() {
     }
     let read = |n: &str| std::fs::read(dir.path().join(n)).unwrap();
     assert_eq!(read("portable.exr"), read("widest.exr"));
-}
-
-#[test]
-fn sweep_writes_a_sheet_and_animations() {
-    let dir = tempfile::tempdir().unwrap();
-    let small = [
-        "--preset", "paper", "--frames", "3", "--width", "48", "--height", "36", "--bins", "16",
-        "--rays", "10000",
-    ];
-    let out = opalray(
-        dir.path(),
-        &args(
-            &["sweep", "--sheet", "s.png", "--animation", "a.gif"],
-            &small,
-        ),
-        None,
-    );
-    assert!(out.status.success(), "{}", stderr(&out));
-    let sheet = image::open(dir.path().join("s.png")).unwrap();
-    assert!(sheet.width() > 3 * 48 && sheet.height() > 36);
-    use image::AnimationDecoder;
-    let gif = std::io::BufReader::new(std::fs::File::open(dir.path().join("a.gif")).unwrap());
-    let frames = image::codecs::gif::GifDecoder::new(gif)
-        .unwrap()
-        .into_frames();
-    assert_eq!(frames.count(), 3);
-    let out = opalray(
-        dir.path(),
-        &args(
-            &["sweep", "--sheet", "t.png", "--animation", "a.png"],
-            &small,
-        ),
-        None,
-    );
-    assert!(out.status.success(), "{}", stderr(&out));
-    let apng = std::fs::read(dir.path().join("a.png")).unwrap();
-    let actl = apng
-        .windows(4)
-        .position(|w| w == b"acTL")
-        .expect("an APNG acTL chunk");
-    let frames = u32::from_be_bytes(apng[actl + 4..actl + 8].try_into().unwrap());
-    assert_eq!(frames, 3);
-}
-
-#[test]
-fn bench_prints_json_medians() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = opalray(
-        dir.path(),
-        &[
-            "bench", "--preset", "paper", "--runs", "1", "--json", "--width", "32", "--height",
-            "24", "--rays", "5000",
-        ],
-        None,
-    );
-    assert!(out.status.success(), "{}", stderr(&out));
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    for stage in [
-        "structure",
-        "optics",
-        "light_pass",
-        "view_pass",
-        "color",
-        "total",
-    ] {
-        let median = v["median_s"][stage].as_f64().expect("median_s");
-        let fastest = v["min_s"][stage].as_f64().expect("min_s");
-        assert!(
-            fastest <= median && fastest >= 0.0,
-            "{stage}: {fastest} > {median}"
-        );
-    }
-    // Linux reports the processor time stolen by a hypervisor: a share, or null elsewhere.
-    let stolen = &v["cpu_stolen_fraction"];
-    match stolen.as_f64() {
-        Some(share) => assert!((0.0..=1.0).contains(&share), "{share}"),
-        None => assert!(
-            stolen.is_null() && !cfg!(target_os = "linux"),
-            "cpu_stolen_fraction: {stolen}"
-        ),
-    }
 }
 
 #[test]

@@ -6,7 +6,7 @@ use std::sync::{Arc, OnceLock};
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2};
-use opalray::light_pass::StoneCells;
+use opalray::light_pass::VoxelLayout;
 use opalray::stone::Stone;
 use opalray::Prepared;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -25,7 +25,7 @@ use crate::stone::StoneModel;
 pub struct Stages {
     prepared: Arc<Prepared>,
     /// The stone's cells laid out for the passes, built by the first render.
-    cells: Arc<OnceLock<StoneCells>>,
+    cells: Arc<OnceLock<VoxelLayout>>,
     /// The stone model: the prepared one (`integrator.method = "path"`) or one built on
     /// first use.
     stone: OnceLock<Arc<Stone>>,
@@ -190,7 +190,7 @@ impl Stages {
         let light = run_on(py, threads, None, move || {
             // Grown when prepared for the two passes, here for another method.
             let structure = prepared.structure()?;
-            let cells = cells.get_or_init(|| StoneCells::new(structure));
+            let cells = cells.get_or_init(|| VoxelLayout::new(structure));
             Ok::<_, opalray::Error>(StoredLight {
                 field: prepared.light_pass_in(cells, angle),
                 cell_of_slot: cells.cell_of_slot.clone(),

@@ -3,7 +3,7 @@
 //! view pass (§3.3) and a whole frame after `prepare` (what each frame of a sweep costs).
 
 use criterion::Criterion;
-use opalray::light_pass::{trace_light, ClusterOptics, LightSetup, StoneCells, Termination};
+use opalray::light_pass::{trace_light, ClusterOptics, LightSetup, Termination, VoxelLayout};
 use opalray::render::prepare;
 use opalray::scene::{Scene, BODY_EXTINCTION_PER_MM};
 use opalray::view_pass::{trace_view, Shading, ViewSetup};
@@ -23,7 +23,7 @@ fn render(c: &mut Criterion) {
         body_extinction_per_mm: BODY_EXTINCTION_PER_MM,
         termination: Termination::DEFAULT,
     };
-    let cells = StoneCells::new(prepared.structure().unwrap());
+    let cells = VoxelLayout::new(prepared.structure().unwrap());
     let mut group = c.benchmark_group("render");
     group.sample_size(10);
     group.bench_function("light_pass_default", |b| {

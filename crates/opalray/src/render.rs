@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use crate::error::Result;
-use crate::light_pass::StoneCells;
+use crate::light_pass::VoxelLayout;
 use crate::lights::Environment;
 use crate::optics::{build_optics, OpticsTables};
 use crate::path::Passes;
@@ -47,7 +47,7 @@ pub struct Prepared {
     pub times: StageTimes,
     /// The paper's two passes: the stone's cells, laid out at the first frame and shared by
     /// every later one (a sweep's).
-    pub(crate) cells: OnceLock<StoneCells>,
+    pub(crate) cells: OnceLock<VoxelLayout>,
 }
 
 /// Seconds since `since`.

@@ -5,7 +5,6 @@
 mod common;
 
 use glam::Vec3;
-use opalray::geometry::Camera;
 use opalray::lights::{AreaLight, Environment};
 use opalray::path::SpectralSampler;
 use opalray::path::{trace_passes, trace_paths, BraggOrders, Passes, PathImage, PathSetup};
@@ -30,33 +29,17 @@ fn setup(
     fov_deg: f32,
     spp: u32,
 ) -> PathSetup<'_> {
+    let config = EnvironmentConfig {
+        kind,
+        ..EnvironmentConfig::default()
+    };
+    let environment = Environment::new(&config, 0.0).unwrap();
     PathSetup {
-        camera: Camera::look_at(
-            Vec3::new(0.0, 0.0, 100.0),
-            Vec3::ZERO,
-            Vec3::Y,
-            fov_deg,
-            n,
-            n,
-        ),
-        width: n,
-        height: n,
         spp,
         max_depth: 64,
         max_scatterings: 0,
-        light: None,
-        environment: Environment::new(
-            &EnvironmentConfig {
-                kind,
-                ..EnvironmentConfig::default()
-            },
-            0.0,
-        )
-        .unwrap(),
-        area_light: None,
-        gloss: 1.0,
         seed: 11,
-        spectral: sampler,
+        ..common::view_from_above(sampler, environment, Vec3::ZERO, n, fov_deg)
     }
 }
 

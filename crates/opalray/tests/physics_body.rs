@@ -2,10 +2,11 @@
 //! renders against independent numbers: a lossless stone in a furnace shows the furnace's
 //! value; a thick slab of potch shows its tone's Munsell value (ASTM D1535).
 
+mod common;
+
 use glam::Vec3;
-use opalray::geometry::Camera;
 use opalray::lights::Environment;
-use opalray::path::{trace_paths, PathSetup, SpectralSampler};
+use opalray::path::{PathSetup, SpectralSampler};
 use opalray::scene::{Cut, EnvironmentKind, PathConfig, Pattern, Scene};
 use opalray::stone::body::munsell_y;
 use opalray::stone::Stone;
@@ -34,27 +35,13 @@ fn face_y(
     let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
     // A 2 × frac mm square at the face's centre.
     let fov = 2.0 * (frac / 100.0).atan().to_degrees();
-    let image = trace_paths(
-        stone,
-        &PathSetup {
-            camera: Camera::look_at(Vec3::new(0.0, 0.0, 100.0), Vec3::ZERO, Vec3::Y, fov, n, n),
-            width: n,
-            height: n,
-            spp,
-            max_depth,
-            max_scatterings: PathConfig::default().max_scatterings,
-            light: None,
-            environment: Environment::uniform(),
-            area_light: None,
-            gloss: 1.0,
-            seed: 5,
-            spectral: &sampler,
-        },
-    );
-    let pixels = (n * n) as f64;
-    let mean = image.xyz.iter().map(|v| f64::from(v[1])).sum::<f64>() / pixels;
-    let variance = image.variance.iter().map(|v| f64::from(v[1])).sum::<f64>() / pixels;
-    (mean, (variance / pixels).sqrt())
+    let view = common::view_from_above(&sampler, Environment::uniform(), Vec3::ZERO, n, fov);
+    let setup = PathSetup {
+        spp,
+        max_depth,
+        ..view
+    };
+    common::mean_y(stone, &setup)
 }
 
 #[test]

@@ -7,11 +7,12 @@
 //! sideways in the body (about 0.4 mm for N9) finds the surface curving towards it and more
 //! of it leaves (`docs/model.md`, "The stone's body").
 
+mod common;
+
 use glam::Vec3;
-use opalray::geometry::Camera;
 use opalray::lights::Environment;
-use opalray::path::{trace_paths, PathSetup, SpectralSampler};
-use opalray::scene::{Cut, EnvironmentKind, PathConfig, Pattern, Scene};
+use opalray::path::{PathSetup, SpectralSampler};
+use opalray::scene::{Cut, EnvironmentKind, Pattern, Scene};
 use opalray::stone::body::munsell_y;
 use opalray::stone::Stone;
 
@@ -37,28 +38,13 @@ fn body_y(stone: &Stone, scene: &Scene, spp: u32) -> (f64, f64) {
     let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
     let top = Vec3::new(0.0, 0.0, 8.0);
     let fov = 2.0 * (1.0f32 / 100.0).atan().to_degrees();
-    let n = 8;
-    let image = trace_paths(
-        stone,
-        &PathSetup {
-            camera: Camera::look_at(top + Vec3::Z * 100.0, top, Vec3::Y, fov, n, n),
-            width: n,
-            height: n,
-            spp,
-            max_depth: PathConfig::default().max_depth,
-            max_scatterings: PathConfig::default().max_scatterings,
-            light: None,
-            environment: Environment::uniform(),
-            area_light: None,
-            gloss: 0.0,
-            seed: 5,
-            spectral: &sampler,
-        },
-    );
-    let pixels = (n * n) as f64;
-    let mean = image.xyz.iter().map(|v| f64::from(v[1])).sum::<f64>() / pixels;
-    let variance = image.variance.iter().map(|v| f64::from(v[1])).sum::<f64>() / pixels;
-    (mean, (variance / pixels).sqrt())
+    let view = common::view_from_above(&sampler, Environment::uniform(), top, 8, fov);
+    let setup = PathSetup {
+        spp,
+        gloss: 0.0,
+        ..view
+    };
+    common::mean_y(stone, &setup)
 }
 
 #[test]

@@ -13,8 +13,9 @@
 //! tracer that averaged s and p would give `¼ (R_s + R_p)(R_s' + R_p')`, twice too little in
 //! one plane at 45° inside (where p is hardly reflected) and far too much with crossed planes.
 
+mod common;
+
 use std::f64::consts::PI;
-use std::path::Path;
 
 use glam::Vec3;
 use opalray::geometry::reflect;
@@ -114,32 +115,11 @@ impl Plate {
 /// `(λ, S(λ) ȳ(λ))` of D65 every nm over `range`, from the CIE tables (D65 every 5 nm,
 /// joined linearly).
 fn d65_y(range: (f64, f64)) -> Vec<(f64, f64)> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/cie");
-    let read = |name: &str| -> Vec<(f64, f64, f64)> {
-        std::fs::read_to_string(root.join(name))
-            .unwrap()
-            .lines()
-            .skip(1)
-            .filter_map(|l| {
-                let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();
-                (v.len() >= 2).then(|| (v[0], v[1], *v.get(2).unwrap_or(&0.0)))
-            })
-            .collect()
-    };
-    let cmf = read("cie1931_2deg_xyz_1nm.csv");
-    let d65 = read("illuminant_d65_5nm.csv");
-    let d65_at = |w: f64| {
-        let i = d65
-            .iter()
-            .position(|r| r.0 > w)
-            .unwrap_or(d65.len() - 1)
-            .max(1);
-        let (a, b) = (d65[i - 1], d65[i]);
-        a.1 + (b.1 - a.1) * (w - a.0) / (b.0 - a.0)
-    };
+    let cmf = common::cie_table("cie1931_2deg_xyz_1nm.csv");
+    let d65 = common::cie_table("illuminant_d65_5nm.csv");
     cmf.iter()
         .filter(|r| r.0 >= range.0 && r.0 <= range.1)
-        .map(|r| (r.0, d65_at(r.0) * r.2))
+        .map(|r| (r.0, common::linear_at(&d65, r.0) * r.2))
         .collect()
 }
 

@@ -2,7 +2,7 @@
 //! flashing cluster, the blue shift with angle, a furnace, energy bookkeeping, convergence.
 
 use glam::{Quat, Vec3};
-use opalray::light_pass::{trace_light, LightSetup, LightSource, StoneCells, Termination, LOBES};
+use opalray::light_pass::{trace_light, LightSetup, LightSource, Termination, VoxelLayout, LOBES};
 use opalray::render::{prepare, Prepared};
 use opalray::scene::Scene;
 use opalray::structure::{Cell, Structure, AXIS_111};
@@ -138,7 +138,7 @@ fn furnace_light_passes_unchanged() {
     let spectrum = prepared.light_spectrum();
     let light = trace_light(
         prepared.structure().unwrap(),
-        &StoneCells::new(prepared.structure().unwrap()),
+        &VoxelLayout::new(prepared.structure().unwrap()),
         prepared.optics().unwrap(),
         &LightSetup {
             source: LightSource::Directional {
@@ -324,7 +324,7 @@ fn direct_light_inside_is_the_refracted_irradiance() {
         let theta = angle.to_radians();
         let light = trace_light(
             prepared.structure().unwrap(),
-            &StoneCells::new(prepared.structure().unwrap()),
+            &VoxelLayout::new(prepared.structure().unwrap()),
             prepared.optics().unwrap(),
             &LightSetup {
                 source: LightSource::Directional {

@@ -4,7 +4,7 @@
 //! (about 0.0097 at 555 nm), not 1. Checked on the path tracer's view of the uniform white
 //! environment (Y = 1), against the CIE tables in `data/cie` integrated here.
 
-use std::path::Path;
+mod common;
 
 use glam::Vec3;
 use opalray::geometry::Camera;
@@ -13,21 +13,6 @@ use opalray::path::{trace_paths, PathSetup, SpectralSampler};
 use opalray::scene::{Illuminant, Pattern, Scene};
 use opalray::spectrum::WavelengthGrid;
 use opalray::stone::Stone;
-
-/// `(λ, value, ȳ)` rows of a CIE table (the third column 0 where there is none).
-fn cie(name: &str) -> Vec<(f64, f64, f64)> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../data/cie")
-        .join(name);
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .filter_map(|l| {
-            let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();
-            (v.len() >= 2).then(|| (v[0], v[1], *v.get(2).unwrap_or(&0.0)))
-        })
-        .collect()
-}
 
 #[test]
 fn white_under_d65_reads_the_illuminant_over_its_luminance_per_nm() {
@@ -73,17 +58,9 @@ fn white_under_d65_reads_the_illuminant_over_its_luminance_per_nm() {
     );
 
     // D65 every 5 nm joined linearly; ȳ every nm; the luminance integral over the range.
-    let d65 = cie("illuminant_d65_5nm.csv");
-    let d65_at = |w: f64| {
-        let i = d65
-            .iter()
-            .position(|r| r.0 > w)
-            .unwrap_or(d65.len() - 1)
-            .max(1);
-        let (a, b) = (d65[i - 1], d65[i]);
-        a.1 + (b.1 - a.1) * (w - a.0) / (b.0 - a.0)
-    };
-    let ybar: Vec<(f64, f64)> = cie("cie1931_2deg_xyz_1nm.csv")
+    let d65 = common::cie_table("illuminant_d65_5nm.csv");
+    let d65_at = |w: f64| common::linear_at(&d65, w);
+    let ybar: Vec<(f64, f64)> = common::cie_table("cie1931_2deg_xyz_1nm.csv")
         .into_iter()
         .filter(|r| (380.0..=780.0).contains(&r.0))
         .map(|r| (r.0, r.2))

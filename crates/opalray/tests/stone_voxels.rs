@@ -6,7 +6,7 @@
 //! (`docs/architecture.md`, "One world").
 
 use glam::Vec3;
-use opalray::light_pass::stone_geometry;
+use opalray::light_pass::voxel_geometry;
 use opalray::scene::preset;
 use opalray::stone::Stone;
 use opalray::structure::{grow_structure, Cell};
@@ -17,7 +17,7 @@ fn disagreements(name: &str) -> ((usize, usize, usize), [usize; 2]) {
     let scene = preset(name).unwrap();
     let structure = grow_structure(&scene.structure).unwrap();
     let stone = Stone::new(&scene).unwrap();
-    let (_, grid) = stone_geometry(&structure);
+    let (_, grid) = voxel_geometry(&structure);
     let [nx, ny, nz] = structure.grid;
     let (mut outside, mut kind, mut orientation) = (0, 0, 0);
     let mut compared = [0usize; 2];

@@ -66,24 +66,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let config = &scene.structure;
     let [nx, ny, nz] = config.grid;
-    if let Some(slice_z) = args.slice_z.filter(|&k| k >= nz) {
-        bail!(
-            "--slice-z {slice_z}: the grid has {nz} cells along z; give a value in 0..={}",
-            nz - 1
-        );
-    }
-    // The map's size is known before growing: refuse a --scale it cannot draw.
-    let pixels = (nx as u64 * u64::from(args.scale)) * (ny as u64 * u64::from(args.scale));
-    if pixels > structure::map::MAX_PIXELS as u64 {
-        let largest = ((structure::map::MAX_PIXELS as f64 / (nx * ny) as f64).sqrt()) as u64;
-        bail!(
-            "--scale {}: the map of {nx} × {ny} cells would be {pixels} pixels, more than the \
-             limit of {}; use --scale {} or less",
-            args.scale,
-            structure::map::MAX_PIXELS,
-            largest.max(1)
-        );
-    }
+    let pixels = check_map(&args, config.grid)?;
     if scene.integrator.method() != Method::TwoPass {
         // The map's pixels: a domain id, the colour and the encoder's row (16 bytes), and
         // the stone as a render builds it.
@@ -107,27 +90,7 @@ pub fn run(args: Args) -> Result<()> {
 
     let s = &grown.stats;
     if let Some(stats_out) = stats_out {
-        let mut value = serde_json::to_value(s).expect("stats serialise");
-        let object = value.as_object_mut().expect("stats are an object");
-        object.insert("grid".into(), serde_json::json!(config.grid));
-        object.insert(
-            "semi_axes_mm".into(),
-            serde_json::json!(config.semi_axes_mm),
-        );
-        object.insert(
-            "target_void_ratio".into(),
-            serde_json::json!(config.void_ratio),
-        );
-        object.insert(
-            "target_mean_radius_cells".into(),
-            serde_json::json!(config.mean_radius_cells),
-        );
-        object.insert("seed".into(), serde_json::json!(config.seed));
-        object.insert("slice_z".into(), serde_json::json!(slice_z));
-        object.insert(
-            "time_s".into(),
-            serde_json::json!({ "structure": structure_s }),
-        );
+        let value = stats_json(&grown, config, slice_z, structure_s);
         outputs.write(stats_out, |path| write_json(path, &value))?;
     }
     outputs.commit()?;
@@ -151,6 +114,62 @@ pub fn run(args: Args) -> Result<()> {
         structure_s * 1e3
     ))?;
     Ok(())
+}
+
+/// Check `--slice-z` and `--scale` against a `grid` of cells before growing; returns the
+/// map's pixels.
+fn check_map(args: &Args, [nx, ny, nz]: [usize; 3]) -> Result<u64> {
+    if let Some(slice_z) = args.slice_z.filter(|&k| k >= nz) {
+        bail!(
+            "--slice-z {slice_z}: the grid has {nz} cells along z; give a value in 0..={}",
+            nz - 1
+        );
+    }
+    // The map's size is known before growing: refuse a --scale it cannot draw.
+    let pixels = (nx as u64 * u64::from(args.scale)) * (ny as u64 * u64::from(args.scale));
+    if pixels > structure::map::MAX_PIXELS as u64 {
+        let largest = ((structure::map::MAX_PIXELS as f64 / (nx * ny) as f64).sqrt()) as u64;
+        bail!(
+            "--scale {}: the map of {nx} × {ny} cells would be {pixels} pixels, more than the \
+             limit of {}; use --scale {} or less",
+            args.scale,
+            structure::map::MAX_PIXELS,
+            largest.max(1)
+        );
+    }
+    Ok(pixels)
+}
+
+/// The statistics of the growth `grown` of `config` (`--stats`): the growth's own, the
+/// configuration's targets, the slice drawn and the time taken.
+fn stats_json(
+    grown: &opalray::structure::Structure,
+    config: &opalray::scene::StructureConfig,
+    slice_z: usize,
+    structure_s: f64,
+) -> serde_json::Value {
+    let mut value = serde_json::to_value(&grown.stats).expect("stats serialise");
+    let object = value.as_object_mut().expect("stats are an object");
+    object.insert("grid".into(), serde_json::json!(config.grid));
+    object.insert(
+        "semi_axes_mm".into(),
+        serde_json::json!(config.semi_axes_mm),
+    );
+    object.insert(
+        "target_void_ratio".into(),
+        serde_json::json!(config.void_ratio),
+    );
+    object.insert(
+        "target_mean_radius_cells".into(),
+        serde_json::json!(config.mean_radius_cells),
+    );
+    object.insert("seed".into(), serde_json::json!(config.seed));
+    object.insert("slice_z".into(), serde_json::json!(slice_z));
+    object.insert(
+        "time_s".into(),
+        serde_json::json!({ "structure": structure_s }),
+    );
+    value
 }
 
 /// The map (`--output`) and the statistics (`--stats`), checked before any work.

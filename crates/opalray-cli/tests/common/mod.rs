@@ -51,3 +51,8 @@ pub fn write_preset_with(dir: &Path, name: &str, (from, to): (&str, &str), file:
     assert!(text.contains(from), "{text}");
     std::fs::write(dir.join(file), text.replace(from, to)).unwrap();
 }
+
+/// The arguments `first` followed by `rest`.
+pub fn args<'a>(first: &[&'a str], rest: &[&'a str]) -> Vec<&'a str> {
+    first.iter().chain(rest).copied().collect()
+}

@@ -46,7 +46,7 @@ impl Walker<'_> {
     /// [`refracted_entry`] for this walker's stone and light.
     #[inline(always)]
     fn entry(&self, target: Vec3, guess: Option<Vec3>) -> Option<(Vec3, Vec3, f32)> {
-        refracted_entry(&self.shape, &self.source, self.n_eff, target, guess)
+        refracted_entry(&self.ellipsoid, &self.source, self.n_eff, target, guess)
     }
 
     /// The direct light of the cell `cell` (centre `centre`): its fluence spectrum is written

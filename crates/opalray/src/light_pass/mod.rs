@@ -16,18 +16,18 @@
 //! result is the same at any thread count.
 
 mod accumulate;
-mod cells;
 pub(crate) mod direct;
 mod interaction;
 mod shape;
 mod smooth;
 mod source;
 mod tiles;
+mod voxel_layout;
 mod walk;
 
-pub use cells::{stone_geometry, StoneCells};
 pub use interaction::{ClusterOptics, Split, Transmission};
 pub use source::{LightSource, RayLattice};
+pub use voxel_layout::{voxel_geometry, VoxelLayout};
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
@@ -51,7 +51,7 @@ pub const LOBES: usize = 3;
 const SCATTERED_LOBES: usize = 2;
 /// Marks a cell with no storage (outside the stone).
 pub const NO_SLOT: u32 = u32::MAX;
-/// The patch of a cell that is not a cluster (see [`StoneCells::patch_normals`]).
+/// The patch of a cell that is not a cluster (see [`VoxelLayout::patch_normals`]).
 pub const NO_PATCH: u32 = u32::MAX;
 /// Work items are square tiles of the ray lattice, this many rays on a side: neighbouring
 /// rays cross the same cells, so a tile's deposits stay in cache.
@@ -181,25 +181,44 @@ impl LightField {
     }
 }
 
-/// Trace the light pass (paper §3.2) through `structure`, whose cells `cells` lays out
-/// ([`StoneCells::new`] of the same structure).
+/// Trace the light pass (paper §3.2) through `structure`, whose voxels `voxels` lays out
+/// ([`VoxelLayout::new`] of the same structure).
 pub fn trace_light(
     structure: &Structure,
-    cells: &StoneCells,
+    voxels: &VoxelLayout,
     optics: &OpticsTables,
     setup: &LightSetup,
 ) -> LightField {
     assert_eq!(
-        cells.slot_of_cell.len(),
+        voxels.slot_of_cell.len(),
         structure.cells.len(),
-        "the cells must be laid out from this structure"
+        "the voxels must be laid out from this structure"
     );
-    let slots = cells.slots();
+    let slots = voxels.slots();
     let bins = optics.grid.bins;
-    let walker = Walker::new(cells, optics, setup);
+    let walker = Walker::new(voxels, optics, setup);
+    let (sums, ledger) = trace_tiles(&walker, slots, bins);
+    let stride = sums.stride();
+    let mut sums = sums.into_sums();
+    walker.fill_direct(&mut sums, stride, LOBES);
+    let (directions, concentration) = smooth::smooth_sums(&mut sums, voxels, stride);
+    LightField {
+        grid: optics.grid,
+        slot_of_cell: voxels.slot_of_cell.clone(),
+        fluence: sums,
+        directions,
+        concentration,
+        ledger,
+    }
+}
+
+/// Trace every tile of `walker`'s ray lattice, heaviest first, on every thread: the scattered
+/// light's sums over `slots` slots of `bins` bins, the tiles added in task order, and the sum
+/// of the tiles' ledgers, added in task order too.
+fn trace_tiles(walker: &Walker, slots: usize, bins: usize) -> (OrderedSums, EnergyLedger) {
     let side = walker.lattice.side();
     let tiles_per_row = side.div_ceil(TILE);
-    let order = heaviest_first(&walker, side, tiles_per_row);
+    let order = heaviest_first(walker, side, tiles_per_row);
     let tasks = order.len() as u64;
     // Workers pull tiles, heaviest first, from a shared counter and hand each finished tile to
     // the one shared sum, which adds the tiles in that order (see `accumulate`).
@@ -240,15 +259,7 @@ pub fn trace_light(
                     tile_index / tiles_per_row * TILE,
                 );
                 let mut ledger = EnergyLedger::default();
-                // One copy of the walk per termination.
-                match walker.termination {
-                    Termination::Cutoff(_) => {
-                        walker.trace_tile::<false>(at, side, &mut tile, &mut ledger, &mut scratch)
-                    }
-                    Termination::Roulette(_) => {
-                        walker.trace_tile::<true>(at, side, &mut tile, &mut ledger, &mut scratch)
-                    }
-                }
+                trace_tile(walker, at, side, &mut tile, &mut ledger, &mut scratch);
                 ledgers.push((task, ledger));
                 let mut sums = lock();
                 sums.submit(task, tile);
@@ -265,16 +276,22 @@ pub fn trace_light(
     let sums = shared
         .into_inner()
         .expect("no worker panicked while holding the sums");
-    let stride = sums.stride();
-    let mut sums = sums.into_sums();
-    walker.fill_direct(&mut sums, stride, LOBES);
-    let (directions, concentration) = smooth::smooth_sums(&mut sums, cells, stride);
-    LightField {
-        grid: optics.grid,
-        slot_of_cell: cells.slot_of_cell.clone(),
-        fluence: sums,
-        directions,
-        concentration,
-        ledger,
+    (sums, ledger)
+}
+
+/// Trace the tile of the lattice (of `side` rays a side) whose first ray is `at` into `tile`
+/// and `ledger`, in the copy of the walk compiled for the walker's termination.
+#[inline(always)]
+fn trace_tile(
+    walker: &Walker,
+    at: (u64, u64),
+    side: u64,
+    tile: &mut TileSums,
+    ledger: &mut EnergyLedger,
+    scratch: &mut Scratch,
+) {
+    match walker.termination {
+        Termination::Cutoff(_) => walker.trace_tile::<false>(at, side, tile, ledger, scratch),
+        Termination::Roulette(_) => walker.trace_tile::<true>(at, side, tile, ledger, scratch),
     }
 }

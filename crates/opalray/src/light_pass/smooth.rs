@@ -21,8 +21,8 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::accumulate::mean_direction;
-use super::cells::Site;
-use super::{StoneCells, LOBES};
+use super::voxel_layout::Site;
+use super::{VoxelLayout, LOBES};
 use crate::structure::Cell;
 
 /// Normals closer than this (|cos|) count as the same orientation.
@@ -76,10 +76,10 @@ fn blend_values<T: AsRef<[f32]> + AsMut<[f32]> + ?Sized>(
 /// the whole field again).
 pub(crate) fn smooth_sums(
     fluence: &mut [f32],
-    stone: &StoneCells,
+    voxels: &VoxelLayout,
     width_per_lobe: usize,
 ) -> (Vec<Vec3>, Vec<f32>) {
-    let grid = Grid::new(stone, LOBES * width_per_lobe);
+    let grid = Grid::new(voxels, LOBES * width_per_lobe);
     grid.blend_xy(fluence);
     grid.blend_z(fluence, width_per_lobe)
 }
@@ -104,15 +104,15 @@ struct Grid<'a> {
 }
 
 impl<'a> Grid<'a> {
-    fn new(stone: &'a StoneCells, width: usize) -> Self {
-        let [nx, ny, nz] = stone.grid.n;
+    fn new(voxels: &'a VoxelLayout, width: usize) -> Self {
+        let [nx, ny, nz] = voxels.grid.n;
         let mut grid = Grid {
             n: [nx, ny, nz],
             plane: nx * ny,
             width,
-            cell_of_slot: &stone.cell_of_slot,
-            sites: &stone.sites,
-            patch_normals: &stone.patch_normals,
+            cell_of_slot: &voxels.cell_of_slot,
+            sites: &voxels.sites,
+            patch_normals: &voxels.patch_normals,
             plane_start: Vec::new(),
         };
         grid.plane_start = (0..=nz).map(|z| grid.first_slot(z * grid.plane)).collect();
@@ -294,13 +294,18 @@ mod tests {
     use crate::light_pass::NO_SLOT;
 
     /// The kernel as three plain passes, each from one whole array into another.
-    fn three_passes(fluence: &[f32], cells: &[Cell], stone: &StoneCells, width: usize) -> Vec<f32> {
-        let n = stone.grid.n;
+    fn three_passes(
+        fluence: &[f32],
+        cells: &[Cell],
+        voxels: &VoxelLayout,
+        width: usize,
+    ) -> Vec<f32> {
+        let n = voxels.grid.n;
         let stride = [1, n[0], n[0] * n[1]];
         let same_patch = |a: usize, b: usize| match (cells[a], cells[b]) {
             (Cell::Void, Cell::Void) => true,
             (Cell::Cluster, Cell::Cluster) => {
-                stone.normal(a).dot(stone.normal(b)).abs() >= SAME_PATCH_COS
+                voxels.normal(a).dot(voxels.normal(b)).abs() >= SAME_PATCH_COS
             }
             _ => false,
         };
@@ -308,7 +313,7 @@ mod tests {
         for axis in 0..3 {
             let mut out = vec![0.0; src.len()];
             for (slot, dst) in out.chunks_mut(width).enumerate() {
-                let cell = stone.cell_of_slot[slot];
+                let cell = voxels.cell_of_slot[slot];
                 let coord = cell / stride[axis] % n[axis];
                 let mut others = Vec::new();
                 if coord > 0 {
@@ -319,8 +324,8 @@ mod tests {
                 }
                 let others: Vec<&[f32]> = others
                     .into_iter()
-                    .filter(|&o| stone.slot_of_cell[o] != NO_SLOT && same_patch(cell, o))
-                    .map(|o| &src[stone.slot_of_cell[o] as usize * width..][..width])
+                    .filter(|&o| voxels.slot_of_cell[o] != NO_SLOT && same_patch(cell, o))
+                    .map(|o| &src[voxels.slot_of_cell[o] as usize * width..][..width])
                     .collect();
                 // The kernel written out plainly: twice the cell, plus each neighbour, over
                 // the weights' sum.
@@ -342,18 +347,18 @@ mod tests {
     fn in_place_passes_give_the_three_plain_passes_bits() {
         // An odd-sized grid, so that rows and planes hold different numbers of stored cells;
         // the default grid's 40 bins (their own copy of the blend) and another count.
-        let (prepared, stone) = StoneCells::of_default_scene([23, 17, 9]);
+        let (prepared, voxels) = VoxelLayout::of_default_scene([23, 17, 9]);
         let cells = &prepared.structure().unwrap().cells;
         for bins in [crate::spectrum::DEFAULT_BINS, 3] {
-            check_against_plain_passes(cells, &stone, bins + 4);
+            check_against_plain_passes(cells, &voxels, bins + 4);
         }
     }
 
-    fn check_against_plain_passes(cells: &[Cell], stone: &StoneCells, width_per_lobe: usize) {
+    fn check_against_plain_passes(cells: &[Cell], voxels: &VoxelLayout, width_per_lobe: usize) {
         let width = LOBES * width_per_lobe;
         // Values whose sums round differently in every order.
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let fluence: Vec<f32> = (0..stone.slots() * width)
+        let fluence: Vec<f32> = (0..voxels.slots() * width)
             .map(|_| {
                 state = state
                     .wrapping_mul(6_364_136_223_846_793_005)
@@ -361,9 +366,9 @@ mod tests {
                 (state >> 40) as f32 / (1u64 << 24) as f32 * 3.7 + 0.01
             })
             .collect();
-        let expected = three_passes(&fluence, cells, stone, width);
+        let expected = three_passes(&fluence, cells, voxels, width);
         let mut smoothed = fluence.clone();
-        let (directions, concentration) = smooth_sums(&mut smoothed, stone, width_per_lobe);
+        let (directions, concentration) = smooth_sums(&mut smoothed, voxels, width_per_lobe);
         assert_ne!(smoothed, fluence, "the kernel changed something");
         let bins = width_per_lobe - 4;
         assert_eq!(

@@ -14,7 +14,7 @@ impl Walker<'_> {
     /// Whether the ray through the centre of lattice cell `index` meets the stone.
     pub fn meets_stone(&self, index: u64) -> bool {
         let centre = self.lattice.ray_in(index, 0.5, 0.5);
-        self.shape.intersect(&centre).is_some_and(|h| h.0 > 0.0)
+        self.ellipsoid.intersect(&centre).is_some_and(|h| h.0 > 0.0)
     }
 
     /// Whether the light of lattice cell `index` is (likely to be) trapped: the ray through
@@ -27,23 +27,23 @@ impl Walker<'_> {
     /// by the geometry alone, not by the random jitter, so the estimate stays unbiased.
     pub fn is_trapped(&self, index: u64) -> bool {
         let centre = self.lattice.ray_in(index, 0.5, 0.5);
-        let Some((t, _)) = self.shape.intersect(&centre).filter(|h| h.0 > 0.0) else {
+        let Some((t, _)) = self.ellipsoid.intersect(&centre).filter(|h| h.0 > 0.0) else {
             let margin = 2.0 * self.lattice.spacing();
-            let halo = Ellipsoid::new(self.shape.semi_axes() + Vec3::splat(margin));
+            let halo = Ellipsoid::new(self.ellipsoid.semi_axes() + Vec3::splat(margin));
             return halo.intersect(&centre).is_some_and(|h| h.0 > 0.0);
         };
         let p = centre.at(t);
-        let Some(d) = refract(centre.direction, self.shape.normal(p), 1.0, self.n_eff) else {
+        let Some(d) = refract(centre.direction, self.ellipsoid.normal(p), 1.0, self.n_eff) else {
             return false;
         };
         let inner = Ray {
             origin: p,
             direction: d,
         };
-        let Some((_, t_far)) = self.shape.intersect(&inner) else {
+        let Some((_, t_far)) = self.ellipsoid.intersect(&inner) else {
             return false;
         };
-        let cos_out = d.dot(self.shape.normal(inner.at(t_far)));
+        let cos_out = d.dot(self.ellipsoid.normal(inner.at(t_far)));
         cos_out * cos_out < 1.0 - 1.0 / (self.n_eff * self.n_eff)
     }
 }
@@ -85,11 +85,11 @@ pub(super) fn heaviest_first(walker: &Walker, side: u64, tiles_per_row: u64) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::light_pass::{LightSetup, StoneCells, Termination};
+    use crate::light_pass::{LightSetup, Termination, VoxelLayout};
 
     #[test]
     fn every_tile_is_traced_once_the_rim_first() {
-        let (prepared, cells) = StoneCells::of_default_scene([40, 30, 10]);
+        let (prepared, voxels) = VoxelLayout::of_default_scene([40, 30, 10]);
         let spectrum = prepared.light_spectrum();
         let (_, source) = prepared.placement(30.0);
         let setup = LightSetup {
@@ -101,7 +101,7 @@ mod tests {
             body_extinction_per_mm: 0.0,
             termination: Termination::DEFAULT,
         };
-        let walker = Walker::new(&cells, prepared.optics().unwrap(), &setup);
+        let walker = Walker::new(&voxels, prepared.optics().unwrap(), &setup);
         let side = walker.lattice.side();
         let per_row = side.div_ceil(TILE);
         let order = heaviest_first(&walker, side, per_row);

@@ -8,9 +8,9 @@
 use glam::Vec3;
 
 use super::accumulate::TileSums;
-use super::cells::{Site, StoneCells};
 use super::interaction::ClusterOptics;
 use super::source::{LightSource, RayLattice};
+use super::voxel_layout::{Site, VoxelLayout};
 use super::{EnergyLedger, LightSetup, Termination, TILE};
 use crate::geometry::{fresnel_dielectric, refract, CellGrid, Ellipsoid, Ray};
 use crate::optics::OpticsTables;
@@ -37,7 +37,7 @@ pub(crate) struct Walker<'a> {
     pub patch_normals: &'a [Vec3],
     pub cell_of_slot: &'a [usize],
     pub optics: ClusterOptics<'a>,
-    pub shape: Ellipsoid,
+    pub ellipsoid: Ellipsoid,
     pub grid: CellGrid,
     pub n_eff: f32,
     pub spectrum: &'a [f32],
@@ -56,25 +56,27 @@ pub(crate) struct Walker<'a> {
 }
 
 impl<'a> Walker<'a> {
-    /// The light rays' view of `cells`, `optics` and the light `setup`.
-    pub fn new(cells: &'a StoneCells, optics: &'a OpticsTables, setup: &LightSetup<'a>) -> Self {
-        let StoneCells { shape, grid, .. } = *cells;
+    /// The light rays' view of `voxels`, `optics` and the light `setup`.
+    pub fn new(voxels: &'a VoxelLayout, optics: &'a OpticsTables, setup: &LightSetup<'a>) -> Self {
+        let VoxelLayout {
+            ellipsoid, grid, ..
+        } = *voxels;
         Walker {
-            sites: &cells.sites,
-            patch_normals: &cells.patch_normals,
-            cell_of_slot: &cells.cell_of_slot,
+            sites: &voxels.sites,
+            patch_normals: &voxels.patch_normals,
+            cell_of_slot: &voxels.cell_of_slot,
             optics: ClusterOptics::new(optics),
-            shape,
+            ellipsoid,
             grid,
             n_eff: optics.n_eff as f32,
             spectrum: setup.spectrum,
             bin_width_nm: optics.grid.bin_width_nm() as f32,
             source: setup.source,
-            lattice: RayLattice::new(setup.source, &shape, setup.rays),
+            lattice: RayLattice::new(setup.source, &ellipsoid, setup.rays),
             body_albedo: setup.body_albedo,
             body_extinction_per_mm: setup.body_extinction_per_mm,
-            inv_volume: &cells.inv_volume,
-            whole_inv_volume: cells.whole_inv_volume,
+            inv_volume: &voxels.inv_volume,
+            whole_inv_volume: voxels.whole_inv_volume,
             seed: setup.seed,
             termination: setup.termination,
         }
@@ -89,6 +91,22 @@ pub(crate) struct Scratch {
     d: Vec<f32>,
     stack: Vec<Branch>,
     pool: Vec<Vec<f32>>,
+}
+
+impl Scratch {
+    /// The reflectance, transmittance and diffuse scratch as one [`Fractions`], the stack of
+    /// branches waiting and the pool of spare spectra.
+    #[inline(always)]
+    fn split(&mut self) -> (Fractions<'_>, &mut Vec<Branch>, &mut Vec<Vec<f32>>) {
+        let Scratch {
+            r,
+            t,
+            d,
+            stack,
+            pool,
+        } = self;
+        (Fractions { r, t, d }, stack, pool)
+    }
 }
 
 /// A branch's spectrum is `scale × shape`: filters flat in wavelength (most clusters, voids,
@@ -221,7 +239,7 @@ impl Walker<'_> {
         rng: &mut Rng,
     ) {
         ledger.rays += 1;
-        let Some((t_hit, _)) = self.shape.intersect(&ray) else {
+        let Some((t_hit, _)) = self.ellipsoid.intersect(&ray) else {
             return;
         };
         if t_hit <= 0.0 {
@@ -229,7 +247,7 @@ impl Walker<'_> {
         }
         // Refract into the stone; the Fresnel-reflected part is the surface's gloss.
         let p = ray.at(t_hit);
-        let normal = self.shape.normal(p);
+        let normal = self.ellipsoid.normal(p);
         let weight = share * self.lattice.power_per_ray * self.source.irradiance_at(p);
         let p_in = self.power(self.spectrum) * weight;
         let fresnel = fresnel_dielectric(-ray.direction.dot(normal), 1.0, self.n_eff);
@@ -287,7 +305,7 @@ impl Walker<'_> {
         } = branch;
         let lobe = lobe_of(kind, direction);
         let ray = Ray { origin, direction };
-        let Some((t0, t1)) = self.shape.intersect(&ray) else {
+        let Some((t0, t1)) = self.ellipsoid.intersect(&ray) else {
             budget.ledger.book(Booking::Escaped(power));
             scratch.pool.push(shape);
             return;
@@ -300,14 +318,7 @@ impl Walker<'_> {
         };
         let mut alive = true;
         let mut last = PatchSplit::NONE;
-        let Scratch {
-            r,
-            t,
-            d,
-            stack,
-            pool,
-        } = scratch;
-        let mut fractions = Fractions { r, t, d };
+        let (mut fractions, stack, pool) = scratch.split();
         self.grid.traverse(
             &ray,
             t0.max(0.0),
@@ -348,11 +359,26 @@ impl Walker<'_> {
                 alive
             },
         );
-        if !alive {
+        let exit = alive.then(|| (ray.at(t1), direction));
+        self.end_branch::<ROULETTE>(exit, carried, bounces, (pool, stack), budget);
+    }
+
+    /// End a branch's walk: one that faded (`exit` `None`) returns its shape to `pool`; one
+    /// that reached the surface at `exit` (point, direction) leaves or reflects there, the
+    /// reflection pushed on `stack`.
+    #[inline(always)]
+    fn end_branch<const ROULETTE: bool>(
+        &self,
+        exit: Option<(Vec3, Vec3)>,
+        carried: Carried,
+        bounces: u32,
+        (pool, stack): (&mut Vec<Vec<f32>>, &mut Vec<Branch>),
+        budget: &mut Budget,
+    ) {
+        let Some(exit) = exit else {
             pool.push(carried.shape);
             return;
-        }
-        let exit = (ray.at(t1), direction);
+        };
         if let Some(next) = self.leave_or_reflect::<ROULETTE>(exit, carried, bounces, pool, budget)
         {
             stack.push(next);

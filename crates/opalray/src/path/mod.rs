@@ -65,7 +65,6 @@ mod crossing;
 mod events;
 mod image;
 mod lamp;
-mod lines;
 mod method;
 mod nee;
 mod notches;
@@ -89,7 +88,6 @@ pub use crate::film::noise;
 pub use crate::film::Noise;
 pub use image::PathImage;
 
-pub use lines::Lines;
 pub use method::PathTracer;
 pub use orders::BraggOrders;
 pub(crate) use passes::RowCounter;

@@ -172,6 +172,26 @@ impl DomainsConfig {
 
     /// Check ranges.
     pub fn validate(&self) -> Result<()> {
+        self.validate_grains()?;
+        self.validate_correlations()?;
+        check_range(
+            "domains.mosaic_spread_deg",
+            self.mosaic_spread_deg,
+            0.0,
+            20.0,
+            0.5,
+        )?;
+        check_range(
+            "domains.boundary_roughness",
+            self.boundary_roughness,
+            0.0,
+            1.0,
+            0.4,
+        )
+    }
+
+    /// The grains' size, shape, orientations, voids and sphere diameters.
+    fn validate_grains(&self) -> Result<()> {
         check_range("domains.grain_size_mm", self.grain_size_mm, 0.05, 50.0, 2.0)?;
         check_range(
             "domains.grain_size_spread",
@@ -204,7 +224,11 @@ impl DomainsConfig {
             0.0,
             0.3,
             0.03,
-        )?;
+        )
+    }
+
+    /// The correlation lengths of the sizes and tilts, and the grains' own part of the tilt.
+    fn validate_correlations(&self) -> Result<()> {
         // A correlation length: 0 (each grain its own draw) or a length in [0.1, 100] mm.
         for (field, length, own, example) in [
             (
@@ -243,20 +267,7 @@ impl DomainsConfig {
                 ),
             ));
         }
-        check_range(
-            "domains.mosaic_spread_deg",
-            self.mosaic_spread_deg,
-            0.0,
-            20.0,
-            0.5,
-        )?;
-        check_range(
-            "domains.boundary_roughness",
-            self.boundary_roughness,
-            0.0,
-            1.0,
-            0.4,
-        )
+        Ok(())
     }
 }
 

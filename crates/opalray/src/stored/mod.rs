@@ -21,6 +21,7 @@
 //! same bytes at any thread count.
 
 pub mod light;
+mod lines;
 mod method;
 pub mod view;
 
@@ -36,6 +37,7 @@ use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
 
 pub use light::{Arrival, LightStats, Notch, StoredLight};
+pub use lines::Lines;
 pub use method::{StoredMethod, MAX_STORED_CELLS};
 use view::{Gather, Sums};
 

@@ -30,10 +30,10 @@ use std::f32::consts::PI;
 use glam::Vec3;
 
 use super::light::{Scratch, StoredLight};
+use super::lines::Lines;
 use super::StoredSetup;
 use crate::geometry::{fresnel_dielectric, reflect, refract, Ray};
 use crate::optics::BraggLine;
-use crate::path::Lines;
 use crate::scatter::{Phase, Scatter};
 use crate::scene::Backing;
 use crate::stone::{ActiveLine, Boundary, Hint, Region, Span, Stone};

@@ -8,7 +8,7 @@ use crate::color::to_rgb;
 use crate::error::{Error, Result};
 use crate::integrator::Integrator;
 use crate::light_pass::{
-    trace_light, ClusterOptics, LightField, LightSetup, LightSource, StoneCells, Termination,
+    trace_light, ClusterOptics, LightField, LightSetup, LightSource, Termination, VoxelLayout,
 };
 use crate::path::Passes;
 use crate::render::{seconds, Frame, Prepared};
@@ -69,7 +69,7 @@ impl Integrator for TwoPass {
     fn prepare(&self, prepared: &mut Prepared) -> Result<()> {
         prepared.grow()?;
         let start = Instant::now();
-        let cells = StoneCells::new(prepared.structure()?);
+        let cells = VoxelLayout::new(prepared.structure()?);
         prepared.times.light_pass = seconds(start);
         prepared.cells = std::sync::OnceLock::from(cells);
         Ok(())
@@ -79,7 +79,7 @@ impl Integrator for TwoPass {
     fn render(&self, prepared: &Prepared, light_angle_deg: f64, _passes: &Passes) -> Frame {
         let cells = prepared
             .cells
-            .get_or_init(|| StoneCells::new(prepared.grown().0));
+            .get_or_init(|| VoxelLayout::new(prepared.grown().0));
         prepared.render_in(cells, light_angle_deg)
     }
 }
@@ -96,8 +96,8 @@ impl Prepared {
     }
 
     /// The two passes' frame with the stone's cells laid out by the caller: `cells` must be
-    /// [`StoneCells::new`] of this structure.
-    pub fn render_in(&self, cells: &StoneCells, light_angle_deg: f64) -> Frame {
+    /// [`VoxelLayout::new`] of this structure.
+    pub fn render_in(&self, cells: &VoxelLayout, light_angle_deg: f64) -> Frame {
         let s = &self.scene;
         let (structure, optics) = self.grown();
         let mut times = self.times;
@@ -159,10 +159,10 @@ impl Prepared {
 
     /// The light pass alone (paper §3.2) for light angle `light_angle_deg`: the light stored
     /// in every inside cell, as the view pass of [`Prepared::render_in`] would receive it.
-    /// `cells` must be [`StoneCells::new`] of this structure. Defined for the two passes
+    /// `cells` must be [`VoxelLayout::new`] of this structure. Defined for the two passes
     /// only: with another method there is no stored light, and the result is that of the
     /// same scene's two passes.
-    pub fn light_pass_in(&self, cells: &StoneCells, light_angle_deg: f64) -> LightField {
+    pub fn light_pass_in(&self, cells: &VoxelLayout, light_angle_deg: f64) -> LightField {
         let (_, source) = self.placement(light_angle_deg);
         self.trace_light_in(cells, source, &self.light_spectrum())
     }
@@ -170,7 +170,7 @@ impl Prepared {
     /// [`trace_light`] with this scene's light settings, from `source` with `spectrum`.
     fn trace_light_in(
         &self,
-        cells: &StoneCells,
+        cells: &VoxelLayout,
         source: LightSource,
         spectrum: &[f32],
     ) -> LightField {
@@ -199,7 +199,7 @@ mod tests {
 
     #[test]
     fn light_pass_in_is_the_light_the_render_stores() {
-        let (prepared, cells) = StoneCells::of_default_scene([24, 18, 6]);
+        let (prepared, cells) = VoxelLayout::of_default_scene([24, 18, 6]);
         let light = prepared.light_pass_in(&cells, -20.0);
         let frame = prepared.render_in(&cells, -20.0);
         assert_eq!(light.ledger, frame.ledger);
@@ -213,7 +213,7 @@ mod tests {
 
     #[test]
     fn a_frame_through_the_seam_is_the_frame_of_the_laid_out_cells() {
-        let (prepared, cells) = StoneCells::of_default_scene([24, 18, 6]);
+        let (prepared, cells) = VoxelLayout::of_default_scene([24, 18, 6]);
         let seam = prepared.render(-20.0);
         let direct = prepared.render_in(&cells, -20.0);
         assert_eq!(seam.spectral.data, direct.spectral.data);

@@ -21,7 +21,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::geometry::{fresnel_dielectric, refract, Camera, CellGrid, Ellipsoid};
-use crate::light_pass::{stone_geometry, ClusterOptics, LightField, LightSource, Transmission};
+use crate::light_pass::{voxel_geometry, ClusterOptics, LightField, LightSource, Transmission};
 use crate::optics::OpticsTables;
 use crate::spectrum::SpectralImage;
 use crate::structure::Structure;
@@ -63,14 +63,14 @@ pub fn trace_view(
     shading: &Shading,
     setup: &ViewSetup,
 ) -> SpectralImage {
-    let (shape, grid) = stone_geometry(structure);
+    let (ellipsoid, grid) = voxel_geometry(structure);
     let cluster_optics = ClusterOptics::new(optics);
     let bins = light.grid.bins;
     let n_eff = optics.n_eff as f32;
     let ctx = View {
         shading,
         setup,
-        shape,
+        ellipsoid,
         grid,
         optics: cluster_optics,
         bins,
@@ -176,7 +176,7 @@ impl BlockScratch {
 struct View<'a> {
     shading: &'a Shading,
     setup: &'a ViewSetup<'a>,
-    shape: Ellipsoid,
+    ellipsoid: Ellipsoid,
     grid: CellGrid,
     optics: ClusterOptics<'a>,
     bins: usize,
@@ -196,6 +196,38 @@ impl View<'_> {
         &self,
         x0: usize,
         y0: usize,
+        block: usize,
+        rows: &mut [f32],
+        scratch: &mut BlockScratch,
+    ) {
+        self.shade_block_pixels((x0, y0), block, rows, scratch);
+        if scratch.deferred.is_empty() {
+            return;
+        }
+        let n = scratch.deferred.len() as f32;
+        let origin = scratch.deferred.iter().map(|(_, d)| d.origin).sum::<Vec3>() / n;
+        let direction = scratch
+            .deferred
+            .iter()
+            .map(|(_, d)| d.direction)
+            .sum::<Vec3>()
+            .normalize_or_zero();
+        let together = scratch
+            .deferred
+            .iter()
+            .all(|(_, d)| d.direction.dot(direction) >= SHARED_SPREAD_COS);
+        if together {
+            self.walk_reflections_together(origin, direction, rows, scratch);
+        } else {
+            self.walk_reflections_apart(rows, scratch);
+        }
+    }
+
+    /// Shade each pixel of the block at `(x0, y0)` (see [`View::shade_block`]), keeping in
+    /// `scratch.deferred` and `scratch.shapes` the weak first reflections to be walked later.
+    fn shade_block_pixels(
+        &self,
+        (x0, y0): (usize, usize),
         block: usize,
         rows: &mut [f32],
         scratch: &mut BlockScratch,
@@ -223,64 +255,64 @@ impl View<'_> {
                 }
             }
         }
-        if scratch.deferred.is_empty() {
-            return;
+    }
+
+    /// Walk the block's deferred reflections once, from their mean `origin` along their mean
+    /// `direction`, and add what that path sees to each deferred pixel through its own
+    /// throughput.
+    fn walk_reflections_together(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        rows: &mut [f32],
+        scratch: &mut BlockScratch,
+    ) {
+        let bins = self.bins;
+        let s0 = scratch
+            .deferred
+            .iter()
+            .fold(0.0f32, |m, (_, d)| m.max(d.scale));
+        scratch.shape.fill(1.0);
+        scratch.shared.fill(0.0);
+        let mut peak = 0;
+        let start = WalkStart {
+            origin,
+            direction,
+            scale: s0,
+        };
+        let buffers = RayBuffers {
+            pixel: &mut scratch.shared,
+            shape_thr: &mut scratch.shape,
+            transmission: &mut scratch.transmission,
+        };
+        self.walk(start, &mut peak, REFLECTED, buffers);
+        for (k, &(at, d)) in scratch.deferred.iter().enumerate() {
+            let pixel = &mut rows[at * bins..(at + 1) * bins];
+            let shape = &scratch.shapes[k * bins..(k + 1) * bins];
+            add_filtered(pixel, shape, &scratch.shared, d.scale / s0);
         }
-        let n = scratch.deferred.len() as f32;
-        let origin = scratch.deferred.iter().map(|(_, d)| d.origin).sum::<Vec3>() / n;
-        let direction = scratch
-            .deferred
-            .iter()
-            .map(|(_, d)| d.direction)
-            .sum::<Vec3>()
-            .normalize_or_zero();
-        let together = scratch
-            .deferred
-            .iter()
-            .all(|(_, d)| d.direction.dot(direction) >= SHARED_SPREAD_COS);
-        if together {
-            let s0 = scratch
-                .deferred
-                .iter()
-                .fold(0.0f32, |m, (_, d)| m.max(d.scale));
-            scratch.shape.fill(1.0);
-            scratch.shared.fill(0.0);
-            let mut peak = 0;
+    }
+
+    /// Walk each of the block's deferred reflections on its own, into its pixel.
+    fn walk_reflections_apart(&self, rows: &mut [f32], scratch: &mut BlockScratch) {
+        let bins = self.bins;
+        for (k, &(at, d)) in scratch.deferred.iter().enumerate() {
+            let pixel = &mut rows[at * bins..(at + 1) * bins];
+            scratch
+                .shape
+                .copy_from_slice(&scratch.shapes[k * bins..(k + 1) * bins]);
+            let mut peak = d.peak;
             let start = WalkStart {
-                origin,
-                direction,
-                scale: s0,
+                origin: d.origin,
+                direction: d.direction,
+                scale: d.scale,
             };
             let buffers = RayBuffers {
-                pixel: &mut scratch.shared,
+                pixel,
                 shape_thr: &mut scratch.shape,
                 transmission: &mut scratch.transmission,
             };
             self.walk(start, &mut peak, REFLECTED, buffers);
-            for (k, &(at, d)) in scratch.deferred.iter().enumerate() {
-                let pixel = &mut rows[at * bins..(at + 1) * bins];
-                let shape = &scratch.shapes[k * bins..(k + 1) * bins];
-                add_filtered(pixel, shape, &scratch.shared, d.scale / s0);
-            }
-        } else {
-            for (k, &(at, d)) in scratch.deferred.iter().enumerate() {
-                let pixel = &mut rows[at * bins..(at + 1) * bins];
-                scratch
-                    .shape
-                    .copy_from_slice(&scratch.shapes[k * bins..(k + 1) * bins]);
-                let mut peak = d.peak;
-                let start = WalkStart {
-                    origin: d.origin,
-                    direction: d.direction,
-                    scale: d.scale,
-                };
-                let buffers = RayBuffers {
-                    pixel,
-                    shape_thr: &mut scratch.shape,
-                    transmission: &mut scratch.transmission,
-                };
-                self.walk(start, &mut peak, REFLECTED, buffers);
-            }
         }
     }
 
@@ -301,7 +333,7 @@ impl View<'_> {
         transmission: &mut Transmission,
     ) -> Option<Deferred> {
         let ray = self.setup.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
-        let Some((t_hit, _)) = self.shape.intersect(&ray).filter(|h| h.0 > 0.0) else {
+        let Some((t_hit, _)) = self.ellipsoid.intersect(&ray).filter(|h| h.0 > 0.0) else {
             for (p, s) in pixel.iter_mut().zip(self.setup.light_spectrum) {
                 *p = self.setup.background * s;
             }
@@ -309,7 +341,7 @@ impl View<'_> {
         };
         // Surface: the gloss of the light, and the refracted ray.
         let p = ray.at(t_hit);
-        let normal = self.shape.normal(p);
+        let normal = self.ellipsoid.normal(p);
         let to_eye = -ray.direction;
         let fresnel = fresnel_dielectric(to_eye.dot(normal), 1.0, self.n_eff);
         let to_light = self.setup.source.direction_to_light(p);

@@ -5,7 +5,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::light_pass::{ClusterOptics, LightField, StoneCells, LOBES, NO_PATCH, NO_SLOT};
+use crate::light_pass::{ClusterOptics, LightField, VoxelLayout, LOBES, NO_PATCH, NO_SLOT};
 use crate::structure::{Cell, Structure};
 
 mod slot;
@@ -133,7 +133,7 @@ pub struct Shading {
     pub tags: Vec<CellTag>,
     /// Per slot, the cluster's patch and specular lobes.
     pub clusters: Vec<ClusterShade>,
-    /// The (111) normal of each patch (see [`StoneCells::patch_normals`]).
+    /// The (111) normal of each patch (see [`VoxelLayout::patch_normals`]).
     pub patch_normals: Vec<Vec3>,
     /// Specular spectra `E · R(θ) · peak` of the lobes that have a specular term (61 % of the
     /// default render's), packed: `bins` values each, in slot and lobe order (see
@@ -147,10 +147,10 @@ pub struct Shading {
 }
 
 impl Shading {
-    /// Shade every stored slot of `light`, stored in the cells `cells` of `structure`.
+    /// Shade every stored slot of `light`, stored in the voxels `voxels` lays out of `structure`.
     pub fn new(
         structure: &Structure,
-        cells: &StoneCells,
+        voxels: &VoxelLayout,
         optics: &ClusterOptics,
         light: &LightField,
         phong_exponent: f32,
@@ -158,7 +158,7 @@ impl Shading {
     ) -> Self {
         let bins = light.grid.bins;
         // Where each cluster's stored light reflects, and how wide: no spectra yet.
-        let mut clusters = place_lobes(structure, cells, light, phong_exponent);
+        let mut clusters = place_lobes(structure, voxels, light, phong_exponent);
         // The specular spectra of the lobes that have one, packed in slot and lobe order.
         let mut packed = 0u32;
         for shade in &mut clusters {
@@ -172,12 +172,12 @@ impl Shading {
             light,
             body_albedo,
         };
-        let grid = Grid { structure, cells };
+        let grid = Grid { structure, voxels };
         shade_runs(grid, &clusters, &stored, &mut specular, &mut diffuse);
         let tags = structure
             .cells
             .par_iter()
-            .zip(&cells.slot_of_cell)
+            .zip(&voxels.slot_of_cell)
             .map(|(&cell, &slot)| {
                 let glows = slot != NO_SLOT && {
                     let g = &diffuse[slot as usize * bins..(slot as usize + 1) * bins];
@@ -190,7 +190,7 @@ impl Shading {
             bins,
             tags,
             clusters,
-            patch_normals: cells.patch_normals.clone(),
+            patch_normals: voxels.patch_normals.clone(),
             specular,
             diffuse,
         }
@@ -202,12 +202,12 @@ impl Shading {
 /// and outside cells keep [`NO_SHADE`].
 fn place_lobes(
     structure: &Structure,
-    cells: &StoneCells,
+    voxels: &VoxelLayout,
     light: &LightField,
     phong_exponent: f32,
 ) -> Vec<ClusterShade> {
     let slots = light.directions.len() / LOBES;
-    let cell_of_slot = &cells.cell_of_slot;
+    let cell_of_slot = &voxels.cell_of_slot;
     let mut clusters = vec![NO_SHADE; slots];
     clusters
         .par_iter_mut()
@@ -217,8 +217,8 @@ fn place_lobes(
             if structure.cells[cell] != Cell::Cluster {
                 return;
             }
-            let normal = cells.normal(cell);
-            shade.patch = cells.patch(cell);
+            let normal = voxels.normal(cell);
+            shade.patch = voxels.patch(cell);
             for (lobe, out) in shade.lobes.iter_mut().enumerate() {
                 let w = light.directions[slot * LOBES + lobe];
                 if w == Vec3::ZERO || w.dot(normal).abs() < MIN_SPECULAR_COS {
@@ -244,7 +244,7 @@ const RUN: usize = 256;
 #[derive(Clone, Copy)]
 struct Grid<'a> {
     structure: &'a Structure,
-    cells: &'a StoneCells,
+    voxels: &'a VoxelLayout,
 }
 
 /// Every slot's glow into `diffuse` and its lobes' specular spectra into `specular` (packed
@@ -257,10 +257,10 @@ fn shade_runs(
     specular: &mut [f32],
     diffuse: &mut [f32],
 ) {
-    let Grid { structure, cells } = grid;
+    let Grid { structure, voxels } = grid;
     let bins = stored.light.grid.bins;
     let packed = (specular.len() / bins.max(1)) as u32;
-    let cell_of_slot = &cells.cell_of_slot;
+    let cell_of_slot = &voxels.cell_of_slot;
     let mut runs = Vec::with_capacity(clusters.len().div_ceil(RUN));
     let mut rest = specular;
     for (k, run) in clusters.chunks(RUN).enumerate() {
@@ -290,7 +290,7 @@ fn shade_runs(
                             let at = Slot {
                                 index: slot,
                                 cell: structure.cells[cell],
-                                normal: cells.normal(cell),
+                                normal: voxels.normal(cell),
                             };
                             shade_slot(at, shade, stored, glow, &mut spec, d);
                         }
@@ -310,12 +310,12 @@ mod tests {
         // A small stone lit by the default light: every lobe with a specular term has its own
         // spectrum, in slot and lobe order, equal to E · R(θ) · (n' + 2) / 2 formed here
         // lobe by lobe; lobes without one are never seen.
-        let (prepared, cells) = StoneCells::of_default_scene([40, 30, 10]);
+        let (prepared, voxels) = VoxelLayout::of_default_scene([40, 30, 10]);
         let spectrum = prepared.light_spectrum();
         let (_, source) = prepared.placement(30.0);
         let light = trace_light(
             prepared.structure().unwrap(),
-            &cells,
+            &voxels,
             prepared.optics().unwrap(),
             &LightSetup {
                 source,
@@ -330,7 +330,7 @@ mod tests {
         let optics = ClusterOptics::new(prepared.optics().unwrap());
         let shading = Shading::new(
             prepared.structure().unwrap(),
-            &cells,
+            &voxels,
             &optics,
             &light,
             40.0,

@@ -49,18 +49,13 @@ impl View<'_> {
         start: WalkStart,
         peak: &mut usize,
         path: Path,
-        buffers: RayBuffers<'_>,
+        mut buffers: RayBuffers<'_>,
     ) -> Option<Deferred> {
         let WalkStart {
             mut origin,
             direction: mut dir,
             mut scale,
         } = start;
-        let RayBuffers {
-            pixel,
-            shape_thr,
-            transmission,
-        } = buffers;
         // The whole walk runs in the copy compiled for the processor's vector level.
         crate::simd::widest(
             #[inline(always)]
@@ -70,53 +65,15 @@ impl View<'_> {
                         origin,
                         direction: dir,
                     };
-                    let (t0, t1) = self.shape.intersect(&inner)?;
-                    let to_eye = -dir;
-                    // Along one segment, cells of one patch meet the ray at the same angle and
-                    // share their transmittance.
-                    let mut last_patch = NO_PATCH;
-                    self.grid.traverse(
-                        &inner,
-                        t0.max(0.0),
-                        t1,
-                        #[inline(always)]
-                        |seg| {
-                            let tag = self.shading.tags[seg.index];
-                            let slot = tag.slot();
-                            match tag.cell() {
-                                Cell::Outside => return true,
-                                Cell::Void => {
-                                    let kept = (-self.setup.body_extinction_per_mm
-                                        * (seg.t_exit - seg.t_enter))
-                                        .exp();
-                                    let glow = &self.shading.diffuse
-                                        [slot * self.bins..(slot + 1) * self.bins];
-                                    add_filtered(pixel, shape_thr, glow, scale * (1.0 - kept));
-                                    scale *= kept;
-                                }
-                                Cell::Cluster => {
-                                    let shade = &self.shading.clusters[slot];
-                                    let seen = (&mut *pixel, &*shape_thr);
-                                    self.add_cluster((tag, shade), to_eye, seen, scale);
-                                    if shade.patch != last_patch {
-                                        last_patch = shade.patch;
-                                        let normal =
-                                            self.shading.patch_normals[last_patch as usize];
-                                        self.optics
-                                            .transmission(dir.dot(normal).abs(), transmission);
-                                    }
-                                    scale *= transmission.apply(shape_thr, peak);
-                                }
-                            }
-                            scale > MIN_THROUGHPUT
-                        },
-                    );
+                    let (t0, t1) = self.ellipsoid.intersect(&inner)?;
+                    scale = self.walk_cells(&inner, (t0.max(0.0), t1), scale, peak, &mut buffers);
                     if scale <= MIN_THROUGHPUT {
                         return None;
                     }
                     // Far surface: the backdrop through the stone, and internal reflection.
                     let q = inner.at(t1);
-                    let (f_out, n_q) = self.far_surface(q, dir, (&mut *pixel, &*shape_thr), scale);
+                    let seen = (&mut *buffers.pixel, &*buffers.shape_thr);
+                    let (f_out, n_q) = self.far_surface(q, dir, seen, scale);
                     scale *= f_out;
                     dir = reflect(dir, n_q);
                     origin = q;
@@ -135,6 +92,63 @@ impl View<'_> {
                 None
             },
         )
+    }
+
+    /// Walk the cells along `inner` from `t0` to `t1` with throughput `scale ×
+    /// buffers.shape_thr`: each void's glow and each cluster's eq. (2) terms added to
+    /// `buffers.pixel`, the throughput filtered by each; returns the throughput's scale where
+    /// the walk stopped (at `t1`, or where it fell to [`MIN_THROUGHPUT`]).
+    #[inline(always)]
+    fn walk_cells(
+        &self,
+        inner: &Ray,
+        (t0, t1): (f32, f32),
+        mut scale: f32,
+        peak: &mut usize,
+        buffers: &mut RayBuffers<'_>,
+    ) -> f32 {
+        let pixel = &mut *buffers.pixel;
+        let shape_thr = &mut *buffers.shape_thr;
+        let transmission = &mut *buffers.transmission;
+        let dir = inner.direction;
+        let to_eye = -dir;
+        // Along one segment, cells of one patch meet the ray at the same angle and share
+        // their transmittance.
+        let mut last_patch = NO_PATCH;
+        self.grid.traverse(
+            inner,
+            t0,
+            t1,
+            #[inline(always)]
+            |seg| {
+                let tag = self.shading.tags[seg.index];
+                let slot = tag.slot();
+                match tag.cell() {
+                    Cell::Outside => return true,
+                    Cell::Void => {
+                        let kept =
+                            (-self.setup.body_extinction_per_mm * (seg.t_exit - seg.t_enter)).exp();
+                        let glow = &self.shading.diffuse[slot * self.bins..(slot + 1) * self.bins];
+                        add_filtered(pixel, shape_thr, glow, scale * (1.0 - kept));
+                        scale *= kept;
+                    }
+                    Cell::Cluster => {
+                        let shade = &self.shading.clusters[slot];
+                        let seen = (&mut *pixel, &*shape_thr);
+                        self.add_cluster((tag, shade), to_eye, seen, scale);
+                        if shade.patch != last_patch {
+                            last_patch = shade.patch;
+                            let normal = self.shading.patch_normals[last_patch as usize];
+                            self.optics
+                                .transmission(dir.dot(normal).abs(), transmission);
+                        }
+                        scale *= transmission.apply(shape_thr, peak);
+                    }
+                }
+                scale > MIN_THROUGHPUT
+            },
+        );
+        scale
     }
 }
 
@@ -180,7 +194,7 @@ impl View<'_> {
         (pixel, shape_thr): (&mut [f32], &[f32]),
         scale: f32,
     ) -> (f32, Vec3) {
-        let n_q = self.shape.normal(q);
+        let n_q = self.ellipsoid.normal(q);
         let f_out = fresnel_dielectric(dir.dot(n_q), self.n_eff, 1.0);
         let seen = (1.0 - f_out) * self.n_eff * self.n_eff * self.setup.background;
         add_filtered(pixel, shape_thr, self.setup.light_spectrum, scale * seen);

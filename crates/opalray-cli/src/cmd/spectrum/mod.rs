@@ -6,23 +6,24 @@
 //! of the reflected light under D65 (paper §3.4) on stdout; with `--output` a CSV
 //! `wavelength_nm,angle_deg,reflectance,transmittance` on the requested wavelength step
 //! (point values, not bin averages); with `--plot` an image of R over wavelength × angle
-//! ([`plot`]). Each angle's whole curve is kept, so the peak and the colour read the same data.
+//! ([`plot`]; the curves, the CSV and the summary: [`report`]). Each angle's whole curve is
+//! kept, so the peak and the colour read the same data.
 //! With `--dispersion silica` the stack at each wavelength has silica's indices at that
 //! wavelength (`optics::scan`, as the reflectance tables are built).
 
 mod label;
 mod plot;
+mod report;
 
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{anyhow, bail, Result};
-use opalray::color::SpectrumColor;
 use opalray::optics::{cos_inside_from_air, ClusterOptics, ClusterStack};
-use opalray::scene::{CrystalConfig, Dispersion, Illuminant};
+use opalray::scene::{CrystalConfig, Dispersion};
 
 use crate::outputs::Outputs;
 use plot::{write_plot, PlotAxes};
+use report::{decimals_of, summary, write_csv, AngleCurve};
 
 /// Most wavelength × angle samples one run computes (about 200 MB of CSV).
 const MAX_SAMPLES: usize = 5_000_000;
@@ -108,40 +109,6 @@ enum DispersionFlag {
     None,
     /// Fused silica's Sellmeier law through the d-line indices (the gem presets').
     Silica,
-}
-
-/// R and T over wavelength at one angle.
-struct AngleCurve {
-    /// The angle as given on the command line, degrees.
-    angle_deg: f64,
-    /// cos θ inside the stone.
-    cos_inside: f64,
-    /// Bragg–Snell first-order wavelength, nm.
-    bragg_nm: f64,
-    /// `(wavelength_nm, R, T)` samples.
-    samples: Vec<(f64, f64, f64)>,
-}
-
-impl AngleCurve {
-    /// Wavelength and value of the largest R.
-    fn peak(&self) -> (f64, f64) {
-        self.samples.iter().fold(
-            (f64::NAN, -1.0),
-            |best, &(wl, r, _)| {
-                if r > best.1 {
-                    (wl, r)
-                } else {
-                    best
-                }
-            },
-        )
-    }
-
-    /// The colour of the light reflected under D65: the curve as a reflectance lit by D65.
-    fn colour(&self) -> SpectrumColor {
-        let reflectance: Vec<(f64, f64)> = self.samples.iter().map(|&(wl, r, _)| (wl, r)).collect();
-        SpectrumColor::of_reflectance(&reflectance, Illuminant::D65)
-    }
 }
 
 /// Run `opalray spectrum`.
@@ -308,94 +275,6 @@ fn curve(optics: &ClusterOptics, angle_deg: f64, inside: bool, wavelengths: &[f6
         bragg_nm,
         samples,
     }
-}
-
-/// Decimals that print every multiple of `step` exactly (at most 9).
-fn decimals_of(step: f64) -> usize {
-    (0..9)
-        .find(|&d| {
-            let scaled = step * 10f64.powi(d as i32);
-            (scaled - scaled.round()).abs() < 1e-9 * scaled.max(1.0)
-        })
-        .unwrap_or(9)
-}
-
-fn write_csv(path: &Path, curves: &[AngleCurve], decimals: usize) -> opalray::Result<()> {
-    opalray::output::write_atomic(path, |w| {
-        writeln!(w, "wavelength_nm,angle_deg,reflectance,transmittance")?;
-        for c in curves {
-            for &(wl, r, t) in &c.samples {
-                writeln!(w, "{wl:.decimals$},{},{r},{t}", c.angle_deg)?;
-            }
-        }
-        Ok(())
-    })
-}
-
-/// The report printed on stdout.
-fn summary(optics: &ClusterOptics, curves: &[AngleCurve], args: &Args) -> String {
-    let (crystal, stack) = (&optics.crystal, &optics.stack);
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "FCC cluster: D {} nm, n_sphere {}, n_matrix {} (at 589.3 nm), filling {}, {} layers, \
-         dispersion {}",
-        crystal.sphere_diameter_nm,
-        crystal.n_sphere,
-        crystal.n_matrix,
-        crystal.filling_fraction,
-        crystal.layers,
-        match crystal.dispersion {
-            Dispersion::None => "none",
-            Dispersion::Silica => "silica",
-        }
-    );
-    let _ = write!(
-        out,
-        "  d111 {:.2} nm, n_eff {:.4}",
-        stack.d111_nm, stack.n_eff
-    );
-    match optics.stop_band_nm() {
-        Some((lo, hi)) => {
-            let _ = writeln!(
-                out,
-                ", stop band at normal incidence {lo:.2}–{hi:.2} nm ({:.2} % wide)",
-                200.0 * (hi - lo) / (hi + lo)
-            );
-        }
-        None => out.push('\n'),
-    }
-    let frame = if args.inside { "inside" } else { "air" };
-    let _ = writeln!(
-        out,
-        "{:>12} {:>9} {:>10} {:>8} {:>16} {:>10}",
-        format!("angle {frame}"),
-        "θ inside",
-        "peak nm",
-        "peak R",
-        "Bragg–Snell nm",
-        "sRGB D65"
-    );
-    for c in curves {
-        let (peak_nm, peak_r) = c.peak();
-        let in_range = (args.from_nm..=args.to_nm).contains(&c.bragg_nm);
-        let _ = writeln!(
-            out,
-            "{:>11.1}° {:>8.1}° {:>10.2} {:>8.4} {:>16.2} {:>10}{}",
-            c.angle_deg,
-            c.cos_inside.clamp(-1.0, 1.0).acos().to_degrees(),
-            peak_nm,
-            peak_r,
-            c.bragg_nm,
-            c.colour().hex(),
-            if in_range {
-                ""
-            } else {
-                "  (Bragg line outside --from-nm..--to-nm)"
-            }
-        );
-    }
-    out
 }
 
 #[cfg(test)]

@@ -304,7 +304,7 @@ impl Walker<'_> {
         budget: &mut Budget,
     ) -> Option<Branch> {
         let (exit, direction) = ray;
-        let normal = self.shape.normal(exit);
+        let normal = self.ellipsoid.normal(exit);
         let fresnel = fresnel_dielectric(direction.dot(normal), self.n_eff, 1.0);
         let Carried {
             shape,

@@ -8,10 +8,10 @@
 //! the product is 1 but for the lines' notches, each under 2.2 nm of the 400 nm range (at most 0.6
 //! % of white light a line, but a path passes hundreds): the path tracer carries them exactly
 //! ([`super::notches`]), so that the light going on through a domain loses what its lines reflect;
-//! the stored method's view ([`Lines`](super::Lines)) still neglects them. With one, the integrand
-//! lives within the line (~2 nm): λ is drawn from a truncated Cauchy law over the first reflection
-//! line (90 %) mixed with a uniform law over the range (10 %, so that every wavelength can be drawn
-//! and the estimate is unbiased), the draws stratified over the mixture
+//! the stored method's view ([`Lines`](crate::stored::Lines)) still neglects them. With one, the
+//! integrand lives within the line (~2 nm): λ is drawn from a truncated Cauchy law over the first
+//! reflection line (90 %) mixed with a uniform law over the range (10 %, so that every wavelength
+//! can be drawn and the estimate is unbiased), the draws stratified over the mixture
 //! ([`SpectralSampler::draw`]). Narrow lines are thus sampled where they are, and never binned
 //! before colour.
 //!
@@ -22,8 +22,8 @@
 //!   wavelengths). Every later line multiplies them at once, so a path can pass any number
 //!   of lines, and the share of its light a line reflects is known exactly where the path
 //!   must choose ([`PathSpectrum::reflectances`]).
-//! - [`Lines`](super::Lines) (the stored method's view, `lines.rs`): the list of lines
-//!   itself, its product evaluated at the end by quadrature ([`SpectralSampler::integrate`]).
+//! - [`Lines`](crate::stored::Lines) (the stored method's view, `stored/lines.rs`): the list
+//!   of lines itself, its product evaluated at the end by quadrature ([`SpectralSampler::integrate`]).
 //!
 //! The light × colour-matching table they are deposited through, and the wavelength draws,
 //! are the film's ([`crate::film::sensor`]); the deposits of these carriers stay beside the

@@ -1,12 +1,13 @@
 //! The stored method's view of a path's wavelengths: the list of the Bragg lines it met
 //! ([`Lines`]), each reflected by or passed through, its product evaluated at the end by
 //! quadrature ([`SpectralSampler::integrate`]); the path tracer's carrier is
-//! [`super::PathSpectrum`] (the module notes in [`super::spectral`]).
+//! [`PathSpectrum`](crate::path::spectral::PathSpectrum) (the module notes in
+//! [`crate::path::spectral`]).
 
 use crate::optics::BraggLine;
 use crate::stone::ironstone_reflectance;
 
-use super::spectral::{SpectralSampler, MAX_TINTS};
+use crate::film::sensor::{SpectralSampler, MAX_TINTS};
 
 /// Most lines one contribution carries.
 pub const MAX_LINES: usize = 24;

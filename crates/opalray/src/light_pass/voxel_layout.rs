@@ -1,7 +1,8 @@
-//! The stone's cells as both passes read them, whatever the light: storage slots, the
-//! volume of each cell inside the stone, the patches of one orientation and their (111)
-//! normals, and per cell the one record a light ray reads. Input: the [`Structure`] →
-//! output: [`StoneCells`], computed once per stone (the frames of a sweep share it).
+//! The voxels (the growth's cells, [`Stone::voxels`](crate::stone::Stone::voxels)) laid out
+//! as both passes read them, whatever the light: storage slots, the volume of each cell
+//! inside the stone, the patches of one orientation and their (111) normals, and per cell the
+//! one record a light ray reads. Input: the [`Structure`] → output: [`VoxelLayout`], computed
+//! once per stone (the frames of a sweep share it).
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -10,8 +11,8 @@ use super::{NO_PATCH, NO_SLOT};
 use crate::geometry::{CellGrid, Ellipsoid};
 use crate::structure::{Cell, Structure};
 
-/// The stone's cell grid and shape in the opal frame (origin at the centre, mm).
-pub fn stone_geometry(structure: &Structure) -> (Ellipsoid, CellGrid) {
+/// The voxels' cell grid and ellipsoid in the opal frame (origin at the centre, mm).
+pub fn voxel_geometry(structure: &Structure) -> (Ellipsoid, CellGrid) {
     let half = Vec3::from_array(structure.semi_axes_mm.map(|v| v as f32));
     (
         Ellipsoid::new(half),
@@ -26,7 +27,11 @@ const VOLUME_SAMPLES: usize = 4;
 /// cell cut by the surface only run through its inside part, so dividing by the whole cell's
 /// volume would darken the stone's rim. Cells with all eight corners inside are whole; the
 /// others are measured on a 4 × 4 × 4 sub-grid.
-fn inverse_inside_volumes(grid: &CellGrid, shape: &Ellipsoid, cell_of_slot: &[usize]) -> Vec<f32> {
+fn inverse_inside_volumes(
+    grid: &CellGrid,
+    ellipsoid: &Ellipsoid,
+    cell_of_slot: &[usize],
+) -> Vec<f32> {
     let [nx, ny, _] = grid.n;
     cell_of_slot
         .par_iter()
@@ -36,7 +41,7 @@ fn inverse_inside_volumes(grid: &CellGrid, shape: &Ellipsoid, cell_of_slot: &[us
             let whole = (0..8).all(|k| {
                 let offset =
                     Vec3::new((k & 1) as f32, ((k >> 1) & 1) as f32, ((k >> 2) & 1) as f32);
-                shape.contains(corner + offset * grid.cell)
+                ellipsoid.contains(corner + offset * grid.cell)
             });
             if whole {
                 return whole_inverse_volume(grid);
@@ -45,7 +50,7 @@ fn inverse_inside_volumes(grid: &CellGrid, shape: &Ellipsoid, cell_of_slot: &[us
             let inside = (0..n * n * n)
                 .filter(|&k| {
                     let u = Vec3::new((k % n) as f32, (k / n % n) as f32, (k / (n * n)) as f32);
-                    shape.contains(corner + (u + 0.5) / n as f32 * grid.cell)
+                    ellipsoid.contains(corner + (u + 0.5) / n as f32 * grid.cell)
                 })
                 .count();
             let fraction = (inside.max(1) as f32) / (n * n * n) as f32;
@@ -60,12 +65,12 @@ fn whole_inverse_volume(grid: &CellGrid) -> f32 {
     1.0 / grid.cell_volume()
 }
 
-/// The stone's cells as the passes read them, whatever the light: computed once per stone
+/// The voxels laid out as the passes read them, whatever the light: computed once per stone
 /// (the frames of a sweep share it).
 #[derive(Clone, Debug)]
-pub struct StoneCells {
+pub struct VoxelLayout {
     /// The stone's surface, in the opal frame (mm).
-    pub shape: Ellipsoid,
+    pub ellipsoid: Ellipsoid,
     /// The cell grid over it.
     pub grid: CellGrid,
     /// Storage slot of each cell, or [`NO_SLOT`] outside the stone.
@@ -85,10 +90,10 @@ pub struct StoneCells {
     pub whole_inv_volume: f32,
 }
 
-impl StoneCells {
+impl VoxelLayout {
     /// Lay out the cells of `structure`.
     pub fn new(structure: &Structure) -> Self {
-        let (shape, grid) = stone_geometry(structure);
+        let (ellipsoid, grid) = voxel_geometry(structure);
         // Storage slots: one per inside cell, numbered in cell order.
         let mut slot_of_cell = vec![NO_SLOT; structure.cells.len()];
         let mut cell_of_slot = Vec::new();
@@ -98,7 +103,7 @@ impl StoneCells {
                 cell_of_slot.push(cell);
             }
         }
-        let inv_volume = inverse_inside_volumes(&grid, &shape, &cell_of_slot);
+        let inv_volume = inverse_inside_volumes(&grid, &ellipsoid, &cell_of_slot);
         let whole_inv_volume = whole_inverse_volume(&grid);
         // Patches: the distinct orientations (a growth step gives all the cells of its ball
         // one), found mostly by comparing with the cell before; their normals are formed once
@@ -128,8 +133,8 @@ impl StoneCells {
                 Site::new(cell, patch, slot, whole)
             })
             .collect();
-        StoneCells {
-            shape,
+        VoxelLayout {
+            ellipsoid,
             grid,
             slot_of_cell,
             cell_of_slot,
@@ -148,7 +153,7 @@ impl StoneCells {
         }
     }
 
-    /// The patch of cell `cell`: the index of its normal in [`StoneCells::patch_normals`], or
+    /// The patch of cell `cell`: the index of its normal in [`VoxelLayout::patch_normals`], or
     /// [`NO_PATCH`] if it is not a cluster.
     pub fn patch(&self, cell: usize) -> u32 {
         self.sites[cell].patch()
@@ -159,21 +164,21 @@ impl StoneCells {
         self.cell_of_slot.len()
     }
 
-    /// The default scene with a `grid` of cells, prepared, and its cells laid out (for tests).
+    /// The default scene with a `grid` of cells, prepared, and its voxels laid out (for tests).
     #[cfg(test)]
     pub(crate) fn of_default_scene(grid: [usize; 3]) -> (crate::render::Prepared, Self) {
         let mut scene = crate::scene::Scene::default();
         scene.structure.grid = grid;
         let prepared = crate::render::prepare(&scene).expect("the default scene is valid");
-        let cells = StoneCells::new(prepared.structure().unwrap());
-        (prepared, cells)
+        let voxels = VoxelLayout::new(prepared.structure().unwrap());
+        (prepared, voxels)
     }
 }
 
 /// What a ray crossing a cell reads about it, in one 8-byte record (one memory access instead
 /// of one per array, eight records to a cache line): the cell's storage slot, its kind,
 /// whether it lies wholly inside the stone, and for a cluster its patch, the index of its
-/// (111) normal in [`StoneCells::patch_normals`](super::StoneCells::patch_normals).
+/// (111) normal in [`VoxelLayout::patch_normals`](super::VoxelLayout::patch_normals).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Site {
     /// The slot, with [`Site::CLUSTER`] set for a cluster and [`Site::WHOLE`] for a cell whose
@@ -250,36 +255,36 @@ mod tests {
     #[test]
     fn each_site_holds_its_cells_slot_kind_volume_and_normal() {
         // The paper's grid: a stone of many patches.
-        let (prepared, cells) = StoneCells::of_default_scene([100, 75, 25]);
+        let (prepared, voxels) = VoxelLayout::of_default_scene([100, 75, 25]);
         let structure = prepared.structure().unwrap();
         let (mut whole, mut cut) = (0, 0);
-        for (cell, site) in cells.sites.iter().enumerate() {
+        for (cell, site) in voxels.sites.iter().enumerate() {
             assert_eq!(site.cell(), structure.cells[cell], "cell {cell}");
-            let slot = cells.slot_of_cell[cell];
+            let slot = voxels.slot_of_cell[cell];
             if slot == NO_SLOT {
                 continue;
             }
             assert_eq!(site.slot(), slot as usize, "cell {cell}");
-            let inv_volume = cells.inv_volume[slot as usize];
+            let inv_volume = voxels.inv_volume[slot as usize];
             if site.whole() {
                 whole += 1;
-                assert_eq!(inv_volume.to_bits(), cells.whole_inv_volume.to_bits());
+                assert_eq!(inv_volume.to_bits(), voxels.whole_inv_volume.to_bits());
             } else {
                 cut += 1;
                 assert!(
-                    inv_volume > cells.whole_inv_volume,
+                    inv_volume > voxels.whole_inv_volume,
                     "cell {cell}: {inv_volume}"
                 );
             }
             match site.cell() {
                 Cell::Cluster => {
-                    let normal = cells.patch_normals[site.patch() as usize];
+                    let normal = voxels.patch_normals[site.patch() as usize];
                     assert_eq!(normal.to_array(), structure.normal(cell).to_array());
-                    assert_eq!(cells.normal(cell), normal);
+                    assert_eq!(voxels.normal(cell), normal);
                 }
                 _ => {
                     assert_eq!(site.patch(), NO_PATCH);
-                    assert_eq!(cells.normal(cell), Vec3::ZERO);
+                    assert_eq!(voxels.normal(cell), Vec3::ZERO);
                 }
             }
         }
@@ -288,8 +293,8 @@ mod tests {
             "{whole} whole cells, {cut} cut by the surface"
         );
         // One patch per orientation: its cells share one, and no two patches have the same.
-        let mut orientation_of = vec![None; cells.patch_normals.len()];
-        for (cell, site) in cells.sites.iter().enumerate() {
+        let mut orientation_of = vec![None; voxels.patch_normals.len()];
+        for (cell, site) in voxels.sites.iter().enumerate() {
             if site.cell() == Cell::Cluster {
                 let key = structure.orientations[cell].to_array().map(f32::to_bits);
                 let seen = orientation_of[site.patch() as usize].get_or_insert(key);
@@ -302,7 +307,7 @@ mod tests {
             .collect();
         keys.sort_unstable();
         keys.dedup();
-        assert_eq!(keys.len(), cells.patch_normals.len());
+        assert_eq!(keys.len(), voxels.patch_normals.len());
         assert!(keys.len() > 20, "{} patches", keys.len());
     }
 }
