@@ -240,8 +240,8 @@ impl<'a> Tracer<'a> {
                     if sigma > 0.0 {
                         let tau = sigma * (span.t1 - span.t0);
                         let kept = (-tau).exp();
-                        let (r, t) = self.layer.of(layer, ground);
-                        let lit = self.light_on_body(ray.at(span.t0), span);
+                        let (lit, top) = self.light_on_body(ray.at(span.t0), span);
+                        let (r, t) = self.layer.of(layer, ground, top);
                         self.body(w * (1.0 - kept), r * lit + t * light_beyond, sums);
                         w *= kept;
                     }
