@@ -22,8 +22,8 @@ const FRESNEL_ROWS: usize = 256;
 /// that would light a chip at the surface as much (`Ē` of [`Irradiance`]): the mean, over
 /// cosine-distributed directions about the bar's inner surface's normal, of what each sees
 /// through the bar and the dome ([`trace::Tracer::light_on`]: the lamp, the environment, the
-/// dome's internal reflections followed; dimmed by the potch, not by the domains' haze, which
-/// sends most of what it scatters on), over `1 − F̄`, the share of a diffuse irradiance
+/// dome's internal reflections followed; dimmed as [`trace::Dim::Potch`] says), over
+/// `1 − F̄`, the share of a diffuse irradiance
 /// that the surface lets in ([`hemispherical_fresnel`]); for potch at a flat surface this is
 /// `Ē` again. Tabulated over the footprint and read bilinearly (the points no read inside
 /// the footprint weighs in are left 0, [`super::read_points`]).
