@@ -52,7 +52,7 @@ impl BodyLayer {
             r_inside,
             scale: 1.0,
         };
-        let thick = layer.seen(a - b);
+        let thick = layer.seen(a - b, r_inside);
         layer.scale = f64::from(tone_reflectance) / thick.max(1e-9);
         layer
     }
@@ -64,10 +64,15 @@ impl BodyLayer {
     /// what lies beyond: `Some(r)` a backing of reflectance `r` in contact (nothing comes
     /// through), `None` a polished surface into the air (it reflects `r_inside` of the
     /// light back and lets the irradiance beyond in).
-    pub(crate) fn of(&self, sx: f32, ground: Option<f32>) -> (f32, f32) {
+    ///
+    /// `top` is the share of the body's own diffuse light that comes back to it from above:
+    /// [`BodyLayer::r_inside`] under a polished surface, less under a colour bar whose dome
+    /// carries part of it away to leave elsewhere ([`super::potch::PotchLight`]).
+    pub(crate) fn of(&self, sx: f32, ground: Option<f32>, top: f32) -> (f32, f32) {
+        let top = f64::from(top);
         let x = self.b * f64::from(sx.max(0.0));
         if x > 20.0 {
-            return ((self.scale * self.seen(self.a - self.b)) as f32, 0.0);
+            return ((self.scale * self.seen(self.a - self.b, top)) as f32, 0.0);
         }
         // The layer alone, over black (Kubelka 1948): R = sinh / (a sinh + b cosh),
         // T = b / (a sinh + b cosh).
@@ -83,16 +88,25 @@ impl BodyLayer {
             // layer's own reflection is (`seen` per unit of light that went in).
             None => t * bounce,
         };
-        let reflected = self.scale * self.seen(r_ground);
-        let transmitted = self.scale * self.seen(r_ground) * through / r_ground.max(1e-12);
+        let reflected = self.scale * self.seen(r_ground, top);
+        let transmitted = self.scale * self.seen(r_ground, top) * through / r_ground.max(1e-12);
         (reflected as f32, transmitted as f32)
+    }
+
+    /// The share of the diffuse light inside that a polished surface reflects back in,
+    /// `r_i = 1 − (1 − F̄)/n²`.
+    pub(crate) fn r_inside(&self) -> f32 {
+        self.r_inside as f32
     }
 
     /// The reflectance outside of a body whose diffuse reflectance inside is `r` (Saunderson
     /// 1942, the gloss apart): `(1 − r_o)(1 − r_i) r / (1 − r_i r)`, without the constant
-    /// `1 − r_o`, which the scale takes.
-    fn seen(&self, r: f64) -> f64 {
-        (1.0 - self.r_inside) * r / (1.0 - self.r_inside * r)
+    /// `1 − r_o`, which the scale takes. The light in enters as through a polished surface
+    /// (`1 − r_i`: the light above is given as the irradiance outside that lights it as
+    /// much); of the body's own light, `top` comes back to it from above (`r_i` under a
+    /// polished surface).
+    fn seen(&self, r: f64, top: f64) -> f64 {
+        (1.0 - self.r_inside) * r / (1.0 - top * r)
     }
 }
 
@@ -161,7 +175,7 @@ mod tests {
         // approximation of the walk's angular transport, within 0.035 here.
         for depth in [1.0, 4.0, 40.0] {
             let (r_walk, t_walk) = slab_walk(depth, f64::from(albedo), 8000);
-            let (r, t) = layer.of((s * depth) as f32, None);
+            let (r, t) = layer.of((s * depth) as f32, None, layer.r_inside());
             assert!(
                 (f64::from(r) - r_walk).abs() < 0.035 && (f64::from(t) - t_walk).abs() < 0.035,
                 "{depth} mm: layer R {r:.3} T {t:.3}, walk R {r_walk:.3} T {t_walk:.3}"

@@ -26,8 +26,9 @@
 //!   probability `1 − e^{−τ}` over a span, it sees the body as a layer of the stone's
 //!   thickness ([`layer::BodyLayer`], its Munsell value when thick) lit by the
 //!   environment's irradiance at the surface it entered ([`Irradiance`]), or, for the potch
-//!   under a colour bar, by the light reaching its top through the bar
-//!   ([`potch::PotchLight`]), and by the irradiance beyond its far surface — the calibrated
+//!   under a colour bar (and a milky domain's haze over it), by the light reaching its top
+//!   through the bar, its own light returned by the bar and the dome in place of a polished
+//!   surface's ([`potch::PotchLight`]), and by the irradiance beyond its far surface — the calibrated
 //!   slab's reflectance as a Lambertian response, not its multiple scattering.
 //! - **Exit**: the environment through the far surface (`(1 − F) n²`, the rest reflected
 //!   inside, bounded); a backing shows its reflectance under the light that reaches it

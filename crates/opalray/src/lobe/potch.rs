@@ -22,15 +22,28 @@ const FRESNEL_ROWS: usize = 256;
 /// that would light a chip at the surface as much (`Ē` of [`Irradiance`]): the mean, over
 /// cosine-distributed directions about the bar's inner surface's normal, of what each sees
 /// through the bar and the dome ([`trace::Tracer::light_on`]: the lamp, the environment, the
-/// dome's internal reflections followed; dimmed by the potch, not by the domains' haze, which
-/// sends most of what it scatters on), over `1 − F̄`, the share of a diffuse irradiance
+/// dome's internal reflections followed; dimmed as [`trace::Dim::Potch`] says), over
+/// `1 − F̄`, the share of a diffuse irradiance
 /// that the surface lets in ([`hemispherical_fresnel`]); for potch at a flat surface this is
 /// `Ē` again. Tabulated over the footprint and read bilinearly (the points no read inside
 /// the footprint weighs in are left 0, [`super::read_points`]).
+///
+/// Beside it, the share of the potch's own diffuse light that the bar and the dome send back
+/// into it ([`PotchLight::returned_at`]), from the same directions: what the dimming by the
+/// potch took on their way out. Under a flat surface it is Saunderson's `r_i = 1 − (1 −
+/// F̄)/n²` (every direction beyond the critical angle comes back at once); under a curved
+/// dome over a clear or faintly milky bar, part of what the dome reflects inside travels
+/// along the bar and leaves elsewhere (through the dome further on, or the polished back
+/// where the bar reaches it), so less comes back. Each direction is counted once: as the
+/// light it brings from outside, or as the body's light it returns.
 pub(crate) struct PotchLight {
     inner: Ellipsoid,
     centre: Vec3,
     values: Vec<f32>,
+    returned: Vec<f32>,
+    /// The most light times the most the body's return can raise its reflectance over a
+    /// polished surface's: the bound of [`PotchLight::peak`].
+    peak: f32,
 }
 
 impl PotchLight {
@@ -43,18 +56,32 @@ impl PotchLight {
     ) -> Option<Self> {
         let (inner, centre) = stone.bar_surface()?;
         let entering = 1.0 - hemispherical_fresnel(stone.n_eff);
-        let values = super::fill_table(
+        let table = super::fill_table(
             GRID,
             || trace::Tracer::new(stone, setup, colours, irradiance, trace::Lit::default()),
             |tracer, i, j| {
                 let (p, normal) = point(&inner, centre, i, j);
-                tracer.light_on(p + normal * 1e-3, normal, DIRECTIONS, trace::Dim::Potch) / entering
+                let (light, returned) = tracer.light_and_return_on(
+                    p + normal * 1e-3,
+                    normal,
+                    DIRECTIONS,
+                    trace::Dim::Potch,
+                );
+                (light / entering, returned)
             },
         );
+        // A body of reflectance R under a top returning `r` shows `(1 − r_i R)/(1 − r R)`
+        // times what it shows under a polished surface, at most `(1 − r_i)/(1 − r)` (R = 1).
+        let r_inside = 1.0 - entering / (stone.n_eff * stone.n_eff);
+        let peak = table.iter().fold(0.0f32, |m, &(light, r)| {
+            m.max(light * ((1.0 - r_inside) / (1.0 - r).max(1e-3)).max(1.0))
+        });
         Some(PotchLight {
             inner,
             centre,
-            values,
+            values: table.iter().map(|v| v.0).collect(),
+            returned: table.iter().map(|v| v.1).collect(),
+            peak,
         })
     }
 
@@ -65,9 +92,19 @@ impl PotchLight {
         super::bilinear(&self.values, GRID, q.x / a.x, q.y / a.y)
     }
 
-    /// The largest light in the table.
+    /// The share of the potch's own diffuse light that comes back to it from above at the
+    /// point of its top under `p` (any point over the bar's footprint), `None` beyond it.
+    pub(super) fn returned_at(&self, p: Vec3) -> Option<f32> {
+        let a = self.inner.semi_axes();
+        let q = p - self.centre;
+        let (u, v) = (q.x / a.x, q.y / a.y);
+        (u * u + v * v <= 1.0).then(|| super::bilinear(&self.returned, GRID, u, v))
+    }
+
+    /// The largest light in the table, times the most its return can raise a body's
+    /// reflectance over a polished surface's (a bound on what the body under the bar sends).
     pub(super) fn peak(&self) -> f32 {
-        self.values.iter().fold(0.0, |m, &v| m.max(v))
+        self.peak
     }
 
     /// Whether `p` lies under the bar (inside its inner surface).

@@ -159,15 +159,15 @@ pub(super) fn read_points(grid: (usize, usize), radius: f32) -> Vec<bool> {
 
 /// A table over `grid` (row-major, x fastest) whose point `(i, j)` is `value(tracer, i, j)`,
 /// rows in parallel (each with its own tracer from `tracer`); the points no read inside the
-/// footprint reaches ([`read_points`]) are left at 0.
-pub(super) fn fill_table<T>(
+/// footprint reaches ([`read_points`]) are left at the value's default (0).
+pub(super) fn fill_table<T, V: Copy + Default + Send>(
     grid: (usize, usize),
     tracer: impl Fn() -> T + Sync,
-    value: impl Fn(&mut T, usize, usize) -> f32 + Sync,
-) -> Vec<f32> {
+    value: impl Fn(&mut T, usize, usize) -> V + Sync,
+) -> Vec<V> {
     let (nx, ny) = grid;
     let read = read_points(grid, READ_RADIUS);
-    let mut values = vec![0.0f32; nx * ny];
+    let mut values = vec![V::default(); nx * ny];
     // A stopped render fills no more rows (its table is never read).
     let cancel = crate::cancel::Cancel::current();
     values.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {

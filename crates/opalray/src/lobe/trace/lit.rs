@@ -15,14 +15,22 @@ impl Tracer<'_> {
     }
 
     /// The irradiance (outside, `Ē`) that lights the body where the eye ray meets it at `at`
-    /// over `span`: under a colour bar the light reaching the potch's top through the bar
-    /// ([`PotchLight`]), elsewhere the room's and the lamp's at the surface the eye ray
-    /// entered.
-    pub(super) fn light_on_body(&self, at: Vec3, span: Span) -> f32 {
-        match self.lit.potch {
-            Some(potch) if span.domain.is_none() && potch.holds(at) => potch.at(at),
-            _ => self.irradiance_on(self.entry.normal),
+    /// over `span`, and the share of the body's own diffuse light that comes back to it
+    /// from above: under a colour bar — the potch there, or a milky domain's haze over it,
+    /// whose light is the potch's glow below — the light reaching the potch's top through
+    /// the bar and the bar's and dome's return ([`PotchLight`]); elsewhere the room's and the
+    /// lamp's at the surface the eye ray entered, and a polished surface's `r_i`.
+    pub(super) fn light_on_body(&self, at: Vec3, span: Span) -> (f32, f32) {
+        if let Some(potch) = self.lit.potch {
+            let under = match span.domain {
+                None => potch.holds(at),
+                Some(_) => true,
+            };
+            if let Some(top) = potch.returned_at(at).filter(|_| under) {
+                return (potch.at(at), top);
+            }
         }
+        (self.irradiance_on(self.entry.normal), self.layer.r_inside())
     }
 
     /// The radiance in the stone of a body sending back `light` (its reflectance times the
@@ -95,6 +103,20 @@ impl Tracer<'_> {
         directions: usize,
         dim: Dim,
     ) -> f32 {
+        self.light_and_return_on(at, normal, directions, dim).0
+    }
+
+    /// [`Tracer::light_on`], and the share of a diffuse light leaving the surface at `at`
+    /// (cosine-distributed about `normal`) that the dimming takes on its way out: for the
+    /// potch under a colour bar ([`Dim::Potch`]), the share of its own light that the bar and
+    /// the dome send back into it, `1 − (1 − F̄)/n²` under a flat surface.
+    pub(in crate::lobe) fn light_and_return_on(
+        &mut self,
+        at: Vec3,
+        normal: Vec3,
+        directions: usize,
+        dim: Dim,
+    ) -> (f32, f32) {
         let count = directions as f32;
         // Half the spacing of the directions, over normals (`boundary_out` doubles it).
         let sigma = 0.25 * (PI / count).sqrt();
@@ -109,15 +131,21 @@ impl Tracer<'_> {
                     false
                 });
         }
-        let mut sum = 0.0;
+        let (mut sum, mut returned) = (0.0, 0.0);
         for k in 0..directions {
             let r = ((k as f32 + 0.5) / count).sqrt();
             let phi = golden * k as f32;
             let dir = (t * (r * phi.cos()) + b * (r * phi.sin()))
                 + normal * (1.0 - r * r).max(0.0).sqrt();
-            sum += self.escape(at, dir, self.stone.region_at(at), sigma, dim, start);
+            let (seen, taken) =
+                self.escape_taken(at, dir, self.stone.region_at(at), sigma, dim, start);
+            sum += seen;
+            returned += taken;
         }
-        sum / count + self.point_light_on(at, normal)
+        (
+            sum / count + self.point_light_on(at, normal),
+            returned / count,
+        )
     }
 
     /// The point or directional light's irradiance at `x` inside the stone along its

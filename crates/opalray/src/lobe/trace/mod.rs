@@ -240,8 +240,8 @@ impl<'a> Tracer<'a> {
                     if sigma > 0.0 {
                         let tau = sigma * (span.t1 - span.t0);
                         let kept = (-tau).exp();
-                        let (r, t) = self.layer.of(layer, ground);
-                        let lit = self.light_on_body(ray.at(span.t0), span);
+                        let (lit, top) = self.light_on_body(ray.at(span.t0), span);
+                        let (r, t) = self.layer.of(layer, ground, top);
                         self.body(w * (1.0 - kept), r * lit + t * light_beyond, sums);
                         w *= kept;
                     }
@@ -284,8 +284,11 @@ impl<'a> Tracer<'a> {
 pub(super) enum Dim {
     /// Nothing: the surface alone.
     None,
-    /// The potch, whose light is the body's own (a milky domain's haze sends on most of
-    /// what it scatters, down to the potch under a colour bar).
+    /// The light from the potch under a colour bar: the potch under the bar (its chord,
+    /// whose light is the body's own; the potch of the bar's voids, a white grain, passes
+    /// it on), and after the first surface event the domains' haze (it scatters what the
+    /// dome sent back along the bar near where it left; on the first way up a milky domain
+    /// sends on most of what it scatters).
     Potch,
     /// The potch and the domains' haze.
     PotchAndHaze,

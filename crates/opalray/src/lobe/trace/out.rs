@@ -58,8 +58,9 @@ impl Tracer<'_> {
                     let kept = (-sigma_t * len).exp();
                     if sigma_t > 0.0 {
                         // The body seen along the reflection: its light in the line's colour.
-                        let (r, t) = self.layer.of(layer, ground);
-                        let lit = r * self.light_on_body(ray.at(span.t0), span) + t * light_beyond;
+                        let (light, top) = self.light_on_body(ray.at(span.t0), span);
+                        let (r, t) = self.layer.of(layer, ground, top);
+                        let lit = r * light + t * light_beyond;
                         seen += w * (1.0 - kept) * self.body_radiance(lit);
                     }
                     w *= kept;
@@ -119,13 +120,27 @@ impl Tracer<'_> {
         region: Region,
         sigma: f32,
         dim: Dim,
-        mut hint: Hint,
+        hint: Hint,
     ) -> f32 {
+        self.escape_taken(pos, dir, region, sigma, dim, hint).0
+    }
+
+    /// [`Tracer::escape`], and the share of the ray's weight that the dimming took on the
+    /// way (the light of a ray from the body that the surface sends back into it).
+    pub(super) fn escape_taken(
+        &self,
+        pos: Vec3,
+        dir: Vec3,
+        region: Region,
+        sigma: f32,
+        dim: Dim,
+        mut hint: Hint,
+    ) -> (f32, f32) {
         let stone = self.stone;
         let potch = stone.potch;
         let (mut pos, mut dir, mut region) = (pos, dir, region);
-        let (mut w, mut seen) = (1.0f32, 0.0f32);
-        for _ in 0..MAX_SEGMENTS {
+        let (mut w, mut seen, mut taken) = (1.0f32, 0.0f32, 0.0f32);
+        for segment in 0..MAX_SEGMENTS {
             let ray = Ray {
                 origin: pos,
                 direction: dir,
@@ -133,18 +148,29 @@ impl Tracer<'_> {
             let Some((t_end, boundary)) = stone.exit(&ray, region) else {
                 break;
             };
-            if dim == Dim::Bar && region == Region::Opal {
-                w *= (-potch.extinction_per_mm * stone.bar_chord(&ray, t_end)).exp();
+            if matches!(dim, Dim::Bar | Dim::Potch) && region == Region::Opal {
+                let kept = (-potch.extinction_per_mm * stone.bar_chord(&ray, t_end)).exp();
+                taken += w * (1.0 - kept);
+                w *= kept;
                 if w < MIN_WEIGHT {
                     break;
                 }
-            } else if dim != Dim::None && region == Region::Opal {
+            }
+            // The potch's light under a bar: the haze scatters what the dome sent back along
+            // the bar, near where it left the potch (the first segment up is a flat
+            // surface's, whose return `r_i` holds the haze's share already).
+            let walked = match dim {
+                Dim::PotchAndHaze => true,
+                Dim::Potch => segment > 0,
+                Dim::None | Dim::Bar => false,
+            };
+            if walked && region == Region::Opal {
                 let mut tau = 0.0f32;
                 hint = stone.walk(pos, dir, 0.0, t_end, hint, &mut |s| {
                     let sigma = match (s.domain, dim) {
-                        (None, _) => potch.extinction_per_mm,
-                        (Some(_), Dim::PotchAndHaze) => potch.domain_scattering_per_mm,
-                        (Some(_), _) => 0.0,
+                        (None, Dim::PotchAndHaze) => potch.extinction_per_mm,
+                        (None, _) => 0.0,
+                        (Some(_), _) => potch.domain_scattering_per_mm,
                     };
                     if sigma <= 0.0 {
                         return true;
@@ -154,6 +180,7 @@ impl Tracer<'_> {
                     // can only dim it more) is left: it ends below.
                     w * (-tau).exp() >= MIN_WEIGHT
                 });
+                taken += w * (1.0 - (-tau).exp());
                 w *= (-tau).exp();
                 if w < MIN_WEIGHT {
                     break;
@@ -167,7 +194,7 @@ impl Tracer<'_> {
                 break;
             }
         }
-        seen
+        (seen, taken)
     }
 
     /// A ray of weight `w` along `dir` in `region` meeting `boundary` at `at`: what it sees
