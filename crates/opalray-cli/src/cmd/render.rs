@@ -9,7 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 
 use opalray::path::{PassReport, Passes, RowsReport};
-use opalray::scene::{IntegratorConfig, LightKind, MAX_SPP};
+use opalray::scene::{LightKind, MAX_SPP};
 use opalray::Scene;
 
 use super::common::{
@@ -176,7 +176,7 @@ fn note_frame(scene: &Scene, frame: &opalray::Frame) {
                 ""
             }
         ));
-        let denoise = matches!(&scene.integrator, IntegratorConfig::Path(c) if c.denoise);
+        let denoise = scene.integrator.flag("denoise") == Some(true);
         if denoise && path.denoised.is_none() {
             crate::stdio::note(format_args!(
                 "not denoised: the filter needs two samples per pixel or more (--spp 2)"

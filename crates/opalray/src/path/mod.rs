@@ -61,6 +61,7 @@
 //! by class of path (Bragg events, the body, a backing): [`orders`].
 
 mod area;
+mod config;
 mod crossing;
 mod events;
 mod image;
@@ -87,6 +88,7 @@ use glam::Vec3;
 
 pub use crate::film::noise;
 pub use crate::film::Noise;
+pub use config::{PathConfig, DEFAULT_MAX_SCATTERINGS, DEFAULT_WAVELENGTHS};
 pub use image::PathImage;
 
 pub use lines::Lines;

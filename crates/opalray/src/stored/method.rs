@@ -4,12 +4,11 @@
 use std::time::Instant;
 
 use crate::error::{Error, Result};
-use crate::integrator::Integrator;
-use crate::path::{Passes, PathLight};
+use crate::integrator::{pixels, Integrator, Work};
+use crate::path::{Passes, PathLight, DEFAULT_WAVELENGTHS};
 use crate::render::{seconds, Frame, Prepared, LIGHT_DISC_RADIUS_DEG};
 use crate::scene::{
     Cut, EnvironmentKind, IntegratorConfig, LightKind, Method, Scene, StoredConfig,
-    DEFAULT_WAVELENGTHS,
 };
 
 use super::{gather_view, store_light, StoredSetup, StoredStats};
@@ -20,6 +19,12 @@ pub const MAX_STORED_CELLS: f64 = 16e6;
 /// Per grid point of the stored light: its slot, the cell and its notches (measured 44 bytes
 /// on the paper's stone, with room for deeper stones crossing more domains).
 const STORED_POINT_BYTES: f64 = 100.0;
+
+/// Processor seconds of the stored method's first camera ray of a pixel (the paper's stone
+/// at 640 × 480, 3 µs) and of each further one (0.43 µs), 2026-12-06 (load about 10):
+/// `BENCHMARKS.md`, "The work estimate's costs".
+const STORED_PIXEL_CPU_S: f64 = 4e-6;
+const STORED_RAY_CPU_S: f64 = 0.5e-6;
 
 /// The paper's two passes on the stone model.
 pub struct StoredMethod;
@@ -102,6 +107,17 @@ impl Integrator for StoredMethod {
 
     fn sees_environment(&self) -> bool {
         false
+    }
+
+    /// One camera ray through every pixel, `spp − 1` more.
+    fn work(&self, scene: &Scene, frames: f64) -> Work {
+        let spp = f64::from(scene.integrator.spp().unwrap_or(1));
+        let pixels = pixels(scene, frames);
+        Work {
+            rays: pixels * spp,
+            cpu_s: pixels * (STORED_PIXEL_CPU_S + (spp - 1.0) * STORED_RAY_CPU_S),
+            ..Work::default()
+        }
     }
 
     fn prepare(&self, prepared: &mut Prepared) -> Result<()> {

@@ -20,6 +20,7 @@
 //! Rows are rendered in parallel into pre-sized buffers: the same scene and seed give the
 //! same bytes at any thread count.
 
+mod config;
 pub mod light;
 mod method;
 pub mod view;
@@ -35,6 +36,7 @@ use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
 
+pub use config::StoredConfig;
 pub use light::{Arrival, LightStats, Notch, StoredLight};
 pub use method::{StoredMethod, MAX_STORED_CELLS};
 use view::{Gather, Sums};
