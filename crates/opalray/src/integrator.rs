@@ -62,6 +62,13 @@ pub trait Integrator: Sync {
         true
     }
 
+    /// The key of its section of the statistics (`--stats`, the Python frame's stats), where
+    /// its frames carry a [`Report`](crate::render::Report); every frame's statistics hold
+    /// the key, null for a frame of another method.
+    fn stats_key(&self) -> Option<&'static str> {
+        None
+    }
+
     /// Whether it renders the stone model (`Stone::new`: its grains grown, its map drawn by
     /// `opalray structure`) rather than the paper's cell grid.
     fn renders_stone(&self) -> bool {

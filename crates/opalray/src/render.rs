@@ -21,7 +21,7 @@ mod frame;
 mod placement;
 
 pub(crate) use frame::rgb_of_xyz;
-pub use frame::{DenoiseBias, Frame, PathStats, StageTimes};
+pub use frame::{Frame, Report, StageTimes};
 pub(crate) use placement::camera_up;
 pub use placement::LIGHT_DISC_RADIUS_DEG;
 

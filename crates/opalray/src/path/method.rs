@@ -8,10 +8,10 @@ use crate::error::Result;
 use crate::film::denoise::{denoise, NlMeans};
 use crate::integrator::{pixels, Integrator, Work};
 use crate::light_pass::EnergyLedger;
-use crate::render::{rgb_of_xyz, seconds, DenoiseBias, Frame, PathStats, Prepared};
+use crate::render::{rgb_of_xyz, seconds, Frame, Prepared};
 use crate::scene::{IntegratorConfig, Method, PathConfig, Scene};
 
-use super::{trace_passes, Passes, PathImage, PathSetup};
+use super::{trace_passes, DenoiseBias, Passes, PathImage, PathSetup, PathStats};
 
 /// Processor seconds of one path-traced sample of one pixel of a gem (the black opal
 /// path-traced at 64 × 48 took 1.9 s at 1 and 14.5 s at 8 samples per pixel, 2026-12-06:
@@ -42,6 +42,11 @@ impl Integrator for PathTracer {
 
     fn renders_in_passes(&self) -> bool {
         true
+    }
+
+    /// `"path"`: its samples, passes and noise ([`PathStats`]).
+    fn stats_key(&self) -> Option<&'static str> {
+        Some("path")
     }
 
     /// Pixels × `integrator.spp` samples.
@@ -103,8 +108,7 @@ impl Integrator for PathTracer {
             ledger: EnergyLedger::default(),
             times,
             void_ratio: None,
-            path: Some(path),
-            stored: None,
+            report: Some(Box::new(path)),
         }
     }
 }

@@ -76,6 +76,7 @@ pub mod polar;
 pub mod sampler;
 mod shares;
 pub mod spectral;
+mod stats;
 mod vertex;
 
 use crate::geometry::LightSource;
@@ -98,6 +99,7 @@ pub(crate) use passes::RowCounter;
 pub use passes::{trace_passes, PassReport, Passes, RowsReport};
 pub use sampler::Sampling;
 pub use spectral::{PathSpectrum, SpectralSampler, MAX_DRAWS};
+pub use stats::{DenoiseBias, PathStats};
 
 use orders::{SampleTally, BACKGROUND, CLASSES, GLOSS};
 use sampler::{Mark, PathSampler};

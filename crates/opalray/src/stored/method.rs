@@ -6,7 +6,7 @@ use std::time::Instant;
 use crate::error::{Error, Result};
 use crate::integrator::{pixels, Integrator, Work};
 use crate::path::{Passes, PathLight, DEFAULT_WAVELENGTHS};
-use crate::render::{seconds, Frame, Prepared, LIGHT_DISC_RADIUS_DEG};
+use crate::render::{seconds, Frame, Prepared, Report, LIGHT_DISC_RADIUS_DEG};
 use crate::scene::{
     Cut, EnvironmentKind, IntegratorConfig, LightKind, Method, Scene, StoredConfig,
 };
@@ -109,6 +109,11 @@ impl Integrator for StoredMethod {
         false
     }
 
+    /// `"stored"`: its rays and its stored light ([`StoredStats`]).
+    fn stats_key(&self) -> Option<&'static str> {
+        Some("stored")
+    }
+
     /// One camera ray through every pixel, `spp − 1` more.
     fn work(&self, scene: &Scene, frames: f64) -> Work {
         let spp = f64::from(scene.integrator.spp().unwrap_or(1));
@@ -156,6 +161,47 @@ impl Integrator for StoredMethod {
             spp: setup.spp,
             light: light.stats(),
         };
-        prepared.deterministic_frame(times, image.spectral, &image.xyz, &f.sampler, Some(stats))
+        prepared.deterministic_frame(
+            times,
+            image.spectral,
+            &image.xyz,
+            &f.sampler,
+            Some(Box::new(stats)),
+        )
+    }
+}
+
+impl Report for StoredStats {
+    fn to_json(&self) -> serde_json::Value {
+        serde_json::to_value(self).expect("the stored method's statistics are JSON")
+    }
+
+    fn spp(&self) -> Option<u32> {
+        Some(self.spp)
+    }
+
+    /// Its rays and its stored light's grid.
+    fn notes(&self, _scene: &Scene) -> Vec<String> {
+        let l = self.light;
+        vec![format!(
+            "{} rays per pixel | light stored in {} cells of {} mm ({} lit, {} lines, {:.1} MB)",
+            self.spp,
+            l.cells,
+            l.cell_mm,
+            l.lit_cells,
+            l.notches,
+            l.bytes as f64 / 1e6
+        )]
+    }
+
+    fn clone_box(&self) -> Box<dyn Report> {
+        Box::new(self.clone())
+    }
+}
+
+impl Frame {
+    /// The stored method's rays and stored light (`None` for a frame of another method).
+    pub fn stored(&self) -> Option<&StoredStats> {
+        self.report_as()
     }
 }

@@ -175,8 +175,7 @@ impl Prepared {
             ledger: light.ledger,
             times,
             void_ratio: Some(structure.stats.void_ratio),
-            path: None,
-            stored: None,
+            report: None,
         }
     }
 
