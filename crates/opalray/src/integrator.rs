@@ -127,6 +127,38 @@ mod tests {
         }
     }
 
+    #[test]
+    fn each_method_is_named_in_a_scene_as_its_settings_say() {
+        // The list's variants are named by serde's kebab-case, the settings by `NAME`.
+        for method in Method::ALL {
+            let serde_name = serde_json::to_value(method).unwrap();
+            assert_eq!(serde_name, method.name(), "{method:?}");
+            let config = IntegratorConfig::of(method);
+            assert_eq!(config.method(), method);
+            let toml = toml::Value::try_from(&config).unwrap();
+            assert_eq!(toml["method"].as_str(), Some(method.name()));
+        }
+    }
+
+    #[test]
+    fn a_flag_is_set_only_where_the_method_takes_it() {
+        let mut path = IntegratorConfig::of(Method::Path);
+        assert_eq!(path.flag("denoise"), Some(false));
+        assert!(path.set_flag("denoise", true));
+        assert_eq!(path.flag("denoise"), Some(true));
+        assert_eq!(path.switched(Method::Path), path);
+        let mut lobe = IntegratorConfig::of(Method::Lobe);
+        assert!(!lobe.set_flag("denoise", true));
+        assert_eq!(lobe, IntegratorConfig::of(Method::Lobe));
+        assert_eq!(lobe.flag("denoise"), None);
+        // A boolean field left at false is not written out, and reads false.
+        assert_eq!(lobe.flag("trapped"), Some(false));
+        assert!(lobe.set_flag("trapped", true));
+        assert_eq!(lobe.flag("trapped"), Some(true));
+        // A field that is no boolean is not set.
+        assert!(!path.set_flag("spp", true));
+    }
+
     /// `text` under `check`: refused, naming `field`, on one line.
     fn refused(text: &str, field: &str) {
         let scene = Scene::from_toml_str(text, "t").unwrap();

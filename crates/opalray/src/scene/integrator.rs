@@ -32,7 +32,7 @@ impl IntegratorConfig {
     /// takes are kept, the others dropped; what is not given takes `method`'s defaults.
     pub fn switched(&self, method: Method) -> Self {
         let mut given = self.given();
-        given.retain(|name, _| method.fields().iter().any(|f| *f == name));
+        given.retain(|name, _| method.fields().contains(&name));
         IntegratorConfig::from_given(method, given).expect("only the method's own fields are kept")
     }
 

@@ -195,7 +195,7 @@ impl Report for StoredStats {
     }
 
     fn clone_box(&self) -> Box<dyn Report> {
-        Box::new(self.clone())
+        Box::new(*self)
     }
 }
 
