@@ -39,7 +39,7 @@ impl Frame {
         let t = frame.times;
         // A scene lit by its environment alone has no light angle and traces no light rays.
         let lit = scene.light.kind != opalray::scene::LightKind::None;
-        let stats = serde_json::json!({
+        let mut stats = serde_json::json!({
             "time_s": {"structure": t.structure, "optics": t.optics, "light_pass": t.light_pass,
                        "view_pass": t.view_pass, "color": t.color, "total": t.total()},
             "image": {"width": scene.render.width, "height": scene.render.height,
@@ -48,10 +48,12 @@ impl Frame {
             "void_ratio": frame.void_ratio,
             "light_rays": lit.then_some(frame.light_rays),
             "energy": frame.ledger,
-            "path": frame.path.map(|p| p.to_json()),
-            "stored": frame.stored,
             "peak_memory_mb": peak_memory_mb(),
         });
+        // Each method's own section ("path", "stored"), null but the frame's method's.
+        if let serde_json::Value::Object(map) = &mut stats {
+            map.extend(frame.method_stats(scene.integrator.method()));
+        }
         Frame {
             provenance: Provenance::of(scene, &frame),
             spectral: frame.spectral,
@@ -93,15 +95,15 @@ impl Frame {
             height: h,
             data: flat.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect(),
         };
-        // The samples rendered, from the statistics, as the frame's files record them.
+        // The samples rendered, from the statistics (the method's own section), as the
+        // frame's files record them.
         let stats: serde_json::Value = serde_json::from_str(&stats_json).unwrap_or_default();
-        let spp = |method: &str| {
-            stats[method]["spp"]
-                .as_u64()
-                .and_then(|n| u32::try_from(n).ok())
-        };
+        let spp = opalray::integrator::of(scene.integrator.method())
+            .stats_key()
+            .and_then(|key| stats[key]["spp"].as_u64())
+            .and_then(|n| u32::try_from(n).ok());
         Ok(Frame {
-            provenance: Provenance::of_samples(&scene, spp("path"), spp("stored")),
+            provenance: Provenance::of_samples(&scene, spp),
             spectral,
             rgb,
             color: scene.color,

@@ -72,9 +72,9 @@ pub fn render(
             ..Default::default()
         };
         let mut frame = prepared.render_progressive(scene.light.angle_deg, &passes);
-        if let Some(path) = &mut frame.path {
+        if let Some(report) = &mut frame.report {
             // The passes had what the preparation left of it; the limit is the caller's.
-            path.time_limit_s = time_limit_s;
+            report.set_time_limit(time_limit_s);
         }
         Ok(Frame::new(&scene, frame, scene.light.angle_deg))
     })?;

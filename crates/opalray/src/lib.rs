@@ -6,15 +6,16 @@
 //! ```text
 //! error spectrum geometry sampling simd cancel   foundations: know no scene
 //! scatter      what happens at a point: phase, mosaic lobe, backing (sample, density, eval)
-//! scene        TOML | preset = scenes/*.toml; parse, validate; [integrator] one variant a method
+//! scene        TOML | preset = scenes/*.toml; parse, validate; [integrator] read for any method
 //! color optics structure     CIE and colour spaces; R, T, Bragg lines; the paper's growth
 //! stone        the one stone model: layout, crystal, lobe widths, cut, potch; the walk along a
 //!              ray; the path to a light; its voxel view (Stone::voxels) for the paper's passes
 //! lights       environment (built-in kinds, .hdr / .exr readers), area lights
 //! film         sensor table, even/odd sums, noise, denoiser
 //! integrators  light_pass + view_pass (the paper's, on the voxels) | path | stored | lobe,
-//!              each with a method.rs implementing integrator::Integrator
-//! integrator   the seam: trait Integrator, one table line a method, check(scene)
+//!              each with a method.rs (integrator::Integrator) and a config.rs (Settings)
+//! integrator   the seam: traits Integrator, Settings; one list line a method makes Method,
+//!              IntegratorConfig, INTEGRATORS; check(scene)
 //! render       prepare(scene) -> Prepared (the method's prepare) -> render(angle) -> Frame
 //! output       to_rgb (CIE 1931 -> XYZ -> RGB, gamut-mapped) -> PNG | EXR | spectral EXR
 //! ```

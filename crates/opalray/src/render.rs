@@ -21,7 +21,7 @@ mod frame;
 mod placement;
 
 pub(crate) use frame::rgb_of_xyz;
-pub use frame::{DenoiseBias, Frame, PathStats, StageTimes};
+pub use frame::{Frame, Report, StageTimes};
 pub(crate) use placement::camera_up;
 pub use placement::LIGHT_DISC_RADIUS_DEG;
 
@@ -245,6 +245,29 @@ mod tests {
         let structure = prepared.structure().unwrap();
         assert_eq!(voxels.cells, structure.cells);
         assert_eq!(voxels.orientations, structure.orientations);
+    }
+
+    #[test]
+    fn a_frame_reports_its_own_methods_section_and_null_for_the_others() {
+        let mut scene = tiny("paper");
+        scene.integrator = IntegratorConfig::of(Method::Path);
+        scene.integrator.set_spp(2);
+        let frame = render(&scene).unwrap();
+        assert_eq!(frame.path().map(|p| p.spp), Some(2));
+        assert!(frame.stored().is_none());
+        let sections = frame.method_stats(Method::Path);
+        let keys: Vec<&str> = sections.keys().map(String::as_str).collect();
+        assert_eq!(keys, ["path", "stored"]);
+        assert_eq!(sections["path"]["spp"], 2);
+        assert!(sections["stored"].is_null());
+        // A method without a report of its own: every section null.
+        scene.integrator = IntegratorConfig::of(Method::Lobe);
+        let frame = render(&scene).unwrap();
+        assert!(frame.report.is_none() && frame.path().is_none());
+        assert!(frame
+            .method_stats(Method::Lobe)
+            .values()
+            .all(|v| v.is_null()));
     }
 
     #[test]

@@ -226,10 +226,10 @@ fn path_tracer_is_identical_at_one_two_and_three_threads() {
         bits(&runs[0]).iter().any(|&v| v != 0),
         "the image is not black"
     );
-    assert_eq!(runs[0].path.unwrap().passes, 3);
+    assert_eq!(runs[0].path().unwrap().passes, 3);
     assert_eq!(bits(&runs[0]), bits(&runs[1]), "1 vs 2 threads");
     assert_eq!(bits(&runs[0]), bits(&runs[2]), "1 vs 3 threads");
-    assert_eq!(runs[0].path, runs[2].path, "the noise estimate too");
+    assert_eq!(runs[0].path(), runs[2].path(), "the noise estimate too");
     for n in [1, 3] {
         let single = threads(
             n,
@@ -238,7 +238,7 @@ fn path_tracer_is_identical_at_one_two_and_three_threads() {
                 ..Passes::default()
             },
         );
-        assert_eq!(single.path.unwrap().passes, 5);
+        assert_eq!(single.path().unwrap().passes, 5);
         assert_eq!(
             bits(&runs[0]),
             bits(&single),
@@ -252,7 +252,7 @@ fn path_tracer_is_identical_at_one_two_and_three_threads() {
             ..Passes::default()
         },
     );
-    let stats = limited.path.unwrap();
+    let stats = *limited.path().unwrap();
     assert!(stats.stopped_by_time_limit && stats.spp == 2, "{stats:?}");
     let mut two = scene.clone();
     two.integrator.set_spp(2);

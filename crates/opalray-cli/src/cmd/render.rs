@@ -9,7 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 
 use opalray::path::{PassReport, Passes, RowsReport};
-use opalray::scene::{IntegratorConfig, LightKind, MAX_SPP};
+use opalray::scene::{LightKind, MAX_SPP};
 use opalray::Scene;
 
 use super::common::{
@@ -100,9 +100,9 @@ pub fn run(args: Args) -> Result<()> {
             stage,
         )
     })?;
-    if let Some(path) = &mut frame.path {
+    if let Some(report) = &mut frame.report {
         // The passes had what the preparation left of it; the limit is the user's.
-        path.time_limit_s = args.time_limit;
+        report.set_time_limit(args.time_limit);
     }
     let is_exr = args
         .output
@@ -146,8 +146,8 @@ fn set_light_angle(scene: &mut Scene, angle: f64) -> Result<()> {
     Ok(())
 }
 
-/// The notes on stderr after a render of `scene`: the stage times, and the path tracer's
-/// samples, passes and noise or the stored method's rays and stored light.
+/// The notes on stderr after a render of `scene`: the stage times, and its method's own
+/// (the path tracer's samples, passes and noise, the stored method's rays and stored light).
 fn note_frame(scene: &Scene, frame: &opalray::Frame) {
     let t = frame.times;
     crate::stdio::note(format_args!(
@@ -159,49 +159,8 @@ fn note_frame(scene: &Scene, frame: &opalray::Frame) {
         t.color * 1e3,
         t.total() * 1e3
     ));
-    if let Some(path) = &frame.path {
-        let noise = path
-            .noise
-            .and_then(|n| n.relative_rms)
-            .map_or("unknown (one sample per pixel)".to_string(), |n| {
-                format!("{:.2} %", 100.0 * n)
-            });
-        crate::stdio::note(format_args!(
-            "{} samples per pixel in {} passes{} | noise over the stone {noise}",
-            path.spp,
-            path.passes,
-            if path.stopped_by_time_limit {
-                " (time limit)"
-            } else {
-                ""
-            }
-        ));
-        let denoise = matches!(&scene.integrator, IntegratorConfig::Path(c) if c.denoise);
-        if denoise && path.denoised.is_none() {
-            crate::stdio::note(format_args!(
-                "not denoised: the filter needs two samples per pixel or more (--spp 2)"
-            ));
-        }
-        if let Some(left) = path.denoised {
-            let left = left
-                .and_then(|n| n.relative_rms)
-                .map_or("unknown".into(), |n| format!("{:.2} %", 100.0 * n));
-            crate::stdio::note(format_args!(
-                "denoised | noise left about {left} (not counting the filter's bias)"
-            ));
-        }
-    }
-    if let Some(stored) = &frame.stored {
-        let l = stored.light;
-        crate::stdio::note(format_args!(
-            "{} rays per pixel | light stored in {} cells of {} mm ({} lit, {} lines, {:.1} MB)",
-            stored.spp,
-            l.cells,
-            l.cell_mm,
-            l.lit_cells,
-            l.notches,
-            l.bytes as f64 / 1e6
-        ));
+    for note in frame.report.iter().flat_map(|r| r.notes(scene)) {
+        crate::stdio::note(format_args!("{note}"));
     }
 }
 
@@ -212,7 +171,7 @@ fn note_frame(scene: &Scene, frame: &opalray::Frame) {
 fn stats_json(scene: &Scene, frame: &opalray::Frame) -> serde_json::Value {
     let t = frame.times;
     let lit = scene.light.kind != LightKind::None;
-    json!({
+    let mut stats = json!({
         "time_s": {"structure": t.structure, "optics": t.optics, "light_pass": t.light_pass,
                    "view_pass": t.view_pass, "color": t.color, "total": t.total()},
         "image": {"width": scene.render.width, "height": scene.render.height,
@@ -221,10 +180,13 @@ fn stats_json(scene: &Scene, frame: &opalray::Frame) -> serde_json::Value {
         "void_ratio": frame.void_ratio,
         "light_rays": lit.then_some(frame.light_rays),
         "energy": frame.ledger,
-        "path": frame.path.as_ref().map(|p| p.to_json()),
-        "stored": frame.stored,
         "peak_memory_mb": peak_memory_mb(),
-    })
+    });
+    // Each method's own section ("path", "stored"), null but the frame's method's.
+    if let serde_json::Value::Object(map) = &mut stats {
+        map.extend(frame.method_stats(scene.integrator.method()));
+    }
+    stats
 }
 
 /// What to do when a stage overruns `--time-limit`.

@@ -7,7 +7,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Result};
-use opalray::scene::Method;
 use opalray::stone::Stone;
 use opalray::structure::{self, map::MAX_SCALE};
 use opalray::Scene;
@@ -67,7 +66,7 @@ pub fn run(args: Args) -> Result<()> {
     let config = &scene.structure;
     let [nx, ny, nz] = config.grid;
     let pixels = check_map(&args, config.grid)?;
-    if scene.integrator.method() != Method::TwoPass {
+    if opalray::integrator::of(scene.integrator.method()).renders_stone() {
         // The map's pixels: a domain id, the colour and the encoder's row (16 bytes), and
         // the stone as a render builds it.
         super::memory::check_structure(&scene, 2 * pixels)?;

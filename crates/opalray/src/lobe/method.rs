@@ -4,10 +4,11 @@
 use std::time::Instant;
 
 use crate::error::Result;
-use crate::integrator::Integrator;
+use crate::integrator::{Integrator, Work};
 use crate::path::Passes;
+use crate::path::DEFAULT_WAVELENGTHS;
 use crate::render::{seconds, Frame, Prepared};
-use crate::scene::{IntegratorConfig, LobeConfig, Method, Scene, DEFAULT_WAVELENGTHS};
+use crate::scene::{IntegratorConfig, LobeConfig, Method, Scene};
 use crate::stone::body::munsell_y;
 
 use super::{render_lobes_reporting, LobeSetup};
@@ -23,6 +24,11 @@ impl Integrator for LobeMethod {
     /// Every light and the environment: nothing to refuse.
     fn check(&self, _scene: &Scene) -> Result<()> {
         Ok(())
+    }
+
+    /// Its camera rays, scaled to the stone ([`super::lobe_factor`]), and each frame's set-up.
+    fn work(&self, scene: &Scene, frames: f64) -> Work {
+        super::work::work(scene, frames)
     }
 
     fn prepare(&self, prepared: &mut Prepared) -> Result<()> {

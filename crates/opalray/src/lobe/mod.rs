@@ -40,11 +40,13 @@
 //! except those of the eye ray, and the cap plane's reflection of a triplet.
 
 pub mod colour;
+mod config;
 mod layer;
 mod method;
 mod potch;
 mod tables;
 mod trace;
+mod work;
 
 use std::f32::consts::PI;
 
@@ -59,10 +61,12 @@ use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
 
 pub use colour::LineColours;
+pub use config::LobeConfig;
 pub use method::LobeMethod;
 pub(crate) use tables::BackingLight;
 pub use tables::Irradiance;
 use tables::{bilinear, fill_table};
+pub use work::lobe_factor;
 
 /// Everything the lobe integrator needs besides the stone.
 pub struct LobeSetup<'a> {

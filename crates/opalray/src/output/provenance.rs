@@ -29,27 +29,19 @@ impl Provenance {
     /// methods; the lobe integrator's rays per edge pixel), `opalray.method` and
     /// `opalray.version`.
     pub fn of(scene: &Scene, frame: &Frame) -> Self {
-        Provenance::of_samples(
-            scene,
-            frame.path.as_ref().map(|p| p.spp),
-            frame.stored.as_ref().map(|s| s.spp),
-        )
+        Provenance::of_samples(scene, frame.report.as_ref().and_then(|r| r.spp()))
     }
 
-    /// [`Provenance::of`] from the samples per pixel the path integrator (`path_spp`) or
-    /// the stored method (`stored_spp`) rendered, for a frame known only by its statistics.
-    pub fn of_samples(scene: &Scene, path_spp: Option<u32>, stored_spp: Option<u32>) -> Self {
+    /// [`Provenance::of`] from the samples per pixel the frame's method reports it rendered
+    /// (`rendered_spp`: its report's, `Report::spp`), for a frame known only by its
+    /// statistics; without them, the scene's (the lobe integrator's rays per edge pixel).
+    pub fn of_samples(scene: &Scene, rendered_spp: Option<u32>) -> Self {
         let mut scene = scene.clone();
-        if let Some(spp) = path_spp {
+        if let Some(spp) = rendered_spp {
             scene.integrator.set_spp(spp);
         }
-        // The lobe integrator's rays per edge pixel are the scene's.
         let method = scene.integrator.method();
-        let lobe_spp = scene
-            .integrator
-            .spp()
-            .filter(|_| method == crate::scene::Method::Lobe);
-        let spp = path_spp.or(stored_spp).or(lobe_spp);
+        let spp = rendered_spp.or(scene.integrator.spp());
         let version = env!("CARGO_PKG_VERSION");
         let method = method.name().to_string();
         let mut entries = vec![
@@ -197,7 +189,7 @@ mod tests {
         // A name beyond Latin-1 travels as UTF-8 in both headers.
         scene.environment.kind = crate::scene::EnvironmentKind::File;
         scene.environment.path = "maps/atelier-ü-光.hdr".into();
-        let provenance = Provenance::of_samples(&scene, Some(3), None);
+        let provenance = Provenance::of_samples(&scene, Some(3));
         (scene, provenance)
     }
 

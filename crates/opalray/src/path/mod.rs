@@ -61,6 +61,7 @@
 //! by class of path (Bragg events, the body, a backing): [`orders`].
 
 mod area;
+mod config;
 mod crossing;
 mod events;
 mod image;
@@ -74,6 +75,7 @@ pub mod polar;
 pub mod sampler;
 mod shares;
 pub mod spectral;
+mod stats;
 mod vertex;
 
 use crate::geometry::LightSource;
@@ -86,6 +88,7 @@ use glam::Vec3;
 
 pub use crate::film::noise;
 pub use crate::film::Noise;
+pub use config::{PathConfig, DEFAULT_MAX_SCATTERINGS, DEFAULT_WAVELENGTHS};
 pub use image::PathImage;
 
 pub use method::PathTracer;
@@ -94,6 +97,7 @@ pub(crate) use passes::RowCounter;
 pub use passes::{trace_passes, PassReport, Passes, RowsReport};
 pub use sampler::Sampling;
 pub use spectral::{PathSpectrum, SpectralSampler, MAX_DRAWS};
+pub use stats::{DenoiseBias, PathStats};
 
 use orders::{SampleTally, BACKGROUND, CLASSES, GLOSS};
 use sampler::{Mark, PathSampler};

@@ -1,6 +1,7 @@
-//! A rendered frame and what it reports (stage times, the path integrator's samples and
-//! noise, the denoiser's bias), and the colour stage every method ends with: XYZ → the scene's
-//! linear RGB, adapted to its white and scaled by its exposure.
+//! A rendered frame and what it reports (stage times; its method's own report, a [`Report`]:
+//! the path integrator's samples, noise and the denoiser's bias, the stored method's light),
+//! and the colour stage every method ends with: XYZ → the scene's linear RGB, adapted to its
+//! white and scaled by its exposure.
 
 use std::time::Instant;
 
@@ -9,11 +10,10 @@ use serde::Serialize;
 use super::{seconds, Prepared};
 use crate::color::RgbImage;
 use crate::color::{xyz_to_rgb_adapted, RgbSpace};
-use crate::film::{Noise, SpectralSampler};
+use crate::film::SpectralSampler;
 use crate::light_pass::EnergyLedger;
-use crate::path::BraggOrders;
+use crate::scene::{Method, Scene};
 use crate::spectrum::SpectralImage;
-use crate::stored::StoredStats;
 
 /// Seconds spent in each stage (the paper reports the same breakdown).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
@@ -65,71 +65,65 @@ pub struct Frame {
     /// Void ratio of the paper's grown structure (void cells / inside cells); `None` for
     /// the methods that render the stone model (which do not grow it).
     pub void_ratio: Option<f64>,
-    /// The path integrator's samples and noise (`None` for the other methods).
-    pub path: Option<PathStats>,
-    /// The stored method's samples and stored light (`None` for the other methods).
-    pub stored: Option<StoredStats>,
+    /// What its method reports of itself (`None` for a method with nothing to add): the
+    /// path integrator's samples and noise (`Frame::path`), the stored method's samples and
+    /// stored light (`Frame::stored`).
+    pub report: Option<Box<dyn Report>>,
 }
 
-/// What the path integrator rendered: its samples, passes and noise.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct PathStats {
-    /// Samples per pixel rendered. The image is the same bytes as a render of the same scene
-    /// with `integrator.spp` set to this, with or without a time limit.
-    pub spp: u32,
-    /// Samples per pixel asked for (`integrator.spp`).
-    pub target_spp: u32,
-    /// Passes rendered.
-    pub passes: u32,
-    /// The time limit, seconds, if any.
-    pub time_limit_s: Option<f64>,
-    /// Whether the time limit stopped the render short of `target_spp`.
-    pub stopped_by_time_limit: bool,
-    /// The image's noise over the stone (`None` below two samples per pixel).
-    pub noise: Option<Noise>,
-    /// With `integrator.denoise` (and two samples per pixel or more): `Some`, holding the
-    /// noise left after the filter as its filtered halves estimate it (blind to its bias).
-    pub denoised: Option<Option<Noise>>,
-    /// With the filter: the share of the image's X, Y, Z its firefly cut took (and returned
-    /// about the fireflies), and its bias in the image's mean X, Y, Z (filtered over raw,
-    /// less 1).
-    pub denoise_bias: Option<DenoiseBias>,
-    /// The share of the stone's luminance per class of path: its Bragg events, whether one
-    /// came after an internal reflection, the body, a backing ([`crate::path::orders`]).
-    pub bragg_orders: Option<BraggOrders>,
+/// What a method reports of a frame beyond its image: its section of the statistics (under
+/// its `Integrator::stats_key`), the samples per pixel it rendered and its notes. Its typed
+/// form is read back by the method's own accessor on [`Frame`] (`Frame::path`).
+pub trait Report: std::any::Any + std::fmt::Debug + Send + Sync {
+    /// Its section of the `--stats` JSON and of the Python frame's stats.
+    fn to_json(&self) -> serde_json::Value;
+
+    /// Samples per pixel rendered, where it renders samples: a time-limited path tracer's
+    /// may stop short of `integrator.spp` (a file's recorded scene takes this, so that it
+    /// renders again exactly).
+    fn spp(&self) -> Option<u32> {
+        None
+    }
+
+    /// Record the caller's time limit, seconds (the passes had what the preparation left
+    /// of it).
+    fn set_time_limit(&mut self, _time_limit_s: Option<f64>) {}
+
+    /// Lines for the terminal after a render of `scene`.
+    fn notes(&self, scene: &Scene) -> Vec<String>;
+
+    /// A boxed copy (a [`Frame`] is `Clone`).
+    fn clone_box(&self) -> Box<dyn Report>;
 }
 
-/// What the denoiser did to the image's energy and colour ([`crate::denoise::Denoised`]).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct DenoiseBias {
-    /// Share of X, Y, Z the firefly cut took before the filter (returned after it).
-    pub firefly_cut_xyz: [f64; 3],
-    /// The filtered image's mean X, Y, Z over the raw image's, less 1.
-    pub bias_xyz: [f64; 3],
+impl Clone for Box<dyn Report> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
 }
 
-impl PathStats {
-    /// The `path` section of the `--stats` JSON (and of the Python frame's stats): these
-    /// fields, and how to render the same image again.
-    pub fn to_json(&self) -> serde_json::Value {
-        serde_json::json!({
-            "spp": self.spp,
-            "target_spp": self.target_spp,
-            "passes": self.passes,
-            "time_limit_s": self.time_limit_s,
-            "stopped_by_time_limit": self.stopped_by_time_limit,
-            "deterministic_given_spp": true,
-            "same_image_with": format!("--spp {} (integrator.spp)", self.spp),
-            "noise": self.noise,
-            "denoised": self.denoised.map(|noise| serde_json::json!({
-                "noise_estimate": noise,
-                "noise_estimate_is": "the filtered halves' difference: the noise left, not the filter's bias",
-                "firefly_cut_xyz": self.denoise_bias.map(|b| b.firefly_cut_xyz),
-                "bias_xyz": self.denoise_bias.map(|b| b.bias_xyz),
-                "bias_is": "filtered over raw mean X, Y, Z, less 1, on the same samples (the firefly cut's and the filter's residual returned about each pixel: zero to rounding)",
-            })),
-            "bragg_orders": self.bragg_orders.map(|b| b.to_json()),
-        })
+impl Frame {
+    /// The methods' sections of the statistics: for every method with one
+    /// (`Integrator::stats_key`), this frame's report where `method` is that method (the
+    /// frame's), else null.
+    pub fn method_stats(&self, method: Method) -> serde_json::Map<String, serde_json::Value> {
+        crate::integrator::INTEGRATORS
+            .iter()
+            .filter_map(|i| {
+                let key = i.stats_key()?;
+                let report = self.report.as_ref().filter(|_| i.method() == method);
+                Some((
+                    key.to_string(),
+                    report.map_or(serde_json::Value::Null, |r| r.to_json()),
+                ))
+            })
+            .collect()
+    }
+
+    /// The report, as the type its method made it (`None` for a frame of another method).
+    pub fn report_as<T: Report>(&self) -> Option<&T> {
+        let report: &dyn std::any::Any = self.report.as_deref()?;
+        report.downcast_ref()
     }
 }
 
@@ -142,7 +136,7 @@ impl Prepared {
         spectral: SpectralImage,
         xyz: &[[f32; 3]],
         sampler: &SpectralSampler,
-        stored: Option<StoredStats>,
+        report: Option<Box<dyn Report>>,
     ) -> Frame {
         let start = Instant::now();
         let m = self.display_matrix(sampler.white_xyz);
@@ -156,8 +150,7 @@ impl Prepared {
             ledger: EnergyLedger::default(),
             times,
             void_ratio: None,
-            path: None,
-            stored,
+            report,
         }
     }
 

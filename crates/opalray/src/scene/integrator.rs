@@ -1,234 +1,86 @@
 //! The `[integrator]` section: which renderer, and that renderer's own settings. Each method
 //! is its own variant with its own fields, so a field of another method is refused by name
-//! (`method = "..."` selects the variant; a missing `method` is `"two-pass"`). What each
-//! method refuses of the rest of the scene is its own check (`crate::integrator`).
+//! (`method = "..."` selects the variant; a missing `method` is `"two-pass"`). The methods,
+//! their variants and their settings are registered in one list ([`crate::integrator`]);
+//! this module knows none of them: it reads the section (`fields.rs`), switches methods and
+//! checks what every method shares (`spp`, `seed`). What each method refuses of the rest of
+//! the scene is its own check (`crate::integrator`).
 
-use serde::{Deserialize, Serialize};
+pub use crate::integrator::{IntegratorConfig, Method};
 
-pub use super::methods::{
-    LobeConfig, PathConfig, StoredConfig, TwoPassConfig, DEFAULT_WAVELENGTHS, MAX_SPP,
-};
-
-use super::check_range;
-use super::methods::{DEFAULT_MAX_SCATTERINGS, DEFAULT_SPP};
 use crate::error::{Error, Result};
 
 mod fields;
 
-use fields::IntegratorFields;
+pub use fields::IntegratorFields;
 
-/// Which renderer.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Method {
-    /// The paper's two passes on the cell grid (light stored per cluster, eq. (2) from the eye).
-    #[default]
-    TwoPass,
-    /// The spectral path tracer on the stone model: domains as geometry, every plane family,
-    /// the rocking width, lines evaluated at exact wavelengths.
-    Path,
-    /// The paper's two passes on the stone model: light stored per grid cell of the stone,
-    /// then gathered from the eye (eq. (2)), each domain's lines at their exact wavelengths.
-    /// Single reflection only; deterministic, no noise (`integrator.spp`, `cell_mm`).
-    Stored,
-    /// The lobe integrator on the stone model: every Bragg lobe integrated against the
-    /// environment and the light, the body as its Munsell value; deterministic, no noise,
-    /// seconds a frame (`integrator.spp`: stratified sub-pixel positions).
-    Lobe,
-}
+/// Most samples per pixel (`integrator.spp`).
+pub const MAX_SPP: u32 = 65_536;
 
-impl Method {
-    /// Every method, in the order the docs list them.
-    pub const ALL: [Method; 4] = [Method::TwoPass, Method::Path, Method::Stored, Method::Lobe];
-
-    /// Its name in a scene file (`"two-pass"`, `"path"`, …).
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::TwoPass => "two-pass",
-            Method::Path => "path",
-            Method::Stored => "stored",
-            Method::Lobe => "lobe",
-        }
-    }
-
-    /// The `[integrator]` fields it takes besides `method`.
-    pub fn fields(self) -> &'static [&'static str] {
-        match self {
-            Method::TwoPass => &[],
-            Method::Path => &[
-                "spp",
-                "max_depth",
-                "max_scatterings",
-                "wavelengths",
-                "seed",
-                "denoise",
-            ],
-            Method::Stored => &["spp", "seed", "cell_mm"],
-            Method::Lobe => &["spp", "seed", "trapped"],
-        }
-    }
-}
-
-/// The integrator: `method` and that method's own fields (docs/scene-format.md).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(
-    tag = "method",
-    rename_all = "kebab-case",
-    try_from = "IntegratorFields"
-)]
-pub enum IntegratorConfig {
-    /// The paper's two passes on the cell grid.
-    TwoPass(TwoPassConfig),
-    /// The spectral path tracer.
-    Path(PathConfig),
-    /// The paper's two passes on the stone model.
-    Stored(StoredConfig),
-    /// The lobe integrator.
-    Lobe(LobeConfig),
-}
+/// Default samples (camera rays) per pixel (`integrator.spp`), of every method that takes
+/// them.
+pub const DEFAULT_SPP: u32 = 16;
 
 impl Default for IntegratorConfig {
     fn default() -> Self {
-        IntegratorConfig::of(Method::TwoPass)
+        IntegratorConfig::of(Method::default())
     }
 }
 
 impl IntegratorConfig {
-    /// The defaults of `method`.
-    pub fn of(method: Method) -> Self {
-        IntegratorConfig::try_from(IntegratorFields {
-            method,
-            ..IntegratorFields::default()
-        })
-        .expect("no field given: every method takes that")
-    }
-
-    /// The method.
-    pub fn method(&self) -> Method {
-        match self {
-            IntegratorConfig::TwoPass(_) => Method::TwoPass,
-            IntegratorConfig::Path(_) => Method::Path,
-            IntegratorConfig::Stored(_) => Method::Stored,
-            IntegratorConfig::Lobe(_) => Method::Lobe,
-        }
-    }
-
-    /// Every field given, as the section reads.
-    fn fields(&self) -> IntegratorFields {
-        let value = toml::Value::try_from(self).expect("an integrator serialises to TOML");
-        value
-            .try_into()
-            .expect("an integrator's TOML reads back as fields")
-    }
-
     /// The same settings under `method` (`--method`, Python's `method=`): the fields `method`
     /// takes are kept, the others dropped; what is not given takes `method`'s defaults.
     pub fn switched(&self, method: Method) -> Self {
-        let mut f = self.fields();
-        f.method = method;
-        let keep = method.fields();
-        let given = f.given();
-        let drop = |name: &str| !keep.contains(&name) && given.contains(&name);
-        if drop("spp") {
-            f.spp = None;
-        }
-        if drop("seed") {
-            f.seed = None;
-        }
-        if drop("max_depth") {
-            f.max_depth = None;
-        }
-        if drop("max_scatterings") {
-            f.max_scatterings = None;
-        }
-        if drop("wavelengths") {
-            f.wavelengths = None;
-        }
-        if drop("cell_mm") {
-            f.cell_mm = None;
-        }
-        if drop("denoise") {
-            f.denoise = None;
-        }
-        if drop("trapped") {
-            f.trapped = None;
-        }
-        IntegratorConfig::try_from(f).expect("only the method's own fields are kept")
+        let mut given = self.given();
+        given.retain(|name, _| method.fields().contains(&name));
+        IntegratorConfig::from_given(method, given).expect("only the method's own fields are kept")
     }
 
-    /// Samples (camera rays) per pixel, for a method that takes them.
-    pub fn spp(&self) -> Option<u32> {
-        match self {
-            IntegratorConfig::TwoPass(_) => None,
-            IntegratorConfig::Path(c) => Some(c.spp),
-            IntegratorConfig::Stored(c) => Some(c.spp),
-            IntegratorConfig::Lobe(c) => Some(c.spp),
-        }
+    /// The fields as the section writes them, less `method`.
+    fn given(&self) -> toml::Table {
+        let mut given = match toml::Value::try_from(self) {
+            Ok(toml::Value::Table(table)) => table,
+            _ => unreachable!("an integrator serialises to a TOML table"),
+        };
+        given.remove("method");
+        given
     }
 
-    /// Set the samples per pixel where the method takes them (`--spp`); the paper's two
-    /// passes take none, and are left as they are.
-    pub fn set_spp(&mut self, spp: u32) {
-        match self {
-            IntegratorConfig::TwoPass(_) => {}
-            IntegratorConfig::Path(c) => c.spp = spp,
-            IntegratorConfig::Stored(c) => c.spp = spp,
-            IntegratorConfig::Lobe(c) => c.spp = spp,
+    /// The boolean field `name` (`"denoise"`, `"trapped"`) where the method takes it, else
+    /// `None` (one the section does not write out is false).
+    pub fn flag(&self, name: &str) -> Option<bool> {
+        self.method().fields().contains(&name).then(|| {
+            self.given()
+                .get(name)
+                .and_then(toml::Value::as_bool)
+                .unwrap_or(false)
+        })
+    }
+
+    /// Set the boolean field `name` (`--denoise`) where the method takes it; false, and
+    /// nothing changed, where it takes no such boolean field.
+    pub fn set_flag(&mut self, name: &str, on: bool) -> bool {
+        if !self.method().fields().contains(&name) {
+            return false;
+        }
+        let mut given = self.given();
+        given.insert(name.to_string(), toml::Value::Boolean(on));
+        match IntegratorConfig::from_given(self.method(), given) {
+            Ok(switched) => {
+                *self = switched;
+                true
+            }
+            Err(_) => false,
         }
     }
 
-    /// Set the seed of the sample streams where the method draws any; the paper's two passes
-    /// (which draw from `structure.seed`) are left as they are.
-    pub fn set_seed(&mut self, seed: u64) {
-        match self {
-            IntegratorConfig::TwoPass(_) => {}
-            IntegratorConfig::Path(c) => c.seed = seed,
-            IntegratorConfig::Stored(c) => c.seed = seed,
-            IntegratorConfig::Lobe(c) => c.seed = seed,
-        }
-    }
-
-    /// The seed of the sample streams (0 for the two passes, which draw from
-    /// `structure.seed` alone).
-    pub fn seed(&self) -> u64 {
-        match self {
-            IntegratorConfig::TwoPass(_) => 0,
-            IntegratorConfig::Path(c) => c.seed,
-            IntegratorConfig::Stored(c) => c.seed,
-            IntegratorConfig::Lobe(c) => c.seed,
-        }
-    }
-
-    /// Check ranges.
+    /// Check ranges: the samples per pixel and the seed where the method takes them, then
+    /// the method's own fields.
     pub fn validate(&self) -> Result<()> {
         if let Some(spp) = self.spp() {
             check_spp(spp)?;
         }
-        if let IntegratorConfig::Path(c) = self {
-            for (field, v, hi, example) in [
-                ("integrator.max_depth", c.max_depth, 256, 8),
-                ("integrator.wavelengths", c.wavelengths, 64, 4),
-            ] {
-                if !(1..=hi).contains(&v) {
-                    return Err(Error::field(
-                        field,
-                        format!("must be in 1..={hi}, got {v}; try {example}"),
-                    ));
-                }
-            }
-            if c.max_scatterings > 1 << 16 {
-                return Err(Error::field(
-                    "integrator.max_scatterings",
-                    format!(
-                        "must be in 0..=65536, got {}; try {DEFAULT_MAX_SCATTERINGS}",
-                        c.max_scatterings
-                    ),
-                ));
-            }
-        }
-        if let IntegratorConfig::Stored(c) = self {
-            check_range("integrator.cell_mm", c.cell_mm, 0.02, 2.0, 0.15)?;
-        }
+        self.validate_settings()?;
         if i64::try_from(self.seed()).is_err() {
             return Err(Error::field(
                 "integrator.seed",
@@ -258,6 +110,7 @@ pub fn check_spp(spp: u32) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrator::configs::{LobeConfig, PathConfig, StoredConfig};
     use crate::Scene;
 
     #[test]

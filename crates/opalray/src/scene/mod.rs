@@ -4,14 +4,14 @@
 //! errors naming their path; [`Scene::validate`] checks ranges, NaN and the memory a grid
 //! would need before anything is allocated. Field tables: `docs/scene-format.md`.
 //!
-//! One file a section (`body`, `look`, `stone`, `studio`, `integrator` with the methods'
-//! settings in `methods`); `parse` reads text, values and files, `validate` checks what spans
+//! One file a section (`body`, `look`, `stone`, `studio`, `integrator`: the section that
+//! chooses the method, each method's settings in its own folder, registered in
+//! [`crate::integrator`]); `parse` reads text, values and files, `validate` checks what spans
 //! sections, `presets` holds `scenes/*.toml`.
 
 mod body;
 mod integrator;
 mod look;
-mod methods;
 mod parse;
 mod presets;
 mod shape;
@@ -19,11 +19,10 @@ mod stone;
 mod studio;
 mod validate;
 
+pub use crate::integrator::configs::*;
 pub use body::{Backing, BodyConfig, Cut};
-pub use integrator::{
-    check_spp, IntegratorConfig, LobeConfig, Method, PathConfig, StoredConfig, TwoPassConfig,
-    DEFAULT_WAVELENGTHS, MAX_SPP,
-};
+pub(crate) use integrator::IntegratorFields;
+pub use integrator::{check_spp, IntegratorConfig, Method, DEFAULT_SPP, MAX_SPP};
 pub use look::{
     CameraConfig, ColorConfig, ColorSpaceChoice, GamutMapping, Illuminant, LightConfig, LightKind,
     RenderConfig, BODY_EXTINCTION_PER_MM,

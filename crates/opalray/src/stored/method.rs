@@ -4,12 +4,11 @@
 use std::time::Instant;
 
 use crate::error::{Error, Result};
-use crate::integrator::Integrator;
-use crate::path::{Passes, PathLight};
-use crate::render::{seconds, Frame, Prepared, LIGHT_DISC_RADIUS_DEG};
+use crate::integrator::{pixels, Integrator, Work};
+use crate::path::{Passes, PathLight, DEFAULT_WAVELENGTHS};
+use crate::render::{seconds, Frame, Prepared, Report, LIGHT_DISC_RADIUS_DEG};
 use crate::scene::{
     Cut, EnvironmentKind, IntegratorConfig, LightKind, Method, Scene, StoredConfig,
-    DEFAULT_WAVELENGTHS,
 };
 
 use super::{gather_view, store_light, StoredSetup, StoredStats};
@@ -20,6 +19,12 @@ pub const MAX_STORED_CELLS: f64 = 16e6;
 /// Per grid point of the stored light: its slot, the cell and its notches (measured 44 bytes
 /// on the paper's stone, with room for deeper stones crossing more domains).
 const STORED_POINT_BYTES: f64 = 100.0;
+
+/// Processor seconds of the stored method's first camera ray of a pixel (the paper's stone
+/// at 640 × 480, 3 µs) and of each further one (0.43 µs), 2026-12-06 (load about 10):
+/// `BENCHMARKS.md`, "The work estimate's costs".
+const STORED_PIXEL_CPU_S: f64 = 4e-6;
+const STORED_RAY_CPU_S: f64 = 0.5e-6;
 
 /// The paper's two passes on the stone model.
 pub struct StoredMethod;
@@ -104,6 +109,22 @@ impl Integrator for StoredMethod {
         false
     }
 
+    /// `"stored"`: its rays and its stored light ([`StoredStats`]).
+    fn stats_key(&self) -> Option<&'static str> {
+        Some("stored")
+    }
+
+    /// One camera ray through every pixel, `spp − 1` more.
+    fn work(&self, scene: &Scene, frames: f64) -> Work {
+        let spp = f64::from(scene.integrator.spp().unwrap_or(1));
+        let pixels = pixels(scene, frames);
+        Work {
+            rays: pixels * spp,
+            cpu_s: pixels * (STORED_PIXEL_CPU_S + (spp - 1.0) * STORED_RAY_CPU_S),
+            ..Work::default()
+        }
+    }
+
     fn prepare(&self, prepared: &mut Prepared) -> Result<()> {
         prepared.build_stone()
     }
@@ -140,6 +161,47 @@ impl Integrator for StoredMethod {
             spp: setup.spp,
             light: light.stats(),
         };
-        prepared.deterministic_frame(times, image.spectral, &image.xyz, &f.sampler, Some(stats))
+        prepared.deterministic_frame(
+            times,
+            image.spectral,
+            &image.xyz,
+            &f.sampler,
+            Some(Box::new(stats)),
+        )
+    }
+}
+
+impl Report for StoredStats {
+    fn to_json(&self) -> serde_json::Value {
+        serde_json::to_value(self).expect("the stored method's statistics are JSON")
+    }
+
+    fn spp(&self) -> Option<u32> {
+        Some(self.spp)
+    }
+
+    /// Its rays and its stored light's grid.
+    fn notes(&self, _scene: &Scene) -> Vec<String> {
+        let l = self.light;
+        vec![format!(
+            "{} rays per pixel | light stored in {} cells of {} mm ({} lit, {} lines, {:.1} MB)",
+            self.spp,
+            l.cells,
+            l.cell_mm,
+            l.lit_cells,
+            l.notches,
+            l.bytes as f64 / 1e6
+        )]
+    }
+
+    fn clone_box(&self) -> Box<dyn Report> {
+        Box::new(*self)
+    }
+}
+
+impl Frame {
+    /// The stored method's rays and stored light (`None` for a frame of another method).
+    pub fn stored(&self) -> Option<&StoredStats> {
+        self.report_as()
     }
 }

@@ -20,6 +20,7 @@
 //! Rows are rendered in parallel into pre-sized buffers: the same scene and seed give the
 //! same bytes at any thread count.
 
+mod config;
 pub mod light;
 mod lines;
 mod method;
@@ -36,6 +37,7 @@ use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
 
+pub use config::StoredConfig;
 pub use light::{Arrival, LightStats, Notch, StoredLight};
 pub use lines::Lines;
 pub use method::{StoredMethod, MAX_STORED_CELLS};

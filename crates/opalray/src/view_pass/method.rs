@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use crate::color::to_rgb;
 use crate::error::{Error, Result};
-use crate::integrator::Integrator;
+use crate::integrator::{pixels, Integrator, Work};
 use crate::light_pass::{
     trace_light, ClusterOptics, LightField, LightSetup, LightSource, Termination, VoxelLayout,
 };
@@ -15,6 +15,12 @@ use crate::render::{seconds, Frame, Prepared};
 use crate::scene::{EnvironmentKind, LightKind, Method, Scene, BODY_EXTINCTION_PER_MM};
 
 use super::{trace_view, Shading, ViewSetup};
+
+/// Processor seconds of a pixel of the paper's two passes (0.36 µs) and of one of their light
+/// rays (`light.rays`, 1.4 µs), the paper's scene, 2026-12-06 (load about 10):
+/// `BENCHMARKS.md`, "The work estimate's costs".
+const TWO_PASS_PIXEL_CPU_S: f64 = 0.5e-6;
+const LIGHT_RAY_CPU_S: f64 = 2e-6;
 
 /// The paper's two passes on the cell grid (paper §3.2–3.3).
 pub struct TwoPass;
@@ -62,6 +68,23 @@ impl Integrator for TwoPass {
 
     fn sees_environment(&self) -> bool {
         false
+    }
+
+    /// The paper's cell grid, not the stone model.
+    fn renders_stone(&self) -> bool {
+        false
+    }
+
+    /// A view ray through every pixel and `light.rays` light rays a frame.
+    fn work(&self, scene: &Scene, frames: f64) -> Work {
+        let pixels = pixels(scene, frames);
+        let light_rays = scene.light.rays as f64 * frames;
+        Work {
+            rays: pixels,
+            light_rays,
+            cpu_s: pixels * TWO_PASS_PIXEL_CPU_S + light_rays * LIGHT_RAY_CPU_S,
+            ..Work::default()
+        }
     }
 
     /// The structure grown, the optics built and the stone's cells laid out once for every
@@ -152,8 +175,7 @@ impl Prepared {
             ledger: light.ledger,
             times,
             void_ratio: Some(structure.stats.void_ratio),
-            path: None,
-            stored: None,
+            report: None,
         }
     }
 

@@ -8,12 +8,14 @@
 //! scatters by the body tone. At the far surface the ray sees the backdrop through the stone
 //! and reflects internally.
 
+mod config;
 mod method;
 mod shading;
 mod walk;
 
 use walk::{RayBuffers, WalkStart};
 
+pub use config::TwoPassConfig;
 pub use method::TwoPass;
 pub use shading::{CellTag, ClusterShade, Lobe, Shading, LOBE_CUTOFF};
 

@@ -117,17 +117,13 @@ impl LookArgs {
             scene.camera.tilt_deg = v;
         }
         if self.denoise || self.no_denoise {
-            match &mut scene.integrator {
-                opalray::scene::IntegratorConfig::Path(c) => c.denoise = self.denoise,
-                // Without the filter there is nothing to switch off.
-                _ if self.no_denoise => {}
-                _ => {
-                    return Err(self.named(opalray::Error::field(
-                        "integrator.denoise",
-                        "filters the path integrator's image only; set integrator.method = \
-                         \"path\" (--method path) or drop the flag",
-                    )))
-                }
+            // Without the filter there is nothing to switch off.
+            if !scene.integrator.set_flag("denoise", self.denoise) && !self.no_denoise {
+                return Err(self.named(opalray::Error::field(
+                    "integrator.denoise",
+                    "filters the path integrator's image only; set integrator.method = \
+                     \"path\" (--method path) or drop the flag",
+                )));
             }
         }
         opalray::integrator::check(scene).map_err(|err| self.named(err))?;

@@ -1,53 +1,95 @@
-//! `[integrator]` as a scene file gives it: every field of every method, read before the
-//! method's variant takes only its own; a field of another method is refused naming the
+//! `[integrator]` as a scene file gives it: `method` and the fields given, each read with the
+//! type of a method that takes it (so a wrong type is named by its field and line), before
+//! the method's variant takes only its own; a field of another method is refused naming the
 //! methods that take it.
 
-use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::sync::OnceLock;
 
-use super::super::methods::DEFAULT_SPP;
-use super::{IntegratorConfig, LobeConfig, Method, PathConfig, StoredConfig, TwoPassConfig};
+use serde::de::{DeserializeSeed, Deserializer, Error as _, MapAccess, Visitor};
+use serde::Deserialize;
 
-/// Every field of every method, as a scene file gives them: the form `[integrator]` is read
-/// in, before the method's variant takes only its own.
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct IntegratorFields {
-    #[serde(default)]
-    pub(super) method: Method,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) spp: Option<u32>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) max_depth: Option<u32>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) max_scatterings: Option<u32>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) wavelengths: Option<u32>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) seed: Option<u64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) cell_mm: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) denoise: Option<bool>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) trapped: Option<bool>,
+use super::{IntegratorConfig, Method};
+
+/// The section as a scene file gives it: the method (`"two-pass"` when not given) and the
+/// fields given besides it, before the method's variant takes only its own.
+#[derive(Clone, Debug, Default)]
+pub struct IntegratorFields {
+    /// `integrator.method`.
+    method: Method,
+    /// The other fields given, each of the type of a method that takes it.
+    given: toml::Table,
 }
 
-impl IntegratorFields {
-    /// The names of the fields given.
-    pub(super) fn given(&self) -> Vec<&'static str> {
-        [
-            ("spp", self.spp.is_some()),
-            ("max_depth", self.max_depth.is_some()),
-            ("max_scatterings", self.max_scatterings.is_some()),
-            ("wavelengths", self.wavelengths.is_some()),
-            ("seed", self.seed.is_some()),
-            ("cell_mm", self.cell_mm.is_some()),
-            ("denoise", self.denoise.is_some()),
-            ("trapped", self.trapped.is_some()),
-        ]
-        .into_iter()
-        .filter_map(|(name, given)| given.then_some(name))
-        .collect()
+/// Every method's fields, each once, in the order of [`Method::ALL`] and of each method's
+/// [`Method::fields`].
+fn every_field() -> &'static [&'static str] {
+    static FIELDS: OnceLock<Vec<&'static str>> = OnceLock::new();
+    FIELDS.get_or_init(|| {
+        let mut fields = vec!["method"];
+        for field in Method::ALL.iter().flat_map(|m| m.fields()) {
+            if !fields.contains(field) {
+                fields.push(field);
+            }
+        }
+        fields
+    })
+}
+
+/// One field's value, read as a TOML value and checked against the type its first owner
+/// gives it; a field no method takes is refused at its value, so that the error names it.
+struct FieldOf {
+    owner: Option<Method>,
+    name: String,
+}
+
+impl<'de> DeserializeSeed<'de> for FieldOf {
+    type Value = toml::Value;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<toml::Value, D::Error> {
+        let Some(owner) = self.owner else {
+            return Err(D::Error::unknown_field(&self.name, every_field()));
+        };
+        let value = toml::Value::deserialize(d)?;
+        let alone = toml::Table::from_iter([(self.name, value.clone())]);
+        IntegratorConfig::from_given(owner, alone).map_err(|e| D::Error::custom(e.message()))?;
+        Ok(value)
+    }
+}
+
+/// Reads the section's table into [`IntegratorFields`].
+struct FieldsVisitor;
+
+impl<'de> Visitor<'de> for FieldsVisitor {
+    type Value = IntegratorFields;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("struct IntegratorFields")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<IntegratorFields, A::Error> {
+        let mut fields = IntegratorFields::default();
+        while let Some(name) = map.next_key::<String>()? {
+            if name == "method" {
+                fields.method = map.next_value()?;
+                continue;
+            }
+            let owner = Method::ALL
+                .into_iter()
+                .find(|m| m.fields().iter().any(|f| *f == name));
+            let value = map.next_value_seed(FieldOf {
+                owner,
+                name: name.clone(),
+            })?;
+            fields.given.insert(name, value);
+        }
+        Ok(fields)
+    }
+}
+
+impl<'de> Deserialize<'de> for IntegratorFields {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_map(FieldsVisitor)
     }
 }
 
@@ -76,38 +118,12 @@ impl TryFrom<IntegratorFields> for IntegratorConfig {
     type Error = String;
 
     fn try_from(f: IntegratorFields) -> std::result::Result<Self, String> {
-        if let Some(field) = f
-            .given()
-            .into_iter()
-            .find(|g| !f.method.fields().contains(g))
+        if let Some(field) = every_field()
+            .iter()
+            .find(|name| f.given.contains_key(**name) && !f.method.fields().contains(name))
         {
             return Err(foreign_field(field, f.method));
         }
-        let spp = f.spp.unwrap_or(DEFAULT_SPP);
-        let seed = f.seed.unwrap_or(0);
-        Ok(match f.method {
-            Method::TwoPass => IntegratorConfig::TwoPass(TwoPassConfig {}),
-            Method::Path => {
-                let d = PathConfig::default();
-                IntegratorConfig::Path(PathConfig {
-                    spp,
-                    max_depth: f.max_depth.unwrap_or(d.max_depth),
-                    max_scatterings: f.max_scatterings.unwrap_or(d.max_scatterings),
-                    wavelengths: f.wavelengths.unwrap_or(d.wavelengths),
-                    seed,
-                    denoise: f.denoise.unwrap_or(d.denoise),
-                })
-            }
-            Method::Stored => IntegratorConfig::Stored(StoredConfig {
-                spp,
-                seed,
-                cell_mm: f.cell_mm.unwrap_or(StoredConfig::default().cell_mm),
-            }),
-            Method::Lobe => IntegratorConfig::Lobe(LobeConfig {
-                spp,
-                seed,
-                trapped: f.trapped.unwrap_or(false),
-            }),
-        })
+        IntegratorConfig::from_given(f.method, f.given).map_err(|e| e.message().to_string())
     }
 }
