@@ -102,8 +102,7 @@ impl Tracer<'_> {
         weight: f32,
         vivid: f32,
     ) -> f32 {
-        let bound = self.seen_out(out.face, out.dir, Region::Opal, sigma);
-        if weight * bound >= CUT || self.trapped(out, vivid) {
+        if self.reaches_cut(out.face, out.dir, sigma, weight) || self.trapped(out, vivid) {
             self.follow_out(out, line.center_nm, sigma, true, vivid)
         } else if weight * self.body_peak >= BODY_CUT {
             // Only the body can add enough: its light along the way, the lines not read.

@@ -23,6 +23,8 @@ mod cross;
 mod lit;
 mod out;
 mod seen;
+#[cfg(test)]
+mod tests;
 mod trapped;
 
 use lit::ground_of;

@@ -110,6 +110,38 @@ impl Tracer<'_> {
         self.escape(pos, dir, region, sigma, Dim::None, Hint::default())
     }
 
+    /// Whether `weight` times what a ray from `pos` along `dir` in the opal sees through the
+    /// surface ([`Tracer::seen_out`]) reaches [`CUT`]: the same sum, event by event, stopped
+    /// at the first event that takes it there. No event adds less than 0 (`1 − F ≥ 0`, the
+    /// light's value ≥ 0), and a float sum of such terms never falls, so the answer is the
+    /// full sum's: the cull keeps the same lines without the surface events after the one
+    /// that decides (the reflections inside the dome a kept line's light goes on to).
+    pub(super) fn reaches_cut(&self, pos: Vec3, dir: Vec3, sigma: f32, weight: f32) -> bool {
+        let stone = self.stone;
+        let (mut pos, mut dir, mut region) = (pos, dir, Region::Opal);
+        let (mut w, mut seen) = (1.0f32, 0.0f32);
+        for _ in 0..MAX_SEGMENTS {
+            let ray = Ray {
+                origin: pos,
+                direction: dir,
+            };
+            let Some((t_end, boundary)) = stone.exit(&ray, region) else {
+                break;
+            };
+            let event;
+            (event, pos, dir, region, w) =
+                self.boundary_out(ray.at(t_end), dir, region, boundary, w, sigma);
+            seen += event;
+            if weight * seen >= CUT {
+                return true;
+            }
+            if boundary == Boundary::Back || w < MIN_WEIGHT {
+                break;
+            }
+        }
+        false
+    }
+
     /// [`Tracer::seen_out`], dimmed on every segment in the opal as `dim` says; `hint` holds
     /// the cells of `pos`, if known (the first walk starts from them), each later segment's
     /// walk starting from the cells where the last one ended.
