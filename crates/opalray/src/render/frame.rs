@@ -59,7 +59,8 @@ pub struct Frame {
     pub times: StageTimes,
     /// What its method reports of itself (`None` for a method with nothing to add): the
     /// path integrator's samples and noise (`Frame::path`), the stored method's samples and
-    /// stored light (`Frame::stored`).
+    /// stored light (`Frame::stored`), the two passes' energy ledger and void ratio
+    /// (`Frame::two_pass`).
     pub report: Option<Box<dyn Report>>,
 }
 
