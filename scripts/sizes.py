@@ -18,8 +18,16 @@ FN = re.compile(r"^(\s*)(pub(\([^)]*\))? )?(const )?(unsafe )?(extern \"C\" )?fn
 def functions(path):
     """(lines, first line, name, in tests) of every function in `path`."""
     lines = path.read_text().split("\n")
+    # A file's tests start at its first `#[cfg(test)]` item with a body; one above a
+    # declaration (`mod tests;`, the tests in their own file) starts nothing here.
     tests_from = next(
-        (i for i, l in enumerate(lines) if l.strip() == "#[cfg(test)]"), len(lines)
+        (
+            i
+            for i, l in enumerate(lines)
+            if l.strip() == "#[cfg(test)]"
+            and not lines[i + 1 : i + 2] == [] and not lines[i + 1].rstrip().endswith(";")
+        ),
+        len(lines),
     )
     in_tests_file = path.name == "tests.rs" or "tests" in path.parts
     for i, line in enumerate(lines):

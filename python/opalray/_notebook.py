@@ -72,11 +72,13 @@ def _stone(s: Mapping) -> list[str]:
 
 def scene_summary(s: Mapping) -> list[str]:
     """``field=value`` strings of the fields that the scene's method reads and that set what
-    it shows: the paper's cell grid and light for ``two-pass``; the stone model (cut,
-    domains, body tone), the lights and the samples for ``path``, ``stored`` and ``lobe``."""
+    it shows: the paper's cell grid and light for a method that renders the grid (``two-pass``);
+    the stone model (cut, domains, body tone), the lights and the samples for one that renders
+    the stone (``path``, ``stored``, ``lobe``), and the environment where it sees one."""
     method = s["integrator"]["method"]
+    reads = _opalray.integrator_reads(method) or {"renders_stone": True, "sees_environment": True}
     parts = [f"method={method}", f"sphere_diameter_nm={s['crystal']['sphere_diameter_nm']:g}"]
-    if method == "two-pass":
+    if not reads["renders_stone"]:
         parts += [f"grid={s['structure']['grid']}", f"light_angle_deg={s['light']['angle_deg']:g}"]
     else:
         parts += _stone(s)
@@ -84,7 +86,7 @@ def scene_summary(s: Mapping) -> list[str]:
         if light is not None:
             parts.append(light)
         environment = s["environment"]
-        if method != "stored" and environment["kind"] != "none":
+        if reads["sees_environment"] and environment["kind"] != "none":
             kind = environment["kind"]
             parts.append(f"environment={os.path.basename(environment['path']) if kind == 'file' else kind}")
         camera = s["camera"]

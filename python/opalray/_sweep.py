@@ -73,8 +73,9 @@ def _why_still(scene: Scene, moves: str) -> str | None:
     if moves == "light" and scene["light"]["kind"] == "none":
         return 'the scene has no light (light.kind = "none")'
     if moves == "environment":
-        if scene["integrator"]["method"] == "two-pass":
-            return 'the paper\'s two passes see no environment (integrator.method = "two-pass")'
+        method = scene["integrator"]["method"]
+        if not _opalray.integrator_reads(method)["sees_environment"]:
+            return f'its renderer sees no environment (integrator.method = "{method}")'
         if scene["environment"]["kind"] in ("none", "uniform"):
             return (
                 "the scene's environment is the same in every direction about the stone's normal "

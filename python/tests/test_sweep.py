@@ -224,6 +224,10 @@ def test_a_sweep_that_moves_nothing_is_refused_naming_what_would():
         opalray.sweep(_gem(), [-45.0, 45.0])
     with pytest.raises(ValueError, match="no environment.*light_angles"):
         opalray.sweep(small_scene(), env_rotation_deg=[0.0, 90.0])
+    # A method that sees no environment is refused for that, as `opalray sweep` refuses it.
+    stored = opalray.Scene.preset("paper-stone")
+    with pytest.raises(ValueError, match='sees no environment \\(integrator.method = "stored"\\)'):
+        opalray.sweep(stored, env_rotation_deg=[0.0, 90.0])
     with pytest.raises(ValueError, match="one thing"):
         opalray.sweep(_gem(), tilt_deg=[0.0], turn_deg=[0.0])
     with pytest.raises(ValueError, match="tilt_deg 100.0"):

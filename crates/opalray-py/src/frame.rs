@@ -45,9 +45,9 @@ impl Frame {
             "image": {"width": scene.render.width, "height": scene.render.height,
                       "bins": scene.spectrum.bins},
             "light_angle_deg": lit.then_some(light_angle_deg),
-            "void_ratio": frame.void_ratio,
-            "light_rays": lit.then_some(frame.light_rays),
-            "energy": frame.ledger,
+            "void_ratio": frame.void_ratio(),
+            "light_rays": lit.then_some(frame.light_rays()),
+            "energy": frame.ledger(),
             "peak_memory_mb": peak_memory_mb(),
         });
         // Each method's own section ("path", "stored"), null but the frame's method's.

@@ -42,6 +42,7 @@ fn _opalray(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::preset, m)?)?;
     m.add_function(wrap_pyfunction!(scene::parse_toml, m)?)?;
     m.add_function(wrap_pyfunction!(scene::integrator_fields, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::integrator_reads, m)?)?;
     m.add_function(wrap_pyfunction!(scene::to_toml_text, m)?)?;
     m.add_function(wrap_pyfunction!(scene::read_scene, m)?)?;
     m.add_function(wrap_pyfunction!(stages::prepare, m)?)?;

@@ -171,6 +171,21 @@ pub fn integrator_fields(method: &str) -> Option<Vec<&'static str>> {
         .map(|m| m.fields().to_vec())
 }
 
+/// `integrator_reads(method) -> dict | None`: what `method` renders and sees, as the CLI asks
+/// the integrators' table: `renders_stone` (the stone model, not the paper's cell grid) and
+/// `sees_environment` (`None` for a name that is no method).
+#[pyfunction]
+pub fn integrator_reads(method: &str) -> Option<std::collections::BTreeMap<&'static str, bool>> {
+    let method = opalray::scene::Method::ALL
+        .into_iter()
+        .find(|m| m.name() == method)?;
+    let integrator = opalray::integrator::of(method);
+    Some(std::collections::BTreeMap::from([
+        ("renders_stone", integrator.renders_stone()),
+        ("sees_environment", integrator.sees_environment()),
+    ]))
+}
+
 /// `to_toml(dict) -> str`: the complete scene as TOML text, as `opalray scene` prints it.
 #[pyfunction]
 pub fn to_toml_text(obj: &Bound<'_, PyAny>) -> PyResult<String> {

@@ -14,10 +14,13 @@
 //! film         sensor table, even/odd sums, noise, denoiser
 //! integrators  light_pass + view_pass (the paper's, on the voxels) | path | stored | lobe,
 //!              each with a method.rs (integrator::Integrator) and a config.rs (Settings)
+//!              (the two passes' in view_pass/); a frame's own figures in its method's Report
+//!              (Frame::path, Frame::stored, Frame::two_pass)
 //! integrator   the seam: traits Integrator, Settings; one list line a method makes Method,
 //!              IntegratorConfig, INTEGRATORS; check(scene)
 //! render       prepare(scene) -> Prepared (the method's prepare) -> render(angle) -> Frame
-//! output       to_rgb (CIE 1931 -> XYZ -> RGB, gamut-mapped) -> PNG | EXR | spectral EXR
+//! output       PNG | EXR | spectral EXR | sheets of color::to_rgb's image (CIE 1931 -> XYZ
+//!              -> RGB, gamut-mapped), with the scene they record
 //! ```
 #![warn(missing_docs)]
 

@@ -235,7 +235,7 @@ mod tests {
             assert!(prepared.stone.is_some(), "{method:?}");
             assert!(prepared.structure.get().is_none(), "{method:?}");
             assert!(prepared.optics.get().is_none(), "{method:?}");
-            assert_eq!(prepared.render(30.0).void_ratio, None, "{method:?}");
+            assert_eq!(prepared.render(30.0).void_ratio(), None, "{method:?}");
         }
         // The paper's two passes read the stone's voxel view: no environment, no second growth.
         let prepared = prepare(&tiny("paper")).unwrap();
@@ -281,7 +281,7 @@ mod tests {
             let stone = prepared.stone.as_deref().unwrap();
             assert!(stone.voxels().is_none(), "{method:?}");
             assert!(prepared.structure.get().is_none(), "{method:?}");
-            assert_eq!(prepared.render(30.0).void_ratio, None, "{method:?}");
+            assert_eq!(prepared.render(30.0).void_ratio(), None, "{method:?}");
         }
     }
 

@@ -46,7 +46,7 @@ fn energy_ledger_is_identical_at_one_two_and_three_threads() {
     let scene = small_scene(1);
     let ledgers: Vec<_> = [1, 2, 3]
         .into_iter()
-        .map(|n| with_threads(n, || opalray::render(&scene).unwrap().ledger))
+        .map(|n| with_threads(n, || opalray::render(&scene).unwrap().ledger()))
         .collect();
     let bits = |l: &opalray::light_pass::EnergyLedger| {
         [

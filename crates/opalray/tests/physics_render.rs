@@ -183,7 +183,7 @@ fn light_pass_energy_is_accounted_for() {
     let prepared = prepare(&scene).unwrap();
     for angle in [0.0, 30.0, -55.0] {
         let frame = prepared.render(angle);
-        let l = frame.ledger;
+        let l = frame.ledger();
         assert!(l.emitted > 0.0 && l.stored > 0.0 && l.absorbed > 0.0 && l.escaped > 0.0);
         let error = (l.accounted() - l.emitted).abs() / l.emitted;
         assert!(
@@ -205,7 +205,7 @@ fn roulette_keeps_on_average_the_light_the_cut_loses() {
     let cut = prepare(&scene).unwrap().render(30.0);
     scene.light.roulette = true;
     let kept = prepare(&scene).unwrap().render(30.0);
-    let (lc, lk) = (&cut.ledger, &kept.ledger);
+    let (lc, lk) = (&cut.ledger(), &kept.ledger());
     for l in [lc, lk] {
         let error = (l.accounted() - l.emitted).abs() / l.emitted;
         assert!(error < 1e-4, "relative imbalance {error:e} in {l:?}");
@@ -245,7 +245,7 @@ fn split_lattice_delivers_the_light_on_the_stones_outline() {
         let frame = prepared.render(angle);
         let (dx, dz) = (angle.to_radians().sin(), angle.to_radians().cos());
         let area = std::f64::consts::PI * a * b * c * ((dx / a).powi(2) + (dz / c).powi(2)).sqrt();
-        let delivered = frame.ledger.emitted / power;
+        let delivered = frame.ledger().emitted / power;
         assert!(
             (delivered / area - 1.0).abs() < 2e-3,
             "{angle}°: {delivered} mm² vs {area} mm²"
@@ -253,9 +253,9 @@ fn split_lattice_delivers_the_light_on_the_stones_outline() {
         // Some cells were split, far from all (which would trace four rays per cell).
         let cells = 245 * 245;
         assert!(
-            frame.light_rays > cells && frame.light_rays < 2 * cells,
+            frame.light_rays() > cells && frame.light_rays() < 2 * cells,
             "{angle}°: {} rays for {cells} cells",
-            frame.light_rays
+            frame.light_rays()
         );
     }
 }

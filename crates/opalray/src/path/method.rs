@@ -7,7 +7,6 @@ use std::time::Instant;
 use crate::error::Result;
 use crate::film::denoise::{denoise, NlMeans};
 use crate::integrator::{pixels, Integrator, Work};
-use crate::light_pass::EnergyLedger;
 use crate::render::{rgb_of_xyz, seconds, Frame, Prepared};
 use crate::scene::{IntegratorConfig, Method, PathConfig, Scene};
 
@@ -104,10 +103,7 @@ impl Integrator for PathTracer {
         Frame {
             spectral: image.spectral,
             rgb,
-            light_rays: 0,
-            ledger: EnergyLedger::default(),
             times,
-            void_ratio: None,
             report: Some(Box::new(path)),
         }
     }

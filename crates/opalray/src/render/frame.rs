@@ -11,7 +11,6 @@ use super::{seconds, Prepared};
 use crate::color::RgbImage;
 use crate::color::{xyz_to_rgb_adapted, RgbSpace};
 use crate::film::SpectralSampler;
-use crate::light_pass::EnergyLedger;
 use crate::scene::{Method, Scene};
 use crate::spectrum::SpectralImage;
 
@@ -56,18 +55,12 @@ pub struct Frame {
     pub spectral: SpectralImage,
     /// Linear RGB in the scene's colour space.
     pub rgb: RgbImage,
-    /// Light rays traced.
-    pub light_rays: u64,
-    /// The light pass's energy bookkeeping.
-    pub ledger: EnergyLedger,
     /// Seconds per stage (structure and optics as prepared).
     pub times: StageTimes,
-    /// Void ratio of the paper's grown structure (void cells / inside cells); `None` for
-    /// the methods that render the stone model (which do not grow it).
-    pub void_ratio: Option<f64>,
     /// What its method reports of itself (`None` for a method with nothing to add): the
     /// path integrator's samples and noise (`Frame::path`), the stored method's samples and
-    /// stored light (`Frame::stored`).
+    /// stored light (`Frame::stored`), the two passes' energy ledger and void ratio
+    /// (`Frame::two_pass`).
     pub report: Option<Box<dyn Report>>,
 }
 
@@ -146,10 +139,7 @@ impl Prepared {
         Frame {
             spectral,
             rgb,
-            light_rays: 0,
-            ledger: EnergyLedger::default(),
             times,
-            void_ratio: None,
             report,
         }
     }

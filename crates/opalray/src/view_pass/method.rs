@@ -14,7 +14,7 @@ use crate::path::Passes;
 use crate::render::{seconds, Frame, Prepared};
 use crate::scene::{EnvironmentKind, LightKind, Method, Scene, BODY_EXTINCTION_PER_MM};
 
-use super::{trace_view, Shading, ViewSetup};
+use super::{trace_view, Shading, TwoPassStats, ViewSetup};
 
 /// Processor seconds of a pixel of the paper's two passes (0.36 µs) and of one of their light
 /// rays (`light.rays`, 1.4 µs), the paper's scene, 2026-12-06 (load about 10):
@@ -171,11 +171,11 @@ impl Prepared {
         Frame {
             spectral,
             rgb,
-            light_rays: light.ledger.rays,
-            ledger: light.ledger,
             times,
-            void_ratio: Some(structure.stats.void_ratio),
-            report: None,
+            report: Some(Box::new(TwoPassStats {
+                ledger: light.ledger,
+                void_ratio: structure.stats.void_ratio,
+            })),
         }
     }
 
@@ -224,7 +224,7 @@ mod tests {
         let (prepared, cells) = VoxelLayout::of_default_scene([24, 18, 6]);
         let light = prepared.light_pass_in(&cells, -20.0);
         let frame = prepared.render_in(&cells, -20.0);
-        assert_eq!(light.ledger, frame.ledger);
+        assert_eq!(light.ledger, frame.ledger());
         assert_eq!(light.slot_of_cell, cells.slot_of_cell);
         let bins = prepared.optics().unwrap().grid.bins;
         assert_eq!(

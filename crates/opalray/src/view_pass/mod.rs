@@ -11,6 +11,7 @@
 mod config;
 mod method;
 mod shading;
+mod stats;
 mod walk;
 
 use walk::{RayBuffers, WalkStart};
@@ -18,6 +19,7 @@ use walk::{RayBuffers, WalkStart};
 pub use config::TwoPassConfig;
 pub use method::TwoPass;
 pub use shading::{CellTag, ClusterShade, Lobe, Shading, LOBE_CUTOFF};
+pub use stats::TwoPassStats;
 
 use glam::Vec3;
 use rayon::prelude::*;

@@ -16,9 +16,6 @@ use crate::optics::BraggLine;
 use crate::scene::Backing;
 use crate::stone::{ActiveLine, Boundary, Hint, PathToLight, Region, Span, Stone};
 
-/// Most segments of a ray inside the stone between surface events (its refraction in or its
-/// reflection, then up to seven internal reflections: light caught by total reflection in a
-/// clear dome after three carries about 1 % of the `crystal` preset's light).
 mod cross;
 mod lit;
 mod out;
@@ -29,6 +26,9 @@ mod trapped;
 
 use lit::ground_of;
 
+/// Most segments of a ray inside the stone between surface events (its refraction in or its
+/// reflection, then up to seven internal reflections: light caught by total reflection in a
+/// clear dome after three carries about 1 % of the `crystal` preset's light).
 pub const MAX_SEGMENTS: usize = 8;
 /// Offset of a new ray's origin along its way, mm (0.1 µm).
 const EPSILON_MM: f32 = 1e-4;
@@ -207,7 +207,6 @@ impl<'a> Tracer<'a> {
         sums: &mut Sums,
     ) {
         let stone = self.stone;
-        let potch = stone.potch;
         for _ in 0..MAX_SEGMENTS {
             let ray = Ray {
                 origin: pos,
@@ -217,66 +216,119 @@ impl<'a> Tracer<'a> {
                 return;
             };
             if region == Region::Opal {
-                self.spans.clear();
-                let spans = &mut self.spans;
-                stone.walk(pos, dir, 0.0, t_end, Hint::default(), &mut |s| {
-                    spans.push(s);
-                    true
-                });
-                // The body's scattering thickness from each span to the segment's end, and
-                // what lies beyond it: the body there is a layer of that thickness.
-                let ground = ground_of(stone, boundary);
-                let light_beyond = self.light_beyond(ray.at(t_end), boundary);
-                let mut beyond: f32 = self.spans.iter().map(|s| self.km_scattering(s)).sum();
-                for k in 0..self.spans.len() {
-                    let span = self.spans[k];
-                    let layer = beyond;
-                    beyond -= self.km_scattering(&span);
-                    let sigma = match span.domain {
-                        None => potch.extinction_per_mm,
-                        Some(domain) => {
-                            self.cross(&ray, span, domain, w, sums);
-                            potch.domain_scattering_per_mm
-                        }
-                    };
-                    if sigma > 0.0 {
-                        let tau = sigma * (span.t1 - span.t0);
-                        let kept = (-tau).exp();
-                        let (lit, top) = self.light_on_body(ray.at(span.t0), span);
-                        let (r, t) = self.layer.of(layer, ground, top);
-                        self.body(w * (1.0 - kept), r * lit + t * light_beyond, sums);
-                        w *= kept;
-                    }
-                    if w < MIN_WEIGHT {
-                        return;
-                    }
-                }
+                self.walk_eye(&ray, t_end);
+                let Some(kept) = self.spans_eye(&ray, t_end, boundary, w, sums) else {
+                    return;
+                };
+                w = kept;
             }
             let at = ray.at(t_end);
-            match boundary {
-                Boundary::Surface => {
-                    let n = stone.index_of(region);
-                    let normal = stone.shape.normal(at);
-                    let f = fresnel_dielectric(dir.dot(normal), n, 1.0);
-                    if let Some(out) = refract(dir, normal, n, 1.0) {
-                        let v = w * (1.0 - f) * n * n * self.seen_sharp(at, out);
-                        self.add_notched_white(f64::from(v), sums);
-                    }
-                    w *= f;
-                    dir = reflect(dir, normal);
-                    pos = at - normal * EPSILON_MM;
-                }
-                Boundary::Back => {
-                    self.backing(w, at, sums);
-                    return;
-                }
-                Boundary::CapPlane => {
-                    (pos, dir, region, w) = self.cap_plane(at, dir, region, w);
-                }
-            }
+            let Some(next) = self.boundary_eye(at, dir, region, boundary, w, sums) else {
+                return;
+            };
+            (pos, dir, region, w) = next;
             if w < MIN_WEIGHT {
                 return;
             }
+        }
+    }
+
+    /// The spans of the eye ray's segment in the opal up to `t_end`, into `spans`.
+    fn walk_eye(&mut self, ray: &Ray, t_end: f32) {
+        self.spans.clear();
+        let spans = &mut self.spans;
+        self.stone.walk(
+            ray.origin,
+            ray.direction,
+            0.0,
+            t_end,
+            Hint::default(),
+            &mut |s| {
+                spans.push(s);
+                true
+            },
+        );
+    }
+
+    /// The eye ray of weight `w` along the spans of its segment in the opal (`spans`, the
+    /// segment ending at `t_end` on `boundary`): each domain's lines crossed, the body's light
+    /// seen where the potch or haze scatters, which dims the ray. Its weight after them, or
+    /// `None` once that falls under [`MIN_WEIGHT`].
+    fn spans_eye(
+        &mut self,
+        ray: &Ray,
+        t_end: f32,
+        boundary: Boundary,
+        mut w: f32,
+        sums: &mut Sums,
+    ) -> Option<f32> {
+        let potch = self.stone.potch;
+        // The body's scattering thickness from each span to the segment's end, and
+        // what lies beyond it: the body there is a layer of that thickness.
+        let ground = ground_of(self.stone, boundary);
+        let light_beyond = self.light_beyond(ray.at(t_end), boundary);
+        let mut beyond: f32 = self.spans.iter().map(|s| self.km_scattering(s)).sum();
+        for k in 0..self.spans.len() {
+            let span = self.spans[k];
+            let layer = beyond;
+            beyond -= self.km_scattering(&span);
+            let sigma = match span.domain {
+                None => potch.extinction_per_mm,
+                Some(domain) => {
+                    self.cross(ray, span, domain, w, sums);
+                    potch.domain_scattering_per_mm
+                }
+            };
+            if sigma > 0.0 {
+                let tau = sigma * (span.t1 - span.t0);
+                let kept = (-tau).exp();
+                let (lit, top) = self.light_on_body(ray.at(span.t0), span);
+                let (r, t) = self.layer.of(layer, ground, top);
+                self.body(w * (1.0 - kept), r * lit + t * light_beyond, sums);
+                w *= kept;
+            }
+            if w < MIN_WEIGHT {
+                return None;
+            }
+        }
+        Some(w)
+    }
+
+    /// The eye ray of weight `w` along `dir` in `region` meeting `boundary` at `at`: at the
+    /// surface it sees the light through it (notched by the lines it crossed) and goes on
+    /// reflected; at a triplet's cap plane it goes on refracted or reflected; a backing ends it
+    /// with the backing's light (`None`). Where it goes on: `(pos, dir, region, w)`.
+    fn boundary_eye(
+        &mut self,
+        at: Vec3,
+        dir: Vec3,
+        region: Region,
+        boundary: Boundary,
+        w: f32,
+        sums: &mut Sums,
+    ) -> Option<(Vec3, Vec3, Region, f32)> {
+        let stone = self.stone;
+        match boundary {
+            Boundary::Surface => {
+                let n = stone.index_of(region);
+                let normal = stone.shape.normal(at);
+                let f = fresnel_dielectric(dir.dot(normal), n, 1.0);
+                if let Some(out) = refract(dir, normal, n, 1.0) {
+                    let v = w * (1.0 - f) * n * n * self.seen_sharp(at, out);
+                    self.add_notched_white(f64::from(v), sums);
+                }
+                Some((
+                    at - normal * EPSILON_MM,
+                    reflect(dir, normal),
+                    region,
+                    w * f,
+                ))
+            }
+            Boundary::Back => {
+                self.backing(w, at, sums);
+                None
+            }
+            Boundary::CapPlane => Some(self.cap_plane(at, dir, region, w)),
         }
     }
 }

@@ -2,6 +2,7 @@
 //! reflections) or through the surface alone, and what it sees at each surface event.
 
 use super::*;
+use crate::stone::LineWavelength;
 
 impl Tracer<'_> {
     /// [`Tracer::reflected`] through the domains: each segment in the opal walked, dimmed by
@@ -21,12 +22,17 @@ impl Tracer<'_> {
         gain: f32,
     ) -> f32 {
         let stone = self.stone;
-        let potch = stone.potch;
         let (mut pos, mut dir, mut region) = (out.face, out.dir, Region::Opal);
         let mut skip = Some(out.domain);
         let mut hint = out.hint;
-        let (mut w, mut seen) = (1.0f32, 0.0f32);
-        let at_wavelength = stone.line_wavelength(wavelength);
+        let mut way = Outgoing { w: 1.0, seen: 0.0 };
+        let notches = Notches {
+            wavelength,
+            at_wavelength: stone.line_wavelength(wavelength),
+            sigma,
+            lines,
+            gain,
+        };
         for _ in 0..MAX_SEGMENTS {
             let ray = Ray {
                 origin: pos,
@@ -36,71 +42,114 @@ impl Tracer<'_> {
                 break;
             };
             if region == Region::Opal {
-                self.out_spans.clear();
-                let spans = &mut self.out_spans;
-                stone.walk(pos, dir, 0.0, t_end, std::mem::take(&mut hint), &mut |s| {
-                    spans.push(s);
-                    true
-                });
+                self.walk_out(&ray, t_end, std::mem::take(&mut hint));
                 let skipped = skip.take();
-                let ground = ground_of(stone, boundary);
-                let light_beyond = self.light_beyond(ray.at(t_end), boundary);
-                let mut beyond: f32 = self.out_spans.iter().map(|s| self.km_scattering(s)).sum();
-                for k in 0..self.out_spans.len() {
-                    let span = self.out_spans[k];
-                    let len = span.t1 - span.t0;
-                    let layer = beyond;
-                    beyond -= self.km_scattering(&span);
-                    let sigma_t = match span.domain {
-                        None => potch.extinction_per_mm,
-                        Some(_) => potch.domain_scattering_per_mm,
-                    };
-                    let kept = (-sigma_t * len).exp();
-                    if sigma_t > 0.0 {
-                        // The body seen along the reflection: its light in the line's colour.
-                        let (light, top) = self.light_on_body(ray.at(span.t0), span);
-                        let (r, t) = self.layer.of(layer, ground, top);
-                        let lit = r * light + t * light_beyond;
-                        seen += w * (1.0 - kept) * self.body_radiance(lit);
-                    }
-                    w *= kept;
-                    let Some(domain) = span.domain else {
-                        continue;
-                    };
-                    if !lines || Some(domain) == skipped {
-                        continue;
-                    }
-                    self.out_lines.clear();
-                    stone.lines_at_wavelength(domain, dir, len, at_wavelength, &mut self.out_lines);
-                    for l in &self.out_lines {
-                        let r = l.line.reflectance(wavelength) as f32;
-                        if gain * w * r * self.peak >= CUT {
-                            let again = reflect(dir, l.normal);
-                            seen += w * r * self.seen_out(ray.at(span.t0), again, region, sigma);
-                        }
-                        w *= 1.0 - r;
-                    }
-                }
+                self.spans_out(&ray, t_end, boundary, skipped, &notches, &mut way);
             }
-            if w < MIN_WEIGHT {
+            if way.w < MIN_WEIGHT {
                 break;
             }
             let at = ray.at(t_end);
-            let before = w;
+            let before = way.w;
             let event;
-            (event, pos, dir, region, w) = self.boundary_out(at, dir, region, boundary, w, sigma);
-            seen += event;
+            (event, pos, dir, region, way.w) =
+                self.boundary_out(at, dir, region, boundary, way.w, sigma);
+            way.seen += event;
             if boundary == Boundary::Back {
                 break;
             }
-            if boundary == Boundary::Surface && w < PARTIAL * before {
+            if boundary == Boundary::Surface && way.w < PARTIAL * before {
                 // A partial reflection at the surface: the share sent back inside is
                 // followed through the surface alone, dimmed by the potch under a bar.
-                seen += w * self.escape(pos, dir, region, sigma, Dim::Bar, Hint::default());
+                way.seen += way.w * self.escape(pos, dir, region, sigma, Dim::Bar, Hint::default());
                 break;
             }
         }
-        seen
+        way.seen
+    }
+
+    /// The spans of the reflected ray's segment in the opal up to `t_end`, into `out_spans`,
+    /// the walk starting from the cells `hint` holds.
+    fn walk_out(&mut self, ray: &Ray, t_end: f32, hint: Hint) {
+        self.out_spans.clear();
+        let spans = &mut self.out_spans;
+        self.stone
+            .walk(ray.origin, ray.direction, 0.0, t_end, hint, &mut |s| {
+                spans.push(s);
+                true
+            });
+    }
+
+    /// The reflected ray along the spans of its segment in the opal (`out_spans`, the
+    /// segment ending at `t_end` on `boundary`): the potch and haze dim it and send it the
+    /// body's light, and each domain but `skipped` (the one it was reflected in) notches it.
+    fn spans_out(
+        &mut self,
+        ray: &Ray,
+        t_end: f32,
+        boundary: Boundary,
+        skipped: Option<u32>,
+        notches: &Notches,
+        way: &mut Outgoing,
+    ) {
+        let potch = self.stone.potch;
+        let ground = ground_of(self.stone, boundary);
+        let light_beyond = self.light_beyond(ray.at(t_end), boundary);
+        let mut beyond: f32 = self.out_spans.iter().map(|s| self.km_scattering(s)).sum();
+        for k in 0..self.out_spans.len() {
+            let span = self.out_spans[k];
+            let len = span.t1 - span.t0;
+            let layer = beyond;
+            beyond -= self.km_scattering(&span);
+            let sigma_t = match span.domain {
+                None => potch.extinction_per_mm,
+                Some(_) => potch.domain_scattering_per_mm,
+            };
+            let kept = (-sigma_t * len).exp();
+            if sigma_t > 0.0 {
+                // The body seen along the reflection: its light in the line's colour.
+                let (light, top) = self.light_on_body(ray.at(span.t0), span);
+                let (r, t) = self.layer.of(layer, ground, top);
+                let lit = r * light + t * light_beyond;
+                way.seen += way.w * (1.0 - kept) * self.body_radiance(lit);
+            }
+            way.w *= kept;
+            let Some(domain) = span.domain else {
+                continue;
+            };
+            if notches.lines && Some(domain) != skipped {
+                self.notch_out(ray, span, domain, notches, way);
+            }
+        }
+    }
+
+    /// The lines of `domain` that the reflected ray crosses along `span` (of the segment
+    /// `ray` in the opal) at the notches' wavelength: each takes its reflectance of the ray's
+    /// weight, and what it takes is seen along its own mirror direction where it can reach
+    /// [`CUT`].
+    fn notch_out(
+        &mut self,
+        ray: &Ray,
+        span: Span,
+        domain: u32,
+        notches: &Notches,
+        way: &mut Outgoing,
+    ) {
+        let dir = ray.direction;
+        let len = span.t1 - span.t0;
+        self.out_lines.clear();
+        let at_wavelength = notches.at_wavelength;
+        self.stone
+            .lines_at_wavelength(domain, dir, len, at_wavelength, &mut self.out_lines);
+        for l in &self.out_lines {
+            let r = l.line.reflectance(notches.wavelength) as f32;
+            if notches.gain * way.w * r * self.peak >= CUT {
+                let again = reflect(dir, l.normal);
+                let seen = self.seen_out(ray.at(span.t0), again, Region::Opal, notches.sigma);
+                way.seen += way.w * r * seen;
+            }
+            way.w *= 1.0 - r;
+        }
     }
 
     /// What a ray from `pos` along `dir` in `region` sees through the surface (up to
@@ -304,4 +353,26 @@ impl Tracer<'_> {
             None => (at + facing * EPSILON_MM, reflect(dir, facing), region, w),
         }
     }
+}
+
+/// What a reflection carries on its way out ([`Tracer::follow_out`]).
+struct Outgoing {
+    /// Its weight.
+    w: f32,
+    /// The light it has seen so far.
+    seen: f32,
+}
+
+/// The wavelength a reflection is followed at and what the lines it crosses do to it.
+struct Notches {
+    /// The reflection's wavelength, nm.
+    wavelength: f64,
+    /// The same, as the stone's lines are found at it.
+    at_wavelength: LineWavelength,
+    /// The lobe's width over normals, rad.
+    sigma: f32,
+    /// Whether the lines crossed notch the ray at all.
+    lines: bool,
+    /// The eye ray's weight times the line's largest tristimulus value.
+    gain: f32,
 }
