@@ -54,8 +54,9 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::geometry::Camera;
+use crate::integrator::{Passes, RowCounter};
 use crate::lights::{AreaLight, Environment};
-use crate::path::{Passes, PathLight, RowCounter, SpectralSampler};
+use crate::path::{PathLight, SpectralSampler};
 use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;

@@ -157,7 +157,7 @@ mod tests {
     use super::*;
     use crate::geometry::{refracted_entry, Camera, LightSource};
     use crate::lights::Environment;
-    use crate::path::{PathSetup, SpectralSampler};
+    use crate::path::{PathSetup, Sampling, SpectralSampler};
     use crate::scene::EnvironmentConfig;
     use crate::stone::Stone;
 
@@ -204,6 +204,8 @@ mod tests {
                 area_light: None,
                 gloss: 1.0,
                 seed: 1,
+
+                sampling: Sampling::Sobol,
                 spectral: &sampler,
             };
             let tracer = Tracer::new(&stone, &setup);

@@ -88,13 +88,15 @@ use glam::Vec3;
 
 pub use crate::film::noise;
 pub use crate::film::Noise;
+/// The seam's passes and reports ([`crate::integrator`]), named here too where they were
+/// first.
+pub use crate::integrator::{PassReport, Passes, RowsReport};
 pub use config::{PathConfig, DEFAULT_MAX_SCATTERINGS, DEFAULT_WAVELENGTHS};
 pub use image::PathImage;
 
 pub use method::PathTracer;
 pub use orders::BraggOrders;
-pub(crate) use passes::RowCounter;
-pub use passes::{trace_passes, PassReport, Passes, RowsReport};
+pub use passes::trace_passes;
 pub use sampler::Sampling;
 pub use spectral::{PathSpectrum, SpectralSampler, MAX_DRAWS};
 pub use stats::{DenoiseBias, PathStats};
@@ -198,6 +200,9 @@ pub struct PathSetup<'a> {
     pub gloss: f32,
     /// Seed of the sample streams.
     pub seed: u64,
+    /// Which points the samples are: Owen-scrambled Sobol (the default) or independent
+    /// streams ([`Sampling`]).
+    pub sampling: Sampling,
     /// Wavelength sampling and colour matching.
     pub spectral: &'a SpectralSampler,
 }

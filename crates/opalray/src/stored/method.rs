@@ -4,8 +4,8 @@
 use std::time::Instant;
 
 use crate::error::{Error, Result};
-use crate::integrator::{pixels, Integrator, Work};
-use crate::path::{Passes, PathLight, DEFAULT_WAVELENGTHS};
+use crate::integrator::{pixels, Integrator, Passes, Work};
+use crate::path::{PathLight, DEFAULT_WAVELENGTHS};
 use crate::render::{seconds, Frame, Prepared, Report, LIGHT_DISC_RADIUS_DEG};
 use crate::scene::{
     Cut, EnvironmentKind, IntegratorConfig, LightKind, Method, Scene, StoredConfig,

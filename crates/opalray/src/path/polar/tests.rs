@@ -5,7 +5,7 @@ use crate::geometry::{reflect, Camera, LightSource, Ray};
 use crate::lights::Environment;
 use crate::optics::BraggLine;
 use crate::path::tests::mean_y_with;
-use crate::path::{PathLight, PathSetup, PathSpectrum, SpectralSampler};
+use crate::path::{PathLight, PathSetup, PathSpectrum, Sampling, SpectralSampler};
 use crate::scene::{FamilyChoice, Scene};
 use crate::stone::Stone;
 use glam::Quat;
@@ -151,6 +151,8 @@ fn apex_view<'a>(stone: &Stone, sampler: &'a SpectralSampler, light_deg: f32) ->
         area_light: None,
         gloss: 0.0,
         seed: 9,
+
+        sampling: Sampling::Sobol,
         spectral: sampler,
     }
 }
