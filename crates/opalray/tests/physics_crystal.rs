@@ -274,7 +274,8 @@ fn flashing_colour_follows_the_half_vector_law() {
     use opalray::geometry::Camera;
     use opalray::light_pass::LightSource;
     use opalray::lights::Environment;
-    use opalray::path::{trace_paths, PathLight, PathSetup, Sampling};
+    use opalray::lights::Lamp;
+    use opalray::path::{trace_paths, PathSetup, Sampling};
     let mut scene = Scene::default();
     scene.domains.sphere_diameter_spread = 0.0;
     scene.domains.mosaic_spread_deg = 0.0;
@@ -304,7 +305,7 @@ fn flashing_colour_follows_the_half_vector_law() {
                 spp: 4,
                 max_depth: 2,
                 max_scatterings: 0,
-                light: Some(PathLight {
+                light: Some(Lamp {
                     source: LightSource::Directional {
                         direction: Vec3::new(-t.sin(), 0.0, -t.cos()),
                     },

@@ -55,8 +55,8 @@ use rayon::prelude::*;
 
 use crate::geometry::Camera;
 use crate::integrator::{Passes, RowCounter};
-use crate::lights::{AreaLight, Environment};
-use crate::path::{PathLight, SpectralSampler};
+use crate::lights::{AreaLight, Environment, Lamp};
+use crate::path::SpectralSampler;
 use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
@@ -80,7 +80,7 @@ pub struct LobeSetup<'a> {
     /// Camera rays per pixel, at stratified positions (anti-aliasing only).
     pub spp: u32,
     /// The scene's point or directional light, if any.
-    pub light: Option<PathLight>,
+    pub light: Option<Lamp>,
     /// The scene's sphere or rect light, if any, read through every lobe
     /// ([`AreaLight::lobe_share`]).
     pub area_light: Option<AreaLight>,

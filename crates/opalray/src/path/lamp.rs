@@ -195,7 +195,7 @@ mod tests {
                 spp: 1,
                 max_depth: 8,
                 max_scatterings: 0,
-                light: Some(crate::path::PathLight {
+                light: Some(crate::lights::Lamp {
                     source,
                     intensity: 1.0,
                     disc_radius_rad: 0.0,

@@ -78,10 +78,9 @@ pub mod spectral;
 mod stats;
 mod vertex;
 
-use crate::geometry::LightSource;
 use crate::geometry::{fresnel_dielectric_sp, reflect, refract, Camera, Ray};
 use crate::lights::emitters;
-use crate::lights::{AreaLight, Environment};
+use crate::lights::{AreaLight, Environment, Lamp};
 use crate::optics::BraggLine;
 use crate::stone::{ActiveLine, Hint, Region, Span, Stone};
 use glam::Vec3;
@@ -150,31 +149,6 @@ fn scattering_split(weight: f32) -> u32 {
     ((weight / ROULETTE_BELOW) as u32).clamp(1, MAX_SCATTERING_SPLIT)
 }
 
-/// The scene's light for the path integrator.
-#[derive(Clone, Copy, Debug)]
-pub struct PathLight {
-    /// Where it is.
-    pub source: LightSource,
-    /// Irradiance scale (`light.intensity`).
-    pub intensity: f32,
-    /// Angular radius of its disc as seen in the gloss, radians (0: no disc).
-    pub disc_radius_rad: f32,
-}
-
-impl PathLight {
-    /// Its disc seen along `dir` from outside (the gloss's image of the lamp), in image
-    /// units: the irradiance over the disc's solid angle π r², times π; 0 off the disc.
-    pub fn disc(&self, dir: Vec3) -> f32 {
-        let r = self.disc_radius_rad;
-        let to_light = self.source.direction_to_light(Vec3::ZERO);
-        if r > 0.0 && dir.dot(to_light) >= r.cos() {
-            self.intensity / (r * r)
-        } else {
-            0.0
-        }
-    }
-}
-
 /// Everything the path integrator needs besides the stone.
 pub struct PathSetup<'a> {
     /// The camera.
@@ -191,7 +165,7 @@ pub struct PathSetup<'a> {
     /// `max_depth`; 0: counted among its events.
     pub max_scatterings: u32,
     /// The scene's light, if any.
-    pub light: Option<PathLight>,
+    pub light: Option<Lamp>,
     /// The environment.
     pub environment: Environment,
     /// The scene's sphere or rect light, if any (seen by the rays that leave the stone).

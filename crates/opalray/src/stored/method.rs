@@ -5,7 +5,8 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::integrator::{pixels, Integrator, Passes, Work};
-use crate::path::{PathLight, DEFAULT_WAVELENGTHS};
+use crate::lights::Lamp;
+use crate::path::DEFAULT_WAVELENGTHS;
 use crate::render::{seconds, Frame, Prepared, Report, LIGHT_DISC_RADIUS_DEG};
 use crate::scene::{
     Cut, EnvironmentKind, IntegratorConfig, LightKind, Method, Scene, StoredConfig,
@@ -140,7 +141,7 @@ impl Integrator for StoredMethod {
             width: f.width,
             height: f.height,
             spp: c.spp,
-            light: PathLight {
+            light: Lamp {
                 source: f.source,
                 intensity: s.light.intensity as f32,
                 disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
