@@ -16,6 +16,7 @@ mod settings;
 
 pub(crate) use passes::RowCounter;
 pub use passes::{PassReport, Passes, RowsReport};
+pub(crate) use settings::spp_and_seed_fields;
 pub use settings::Settings;
 
 use crate::error::Result;
