@@ -41,6 +41,8 @@
 
 pub mod colour;
 mod config;
+#[cfg(test)]
+mod fixture;
 mod layer;
 mod method;
 mod potch;
@@ -286,21 +288,7 @@ mod tests {
         stone.potch.domain_scattering_per_mm = extinction_per_mm;
         let env = Environment::uniform();
         let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
-        let setup = LobeSetup {
-            camera: Camera::look_at(Vec3::new(0.0, 0.0, 100.0), Vec3::ZERO, Vec3::Y, 10.0, 8, 8),
-            width: 8,
-            height: 8,
-            spp: 1,
-            light: None,
-            area_light: None,
-            light_intensity: 0.0,
-            environment: &env,
-            gloss: 1.0,
-            seed: 1,
-            body_reflectance: 0.0,
-            spectral: &sampler,
-            trapped: false,
-        };
+        let setup = fixture::eight_by_eight(&env, &sampler);
         let colours = LineColours::new(&sampler);
         let irradiance = Irradiance::new(&env);
         let table = BackingLight::new(&stone, &setup, &colours, &irradiance).unwrap();
