@@ -5,9 +5,8 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::integrator::{pixels, Integrator, Passes, Work};
-use crate::lights::Lamp;
 use crate::path::DEFAULT_WAVELENGTHS;
-use crate::render::{seconds, Frame, Prepared, Report, LIGHT_DISC_RADIUS_DEG};
+use crate::render::{seconds, Frame, Prepared, Report};
 use crate::scene::{
     Cut, EnvironmentKind, IntegratorConfig, LightKind, Method, Scene, StoredConfig,
 };
@@ -141,11 +140,9 @@ impl Integrator for StoredMethod {
             width: f.width,
             height: f.height,
             spp: c.spp,
-            light: Lamp {
-                source: f.source,
-                intensity: s.light.intensity as f32,
-                disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
-            },
+            light: f
+                .light
+                .expect("the stored method's check admits only a directional or point light"),
             environment: f.environment,
             gloss: f.gloss,
             seed: f.seed,
