@@ -47,7 +47,7 @@ pub fn render(
                 }
             });
         }
-        let report = |r: &opalray::path::PassReport| {
+        let report = |r: &opalray::integrator::PassReport| {
             if r.passes == 1 {
                 stage.release();
             }
@@ -64,7 +64,7 @@ pub fn render(
         };
         let last_rows = Mutex::new(0.0);
         let rows = rows_reporter(on_rows.as_ref(), stage, &last_rows);
-        let passes = opalray::path::Passes {
+        let passes = opalray::integrator::Passes {
             // The passes get what the preparation left of the limit.
             time_limit: limit.map(|l| l.left()),
             on_pass: Some(&report),
@@ -91,7 +91,7 @@ fn rows_reporter<'a>(
     on_rows: Option<&'a Py<PyAny>>,
     stage: &'a Stage,
     last: &'a Mutex<f64>,
-) -> impl Fn(&opalray::path::RowsReport) + Sync + 'a {
+) -> impl Fn(&opalray::integrator::RowsReport) + Sync + 'a {
     move |r| {
         let Some(callback) = on_rows else { return };
         let mut last = last.lock().unwrap_or_else(|e| e.into_inner());

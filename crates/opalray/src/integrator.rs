@@ -10,13 +10,16 @@
 //! each frame from `Prepared::frame_setup`.
 
 mod frame_setup;
+mod passes;
 mod registry;
 mod settings;
 
+pub(crate) use passes::RowCounter;
+pub use passes::{PassReport, Passes, RowsReport};
+pub(crate) use settings::spp_and_seed_fields;
 pub use settings::Settings;
 
 use crate::error::Result;
-use crate::path::Passes;
 use crate::render::{Frame, Prepared};
 use crate::scene::Scene;
 

@@ -10,14 +10,16 @@
 //! color optics structure     CIE and colour spaces; R, T, Bragg lines; the paper's growth
 //! stone        the one stone model: layout, crystal, lobe widths, cut, potch; the walk along a
 //!              ray; the path to a light; its voxel view (Stone::voxels) for the paper's passes
-//! lights       environment (built-in kinds, .hdr / .exr readers), area lights
+//! lights       environment (built-in kinds, .hdr / .exr readers), area lights, the point or
+//!              directional lamp
 //! film         sensor table, even/odd sums, noise, denoiser
 //! integrators  light_pass + view_pass (the paper's, on the voxels) | path | stored | lobe,
 //!              each with a method.rs (integrator::Integrator) and a config.rs (Settings)
 //!              (the two passes' in view_pass/); a frame's own figures in its method's Report
 //!              (Frame::path, Frame::stored, Frame::two_pass)
 //! integrator   the seam: traits Integrator, Settings; one list line a method makes Method,
-//!              IntegratorConfig, INTEGRATORS; check(scene)
+//!              IntegratorConfig, INTEGRATORS; check(scene); Passes (a render's time limit
+//!              and its reports after each pass or row)
 //! render       prepare(scene) -> Prepared (the method's prepare) -> render(angle) -> Frame
 //! output       PNG | EXR | spectral EXR | sheets of color::to_rgb's image (CIE 1931 -> XYZ
 //!              -> RGB, gamut-mapped), with the scene they record

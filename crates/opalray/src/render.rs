@@ -8,10 +8,10 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use crate::error::Result;
+use crate::integrator::Passes;
 use crate::light_pass::VoxelLayout;
 use crate::lights::Environment;
 use crate::optics::{build_optics, OpticsTables};
-use crate::path::Passes;
 use crate::sampling::mix64;
 use crate::scene::{Pattern, Scene};
 use crate::stone::Stone;

@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use opalray::cancel::Cancel;
 use opalray::error::Error;
-use opalray::path::Passes;
+use opalray::integrator::Passes;
 use opalray::scene::{preset, Scene};
 
 /// The harlequin with grains small enough that growing them takes seconds (about 60 000).

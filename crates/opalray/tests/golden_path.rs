@@ -18,7 +18,8 @@
 use std::path::{Path, PathBuf};
 
 use glam::{Mat3, Vec3};
-use opalray::path::{Passes, PathImage};
+use opalray::integrator::Passes;
+use opalray::path::{PathImage, Sampling};
 use opalray::render::prepare;
 use opalray::scene::{preset, Backing, IntegratorConfig, OrientationLaw, PathConfig};
 use opalray::Scene;
@@ -76,7 +77,7 @@ struct Stats {
 fn render(scene: &Scene) -> (Stats, Mat3) {
     let prepared = prepare(scene).unwrap();
     let (image, m): (PathImage, Mat3) = prepared
-        .render_path_image(scene.light.angle_deg, &Passes::default())
+        .render_path_image(scene.light.angle_deg, &Passes::default(), Sampling::Sobol)
         .unwrap();
     let stats = Stats {
         width: scene.render.width as usize,
@@ -330,7 +331,7 @@ fn noise_from_half_sums_agrees_with_the_samples_variance() {
     let s = scene();
     let prepared = prepare(&s).unwrap();
     let (image, m) = prepared
-        .render_path_image(s.light.angle_deg, &Passes::default())
+        .render_path_image(s.light.angle_deg, &Passes::default(), Sampling::Sobol)
         .unwrap();
     let noise = image.noise(m).unwrap();
     let stone: Vec<usize> = (0..image.xyz.len())

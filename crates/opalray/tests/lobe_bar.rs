@@ -8,7 +8,7 @@ use glam::Vec3;
 use opalray::geometry::Camera;
 use opalray::lights::Environment;
 use opalray::lobe::{render_lobes, LobeSetup};
-use opalray::path::{trace_paths, PathSetup, SpectralSampler};
+use opalray::path::{trace_paths, PathSetup, Sampling, SpectralSampler};
 use opalray::scene::{preset, PathConfig, Scene};
 use opalray::stone::body::munsell_y;
 use opalray::stone::Stone;
@@ -75,6 +75,8 @@ fn path_y(stone: &Stone, sampler: &SpectralSampler, spp: u32) -> (f64, f64) {
             area_light: None,
             gloss: 1.0,
             seed: 7,
+
+            sampling: Sampling::Sobol,
             spectral: sampler,
         },
     );

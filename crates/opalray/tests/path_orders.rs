@@ -5,9 +5,10 @@
 mod common;
 
 use glam::Vec3;
+use opalray::integrator::Passes;
 use opalray::lights::{AreaLight, Environment};
 use opalray::path::SpectralSampler;
-use opalray::path::{trace_passes, trace_paths, BraggOrders, Passes, PathImage, PathSetup};
+use opalray::path::{trace_passes, trace_paths, BraggOrders, PathImage, PathSetup};
 use opalray::scene::{preset, EnvironmentConfig, EnvironmentKind, Scene};
 use opalray::stone::Stone;
 

@@ -193,7 +193,7 @@ fn a_spread_of_sphere_sizes_spreads_the_hues_of_face_on_domains() {
 fn path_tracer_is_identical_at_one_two_and_three_threads() {
     // And however the passes fall: 5 spp as passes of 2 + 2 + 1, or five of 1, are the same
     // bytes; a time limit that stops after the first pass gives the 2 spp image.
-    use opalray::path::Passes;
+    use opalray::integrator::Passes;
     use std::time::Duration;
     let mut scene = preset("harlequin").unwrap();
     scene.integrator = scene.integrator.switched(opalray::scene::Method::Path);
@@ -274,7 +274,8 @@ fn flashing_colour_follows_the_half_vector_law() {
     use opalray::geometry::Camera;
     use opalray::light_pass::LightSource;
     use opalray::lights::Environment;
-    use opalray::path::{trace_paths, PathLight, PathSetup};
+    use opalray::lights::Lamp;
+    use opalray::path::{trace_paths, PathSetup, Sampling};
     let mut scene = Scene::default();
     scene.domains.sphere_diameter_spread = 0.0;
     scene.domains.mosaic_spread_deg = 0.0;
@@ -304,7 +305,7 @@ fn flashing_colour_follows_the_half_vector_law() {
                 spp: 4,
                 max_depth: 2,
                 max_scatterings: 0,
-                light: Some(PathLight {
+                light: Some(Lamp {
                     source: LightSource::Directional {
                         direction: Vec3::new(-t.sin(), 0.0, -t.cos()),
                     },
@@ -315,6 +316,8 @@ fn flashing_colour_follows_the_half_vector_law() {
                 area_light: None,
                 gloss: 0.0,
                 seed: 1,
+
+                sampling: Sampling::Sobol,
                 spectral: &sampler,
             },
         );

@@ -7,7 +7,7 @@
 use glam::Vec3;
 use opalray::geometry::Camera;
 use opalray::lights::Environment;
-use opalray::path::{trace_paths, PathSetup, SpectralSampler};
+use opalray::path::{trace_paths, PathSetup, Sampling, SpectralSampler};
 use opalray::scene::{preset, EnvironmentKind, FamilyChoice, OrientationLaw, Pattern, Scene};
 use opalray::stone::Stone;
 
@@ -43,6 +43,8 @@ fn furnace_y(
             area_light: None,
             gloss: 1.0,
             seed: 7,
+
+            sampling: Sampling::Sobol,
             spectral: &sampler,
         },
     );

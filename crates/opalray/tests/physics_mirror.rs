@@ -9,7 +9,7 @@ mod common;
 use glam::Vec3;
 use opalray::geometry::Camera;
 use opalray::lights::{AreaLight, Environment};
-use opalray::path::{trace_paths, PathSetup, SpectralSampler};
+use opalray::path::{trace_paths, PathSetup, Sampling, SpectralSampler};
 use opalray::stone::Stone;
 
 /// Distance of the light from the stone, mm.
@@ -38,6 +38,8 @@ fn flash_y(stone: &Stone, sampler: &SpectralSampler, light_deg: f32) -> f64 {
             area_light: Some(AreaLight::sphere(center, radius, 1.0)),
             gloss: 0.0,
             seed: 5,
+
+            sampling: Sampling::Sobol,
             spectral: sampler,
         },
     );

@@ -9,7 +9,7 @@ mod common;
 use glam::Vec3;
 use opalray::geometry::Camera;
 use opalray::lights::Environment;
-use opalray::path::{trace_paths, PathSetup, SpectralSampler};
+use opalray::path::{trace_paths, PathSetup, Sampling, SpectralSampler};
 use opalray::scene::{Illuminant, Pattern, Scene};
 use opalray::spectrum::WavelengthGrid;
 use opalray::stone::Stone;
@@ -48,6 +48,8 @@ fn white_under_d65_reads_the_illuminant_over_its_luminance_per_nm() {
             area_light: None,
             gloss: 1.0,
             seed: 1,
+
+            sampling: Sampling::Sobol,
             spectral: &sampler,
         },
     );

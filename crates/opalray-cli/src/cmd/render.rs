@@ -8,7 +8,7 @@ use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 
-use opalray::path::{PassReport, Passes, RowsReport};
+use opalray::integrator::{PassReport, Passes, RowsReport};
 use opalray::scene::{LightKind, MAX_SPP};
 use opalray::Scene;
 

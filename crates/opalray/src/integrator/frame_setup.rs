@@ -4,9 +4,7 @@
 
 use crate::film::SpectralSampler;
 use crate::geometry::Camera;
-use crate::light_pass::LightSource;
-use crate::lights::{AreaLight, Environment};
-use crate::path::PathLight;
+use crate::lights::{AreaLight, Environment, Lamp};
 use crate::render::{camera_up, sample_seed, Prepared, LIGHT_DISC_RADIUS_DEG};
 use crate::scene::LightKind;
 use crate::stone::Stone;
@@ -20,11 +18,11 @@ pub(crate) struct FrameSetup<'a> {
     pub environment: &'a Environment,
     /// The camera in the stone's frame.
     pub camera: Camera,
-    /// The scene light placed for the light angle (a sphere or rect light's centre).
-    pub source: LightSource,
-    /// The scene's directional or point light at `source` (`None` for other kinds).
-    pub light: Option<PathLight>,
-    /// The scene's sphere or rect light centred at `source` (`None` for other kinds).
+    /// The scene's directional or point light placed for the light angle (`None` for other
+    /// kinds).
+    pub light: Option<Lamp>,
+    /// The scene's sphere or rect light centred where the point light would be (`None` for
+    /// other kinds).
     pub area_light: Option<AreaLight>,
     /// The wavelength sampler and colour matching of the scene's light.
     pub sampler: SpectralSampler,
@@ -55,18 +53,16 @@ impl Prepared {
         };
         let (camera, source) = self.placement(light_angle_deg);
         // A sphere or rect light is an area light centred where the point light would be.
-        let light = matches!(s.light.kind, LightKind::Directional | LightKind::Point).then_some(
-            PathLight {
+        let light =
+            matches!(s.light.kind, LightKind::Directional | LightKind::Point).then_some(Lamp {
                 source,
                 intensity: s.light.intensity as f32,
                 disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
-            },
-        );
+            });
         FrameSetup {
             stone,
             environment,
             camera,
-            source,
             light,
             area_light: self.area_light(source, camera_up(s)),
             sampler: SpectralSampler::new(s.light.illuminant, &s.spectrum, wavelengths as usize),

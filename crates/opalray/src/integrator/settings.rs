@@ -1,7 +1,9 @@
 //! What every method's own `[integrator]` settings answer: their name and fields, their
 //! ranges, and the samples and seed where the method takes them. Each method's settings
 //! struct lives in its folder (`config.rs`) and implements [`Settings`]; the registration
-//! line in `integrator.rs` makes it a variant of `IntegratorConfig`.
+//! line in `integrator.rs` makes it a variant of `IntegratorConfig`. Settings that hold
+//! their samples and seed as `spp` and `seed` fields answer for them with
+//! [`spp_and_seed_fields!`].
 
 use std::fmt::Debug;
 
@@ -42,3 +44,27 @@ pub trait Settings:
     /// Set the seed of its sample streams where it draws any.
     fn set_seed(&mut self, _seed: u64) {}
 }
+
+/// The four [`Settings`] accessors of settings whose samples per pixel and seed are their
+/// `spp: u32` and `seed: u64` fields (`spp`, `set_spp`, `seed`, `set_seed`): invoked as
+/// `spp_and_seed_fields!();` inside the `impl Settings`.
+macro_rules! spp_and_seed_fields {
+    () => {
+        fn spp(&self) -> Option<u32> {
+            Some(self.spp)
+        }
+
+        fn set_spp(&mut self, spp: u32) {
+            self.spp = spp;
+        }
+
+        fn seed(&self) -> u64 {
+            self.seed
+        }
+
+        fn set_seed(&mut self, seed: u64) {
+            self.seed = seed;
+        }
+    };
+}
+pub(crate) use spp_and_seed_fields;

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::integrator::Settings;
+use crate::integrator::{spp_and_seed_fields, Settings};
 use crate::scene::DEFAULT_SPP;
 
 /// The lobe integrator's settings (`method = "lobe"`).
@@ -42,19 +42,5 @@ impl Settings for LobeConfig {
     const NAME: &'static str = "lobe";
     const FIELDS: &'static [&'static str] = &["spp", "seed", "trapped"];
 
-    fn spp(&self) -> Option<u32> {
-        Some(self.spp)
-    }
-
-    fn set_spp(&mut self, spp: u32) {
-        self.spp = spp;
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    fn set_seed(&mut self, seed: u64) {
-        self.seed = seed;
-    }
+    spp_and_seed_fields!();
 }

@@ -4,8 +4,7 @@
 use std::time::Instant;
 
 use crate::error::Result;
-use crate::integrator::{Integrator, Work};
-use crate::path::Passes;
+use crate::integrator::{Integrator, Passes, Work};
 use crate::path::DEFAULT_WAVELENGTHS;
 use crate::render::{seconds, Frame, Prepared};
 use crate::scene::{IntegratorConfig, LobeConfig, Method, Scene};

@@ -41,6 +41,8 @@
 
 pub mod colour;
 mod config;
+#[cfg(test)]
+mod fixture;
 mod layer;
 mod method;
 mod potch;
@@ -54,8 +56,9 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::geometry::Camera;
-use crate::lights::{AreaLight, Environment};
-use crate::path::{Passes, PathLight, RowCounter, SpectralSampler};
+use crate::integrator::{Passes, RowCounter};
+use crate::lights::{AreaLight, Environment, Lamp};
+use crate::path::SpectralSampler;
 use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
@@ -79,7 +82,7 @@ pub struct LobeSetup<'a> {
     /// Camera rays per pixel, at stratified positions (anti-aliasing only).
     pub spp: u32,
     /// The scene's point or directional light, if any.
-    pub light: Option<PathLight>,
+    pub light: Option<Lamp>,
     /// The scene's sphere or rect light, if any, read through every lobe
     /// ([`AreaLight::lobe_share`]).
     pub area_light: Option<AreaLight>,
@@ -285,21 +288,7 @@ mod tests {
         stone.potch.domain_scattering_per_mm = extinction_per_mm;
         let env = Environment::uniform();
         let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
-        let setup = LobeSetup {
-            camera: Camera::look_at(Vec3::new(0.0, 0.0, 100.0), Vec3::ZERO, Vec3::Y, 10.0, 8, 8),
-            width: 8,
-            height: 8,
-            spp: 1,
-            light: None,
-            area_light: None,
-            light_intensity: 0.0,
-            environment: &env,
-            gloss: 1.0,
-            seed: 1,
-            body_reflectance: 0.0,
-            spectral: &sampler,
-            trapped: false,
-        };
+        let setup = fixture::eight_by_eight(&env, &sampler);
         let colours = LineColours::new(&sampler);
         let irradiance = Irradiance::new(&env);
         let table = BackingLight::new(&stone, &setup, &colours, &irradiance).unwrap();

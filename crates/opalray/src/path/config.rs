@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::integrator::Settings;
+use crate::integrator::{spp_and_seed_fields, Settings};
 use crate::scene::DEFAULT_SPP;
 
 /// Default wavelengths per contribution (`integrator.wavelengths`); the stored and lobe
@@ -96,19 +96,5 @@ impl Settings for PathConfig {
         Ok(())
     }
 
-    fn spp(&self) -> Option<u32> {
-        Some(self.spp)
-    }
-
-    fn set_spp(&mut self, spp: u32) {
-        self.spp = spp;
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    fn set_seed(&mut self, seed: u64) {
-        self.seed = seed;
-    }
+    spp_and_seed_fields!();
 }

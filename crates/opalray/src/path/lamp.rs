@@ -157,7 +157,7 @@ mod tests {
     use super::*;
     use crate::geometry::{refracted_entry, Camera, LightSource};
     use crate::lights::Environment;
-    use crate::path::{PathSetup, SpectralSampler};
+    use crate::path::{PathSetup, Sampling, SpectralSampler};
     use crate::scene::EnvironmentConfig;
     use crate::stone::Stone;
 
@@ -195,7 +195,7 @@ mod tests {
                 spp: 1,
                 max_depth: 8,
                 max_scatterings: 0,
-                light: Some(crate::path::PathLight {
+                light: Some(crate::lights::Lamp {
                     source,
                     intensity: 1.0,
                     disc_radius_rad: 0.0,
@@ -204,6 +204,8 @@ mod tests {
                 area_light: None,
                 gloss: 1.0,
                 seed: 1,
+
+                sampling: Sampling::Sobol,
                 spectral: &sampler,
             };
             let tracer = Tracer::new(&stone, &setup);

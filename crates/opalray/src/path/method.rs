@@ -6,11 +6,11 @@ use std::time::Instant;
 
 use crate::error::Result;
 use crate::film::denoise::{denoise, NlMeans};
-use crate::integrator::{pixels, Integrator, Work};
+use crate::integrator::{pixels, Integrator, Passes, Work};
 use crate::render::{rgb_of_xyz, seconds, Frame, Prepared};
 use crate::scene::{IntegratorConfig, Method, PathConfig, Scene};
 
-use super::{trace_passes, DenoiseBias, Passes, PathImage, PathSetup, PathStats};
+use super::{trace_passes, DenoiseBias, PathImage, PathSetup, PathStats, Sampling};
 
 /// Processor seconds of one path-traced sample of one pixel of a gem (the black opal
 /// path-traced at 64 × 48 took 1.9 s at 1 and 14.5 s at 8 samples per pixel, 2026-12-06:
@@ -70,7 +70,7 @@ impl Integrator for PathTracer {
         let c = config(s);
         let mut times = prepared.times;
         let start = Instant::now();
-        let (image, m) = prepared.trace_path(light_angle_deg, passes);
+        let (image, m) = prepared.trace_path(light_angle_deg, passes, Sampling::default());
         times.view_pass = seconds(start);
         let (width, height) = (s.render.width as usize, s.render.height as usize);
         let start = Instant::now();
@@ -111,20 +111,27 @@ impl Integrator for PathTracer {
 
 impl Prepared {
     /// The path integrator's image for light angle `light_angle_deg`, in passes as `passes`
-    /// says, with the map from its XYZ to the frame's linear RGB (colour space and exposure);
-    /// `None` for a scene of another method. The per-pixel variance and half differences it
-    /// carries are for statistical comparisons of renders.
+    /// says, its samples the points `sampling` says ([`Sampling::Sobol`] as a frame's), with
+    /// the map from its XYZ to the frame's linear RGB (colour space and exposure); `None` for
+    /// a scene of another method. The per-pixel variance and half differences it carries are
+    /// for statistical comparisons of renders.
     pub fn render_path_image(
         &self,
         light_angle_deg: f64,
         passes: &Passes,
+        sampling: Sampling,
     ) -> Option<(PathImage, glam::Mat3)> {
         matches!(self.scene.integrator, IntegratorConfig::Path(_))
-            .then(|| self.trace_path(light_angle_deg, passes))
+            .then(|| self.trace_path(light_angle_deg, passes, sampling))
     }
 
     /// [`Prepared::render_path_image`] of a path-traced scene.
-    fn trace_path(&self, light_angle_deg: f64, passes: &Passes) -> (PathImage, glam::Mat3) {
+    fn trace_path(
+        &self,
+        light_angle_deg: f64,
+        passes: &Passes,
+        sampling: Sampling,
+    ) -> (PathImage, glam::Mat3) {
         let s = &self.scene;
         let c = config(s);
         let f = self.frame_setup(light_angle_deg, c.wavelengths, c.seed);
@@ -142,6 +149,7 @@ impl Prepared {
                 area_light: f.area_light,
                 gloss: f.gloss,
                 seed: f.seed,
+                sampling,
                 spectral: &f.sampler,
             },
             passes,

@@ -78,23 +78,24 @@ pub mod spectral;
 mod stats;
 mod vertex;
 
-use crate::geometry::LightSource;
 use crate::geometry::{fresnel_dielectric_sp, reflect, refract, Camera, Ray};
 use crate::lights::emitters;
-use crate::lights::{AreaLight, Environment};
+use crate::lights::{AreaLight, Environment, Lamp};
 use crate::optics::BraggLine;
 use crate::stone::{ActiveLine, Hint, Region, Span, Stone};
 use glam::Vec3;
 
 pub use crate::film::noise;
 pub use crate::film::Noise;
+/// The seam's passes and reports ([`crate::integrator`]), named here too where they were
+/// first.
+pub use crate::integrator::{PassReport, Passes, RowsReport};
 pub use config::{PathConfig, DEFAULT_MAX_SCATTERINGS, DEFAULT_WAVELENGTHS};
 pub use image::PathImage;
 
 pub use method::PathTracer;
 pub use orders::BraggOrders;
-pub(crate) use passes::RowCounter;
-pub use passes::{trace_passes, PassReport, Passes, RowsReport};
+pub use passes::trace_passes;
 pub use sampler::Sampling;
 pub use spectral::{PathSpectrum, SpectralSampler, MAX_DRAWS};
 pub use stats::{DenoiseBias, PathStats};
@@ -148,31 +149,6 @@ fn scattering_split(weight: f32) -> u32 {
     ((weight / ROULETTE_BELOW) as u32).clamp(1, MAX_SCATTERING_SPLIT)
 }
 
-/// The scene's light for the path integrator.
-#[derive(Clone, Copy, Debug)]
-pub struct PathLight {
-    /// Where it is.
-    pub source: LightSource,
-    /// Irradiance scale (`light.intensity`).
-    pub intensity: f32,
-    /// Angular radius of its disc as seen in the gloss, radians (0: no disc).
-    pub disc_radius_rad: f32,
-}
-
-impl PathLight {
-    /// Its disc seen along `dir` from outside (the gloss's image of the lamp), in image
-    /// units: the irradiance over the disc's solid angle π r², times π; 0 off the disc.
-    pub fn disc(&self, dir: Vec3) -> f32 {
-        let r = self.disc_radius_rad;
-        let to_light = self.source.direction_to_light(Vec3::ZERO);
-        if r > 0.0 && dir.dot(to_light) >= r.cos() {
-            self.intensity / (r * r)
-        } else {
-            0.0
-        }
-    }
-}
-
 /// Everything the path integrator needs besides the stone.
 pub struct PathSetup<'a> {
     /// The camera.
@@ -189,7 +165,7 @@ pub struct PathSetup<'a> {
     /// `max_depth`; 0: counted among its events.
     pub max_scatterings: u32,
     /// The scene's light, if any.
-    pub light: Option<PathLight>,
+    pub light: Option<Lamp>,
     /// The environment.
     pub environment: Environment,
     /// The scene's sphere or rect light, if any (seen by the rays that leave the stone).
@@ -198,6 +174,9 @@ pub struct PathSetup<'a> {
     pub gloss: f32,
     /// Seed of the sample streams.
     pub seed: u64,
+    /// Which points the samples are: Owen-scrambled Sobol (the default) or independent
+    /// streams ([`Sampling`]).
+    pub sampling: Sampling,
     /// Wavelength sampling and colour matching.
     pub spectral: &'a SpectralSampler,
 }

@@ -1,7 +1,6 @@
 //! The path integrator's pixel and sample loop, in passes: input a [`Stone`] and a
-//! [`PathSetup`] (and [`Passes`]: a time limit, a report after each pass) → output a
-//! [`PathImage`]. [`RowsReport`] and its counter tell the same of a method that renders
-//! row by row.
+//! [`PathSetup`] (and the seam's [`Passes`]: a time limit, a report after each pass) →
+//! output a [`PathImage`].
 //!
 //! A render is a sequence of passes of samples per pixel: the first pass 2 (1 if only one is
 //! asked for), then each pass as many as all before it (doubling the total), cut so as not to
@@ -16,14 +15,15 @@
 //! samples (for the noise estimate) and of the squares of the samples' XYZ (for its variance).
 
 use std::sync::Mutex;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use rayon::prelude::*;
 
 use super::orders::OrderSums;
-use super::sampler::{PathSampler, Sampling, MAX_SAMPLES};
+use super::sampler::{PathSampler, MAX_SAMPLES};
 use super::{PathImage, PathSetup, Tracer};
 use crate::film::{Film, PixelSums};
+use crate::integrator::{PassReport, Passes};
 use crate::scene::MAX_SPP;
 use crate::stone::Stone;
 
@@ -31,88 +31,6 @@ use crate::stone::Stone;
 const _: () = assert!(MAX_SPP <= MAX_SAMPLES);
 /// Samples per pixel of the first pass: two, so that the noise can be estimated from the first.
 const FIRST_PASS_SPP: u32 = 2;
-
-/// How a render's passes run: when to stop early, and what to tell after each pass.
-#[derive(Clone, Copy, Default)]
-pub struct Passes<'a> {
-    /// Stop after the pass in which this much time has passed since the render began, even
-    /// short of `spp` (`None`: render all `spp`).
-    pub time_limit: Option<Duration>,
-    /// Most samples per pixel in one pass (`None`: no limit but the doubling; more passes
-    /// mean more reports, not another image).
-    pub max_pass_spp: Option<u32>,
-    /// Called after every pass (on the calling thread).
-    pub on_pass: Option<&'a (dyn Fn(&PassReport) + Sync)>,
-    /// Which points the samples are: Owen-scrambled Sobol (the default) or independent
-    /// streams ([`Sampling`]).
-    pub sampling: Sampling,
-    /// Called after every row of a method that renders row by row instead of in passes (the
-    /// lobe integrator's view pass), from the thread that rendered it; the calls come one at
-    /// a time, `rows` rising by one each.
-    pub on_rows: Option<&'a (dyn Fn(&RowsReport) + Sync)>,
-}
-
-/// Where a render done row by row stands after a row.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RowsReport {
-    /// Rows done, counted over every sweep of the image (the lobe integrator: every pixel's
-    /// centre, then the pixels at an edge again).
-    pub rows: u32,
-    /// Rows in all, over every sweep.
-    pub total_rows: u32,
-    /// Seconds since the first row began.
-    pub elapsed_s: f64,
-}
-
-/// The rows of a render done row by row, in parallel, counted and reported to
-/// [`Passes::on_rows`]; the image does not depend on it.
-pub(crate) struct RowCounter<'a> {
-    on_rows: Option<&'a (dyn Fn(&RowsReport) + Sync)>,
-    /// Rows done so far; held while a row is reported, so that reports come in order.
-    done: Mutex<u32>,
-    total_rows: u32,
-    start: Instant,
-}
-
-impl<'a> RowCounter<'a> {
-    /// A count of `total_rows` rows, starting now, reported as `passes` says.
-    pub(crate) fn new(passes: &Passes<'a>, total_rows: usize) -> Self {
-        RowCounter {
-            on_rows: passes.on_rows,
-            done: Mutex::new(0),
-            total_rows: u32::try_from(total_rows).unwrap_or(u32::MAX),
-            start: Instant::now(),
-        }
-    }
-
-    /// One more row done.
-    pub(crate) fn row_done(&self) {
-        let Some(report) = self.on_rows else { return };
-        let mut done = self.done.lock().unwrap_or_else(|e| e.into_inner());
-        *done += 1;
-        report(&RowsReport {
-            rows: *done,
-            total_rows: self.total_rows,
-            elapsed_s: self.start.elapsed().as_secs_f64(),
-        });
-    }
-}
-
-/// Where a render stands after a pass.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PassReport {
-    /// Passes done.
-    pub passes: u32,
-    /// Samples per pixel done.
-    pub spp: u32,
-    /// Samples per pixel asked for (the most a time-limited render renders).
-    pub target_spp: u32,
-    /// Seconds since the render began.
-    pub elapsed_s: f64,
-    /// The relative RMS noise of the luminance over the stone so far ([`super::Noise`]);
-    /// `None` before two samples per pixel or without stone pixels.
-    pub noise: Option<f64>,
-}
 
 /// Render `stone` as `setup` says, in passes as `passes` says.
 pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathImage {
@@ -138,7 +56,6 @@ pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathIm
         let pass_orders = trace_pass(
             stone,
             setup,
-            passes.sampling,
             done..done + size,
             &on_stone,
             &mut film.sums,
@@ -179,7 +96,6 @@ pub fn trace_passes(stone: &Stone, setup: &PathSetup, passes: &Passes) -> PathIm
 fn trace_pass(
     stone: &Stone,
     setup: &PathSetup,
-    sampling: Sampling,
     range: std::ops::Range<u32>,
     on_stone: &[bool],
     sums: &mut [PixelSums],
@@ -203,7 +119,7 @@ fn trace_pass(
                 let pixel = (y * w + x) as u64;
                 let px_bins = &mut row_bins[x * bins..(x + 1) * bins];
                 for s in range.clone() {
-                    let mut sampler = PathSampler::new(setup.seed, pixel, s, sampling);
+                    let mut sampler = PathSampler::new(setup.seed, pixel, s, setup.sampling);
                     let jx = sampler.uniform_f32();
                     let jy = sampler.uniform_f32();
                     let ray = setup.camera.ray(x as f32 + jx, y as f32 + jy);

@@ -47,6 +47,8 @@ pub(in crate::path) fn studio_8x8(
         area_light,
         gloss: 0.0,
         seed,
+
+        sampling: Sampling::Sobol,
         spectral: sampler,
     }
 }

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::integrator::Settings;
+use crate::integrator::{spp_and_seed_fields, Settings};
 use crate::scene::{check_range, DEFAULT_SPP};
 
 /// The stored method's settings (`method = "stored"`).
@@ -44,19 +44,5 @@ impl Settings for StoredConfig {
         check_range("integrator.cell_mm", self.cell_mm, 0.02, 2.0, 0.15)
     }
 
-    fn spp(&self) -> Option<u32> {
-        Some(self.spp)
-    }
-
-    fn set_spp(&mut self, spp: u32) {
-        self.spp = spp;
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    fn set_seed(&mut self, seed: u64) {
-        self.seed = seed;
-    }
+    spp_and_seed_fields!();
 }

@@ -4,9 +4,9 @@
 use std::time::Instant;
 
 use crate::error::{Error, Result};
-use crate::integrator::{pixels, Integrator, Work};
-use crate::path::{Passes, PathLight, DEFAULT_WAVELENGTHS};
-use crate::render::{seconds, Frame, Prepared, Report, LIGHT_DISC_RADIUS_DEG};
+use crate::integrator::{pixels, Integrator, Passes, Work};
+use crate::path::DEFAULT_WAVELENGTHS;
+use crate::render::{seconds, Frame, Prepared, Report};
 use crate::scene::{
     Cut, EnvironmentKind, IntegratorConfig, LightKind, Method, Scene, StoredConfig,
 };
@@ -140,11 +140,9 @@ impl Integrator for StoredMethod {
             width: f.width,
             height: f.height,
             spp: c.spp,
-            light: PathLight {
-                source: f.source,
-                intensity: s.light.intensity as f32,
-                disc_radius_rad: LIGHT_DISC_RADIUS_DEG.to_radians(),
-            },
+            light: f
+                .light
+                .expect("the stored method's check admits only a directional or point light"),
             environment: f.environment,
             gloss: f.gloss,
             seed: f.seed,

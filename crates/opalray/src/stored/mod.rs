@@ -31,8 +31,7 @@ use serde::Serialize;
 
 use crate::film::SpectralSampler;
 use crate::geometry::Camera;
-use crate::lights::Environment;
-use crate::path::PathLight;
+use crate::lights::{Environment, Lamp};
 use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
@@ -54,7 +53,7 @@ pub struct StoredSetup<'a> {
     /// Camera rays per pixel (1 ..= [`crate::scene::MAX_SPP`]), at stratified positions.
     pub spp: u32,
     /// The scene's light (directional or point) and the radius of its disc in the gloss.
-    pub light: PathLight,
+    pub light: Lamp,
     /// The backdrop (`environment.kind = "none"`: `render.background` behind the stone).
     pub environment: &'a Environment,
     /// Scale of the surface's gloss.

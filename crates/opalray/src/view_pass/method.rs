@@ -6,11 +6,10 @@ use std::time::Instant;
 
 use crate::color::to_rgb;
 use crate::error::{Error, Result};
-use crate::integrator::{pixels, Integrator, Work};
+use crate::integrator::{pixels, Integrator, Passes, Work};
 use crate::light_pass::{
     trace_light, ClusterOptics, LightField, LightSetup, LightSource, Termination, VoxelLayout,
 };
-use crate::path::Passes;
 use crate::render::{seconds, Frame, Prepared};
 use crate::scene::{EnvironmentKind, LightKind, Method, Scene, BODY_EXTINCTION_PER_MM};
 

@@ -7,9 +7,10 @@ use std::path::Path;
 
 use glam::{Quat, Vec3};
 use opalray::geometry::Camera;
+use opalray::integrator::Passes;
 use opalray::lights::Environment;
 use opalray::path::{trace_paths, PathSetup, SpectralSampler};
-use opalray::path::{Passes, PathImage, Sampling};
+use opalray::path::{PathImage, Sampling};
 use opalray::render::prepare;
 use opalray::scene::{preset, FamilyChoice, PathConfig, Scene};
 use opalray::stone::Stone;
@@ -41,12 +42,8 @@ pub fn preset_at(name: &str, width: u32, height: u32) -> Scene {
 /// samples drawn by `sampling`.
 pub fn path_image(scene: &Scene, sampling: Sampling) -> PathImage {
     let prepared = prepare(scene).unwrap();
-    let passes = Passes {
-        sampling,
-        ..Passes::default()
-    };
     let (image, _) = prepared
-        .render_path_image(scene.light.angle_deg, &passes)
+        .render_path_image(scene.light.angle_deg, &Passes::default(), sampling)
         .expect("a path-traced scene");
     image
 }
@@ -74,6 +71,8 @@ pub fn view_from_above(
         area_light: None,
         gloss: 1.0,
         seed: 5,
+
+        sampling: Sampling::Sobol,
         spectral: sampler,
     }
 }

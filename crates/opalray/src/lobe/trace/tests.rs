@@ -1,8 +1,8 @@
 //! The cull's early stop against the full sum it stands for.
 
 use super::*;
-use crate::geometry::Camera;
 use crate::lights::Environment;
+use crate::lobe::fixture::eight_by_eight;
 use crate::path::SpectralSampler;
 use crate::sampling::Rng;
 use crate::scene::preset;
@@ -15,21 +15,7 @@ fn cull_agrees_with_the_full_sum(preset_name: &str) -> (usize, usize) {
     let stone = Stone::new(&scene).unwrap();
     let env = Environment::new(&scene.environment, scene.render.background as f32).unwrap();
     let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
-    let setup = LobeSetup {
-        camera: Camera::look_at(Vec3::new(0.0, 0.0, 100.0), Vec3::ZERO, Vec3::Y, 10.0, 8, 8),
-        width: 8,
-        height: 8,
-        spp: 1,
-        light: None,
-        area_light: None,
-        light_intensity: 0.0,
-        environment: &env,
-        gloss: 1.0,
-        seed: 1,
-        body_reflectance: 0.0,
-        spectral: &sampler,
-        trapped: false,
-    };
+    let setup = eight_by_eight(&env, &sampler);
     let colours = LineColours::new(&sampler);
     let irradiance = Irradiance::new(&env);
     let tracer = Tracer::new(&stone, &setup, &colours, &irradiance, Lit::default());

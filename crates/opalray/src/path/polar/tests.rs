@@ -3,9 +3,10 @@
 use super::*;
 use crate::geometry::{reflect, Camera, LightSource, Ray};
 use crate::lights::Environment;
+use crate::lights::Lamp;
 use crate::optics::BraggLine;
 use crate::path::tests::mean_y_with;
-use crate::path::{PathLight, PathSetup, PathSpectrum, SpectralSampler};
+use crate::path::{PathSetup, PathSpectrum, Sampling, SpectralSampler};
 use crate::scene::{FamilyChoice, Scene};
 use crate::stone::Stone;
 use glam::Quat;
@@ -140,7 +141,7 @@ fn apex_view<'a>(stone: &Stone, sampler: &'a SpectralSampler, light_deg: f32) ->
         spp: 1,
         max_depth: 8,
         max_scatterings: 0,
-        light: Some(PathLight {
+        light: Some(Lamp {
             source: LightSource::Directional {
                 direction: -Vec3::new(b.sin(), 0.0, b.cos()),
             },
@@ -151,6 +152,8 @@ fn apex_view<'a>(stone: &Stone, sampler: &'a SpectralSampler, light_deg: f32) ->
         area_light: None,
         gloss: 0.0,
         seed: 9,
+
+        sampling: Sampling::Sobol,
         spectral: sampler,
     }
 }
