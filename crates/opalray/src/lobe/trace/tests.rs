@@ -29,6 +29,7 @@ fn cull_agrees_with_the_full_sum(preset_name: &str) -> (usize, usize) {
         body_reflectance: 0.0,
         spectral: &sampler,
         trapped: false,
+        reuse: true,
     };
     let colours = LineColours::new(&sampler);
     let irradiance = Irradiance::new(&env);
