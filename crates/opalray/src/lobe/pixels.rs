@@ -210,7 +210,7 @@ impl RowFollowed {
     }
 }
 
-/// Per pixel of `rows`, whether its first ray differs from one of its eight neighbours' by
+/// Per pixel of `rows`, whether its first ray differs from one of its four neighbours' (left, right, above, below) by
 /// more than [`EDGE_CONTRAST`].
 fn edge_pixels(xyz: &[[f32; 3]], w: usize, h: usize, rows: Range<usize>) -> Vec<bool> {
     let tone = |v: [f32; 3]| v.map(|c| c.max(0.0).sqrt());
@@ -219,17 +219,15 @@ fn edge_pixels(xyz: &[[f32; 3]], w: usize, h: usize, rows: Range<usize>) -> Vec<
         let y = rows.start + k;
         for (x, edge) in row.iter_mut().enumerate() {
             let here = tone(xyz[y * w + x]);
-            'around: for dy in -1i64..=1 {
-                for dx in -1i64..=1 {
-                    let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                    if (dx, dy) == (0, 0) || nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
-                        continue;
-                    }
-                    let there = tone(xyz[ny as usize * w + nx as usize]);
-                    if (0..3).any(|c| (here[c] - there[c]).abs() > EDGE_CONTRAST) {
-                        *edge = true;
-                        break 'around;
-                    }
+            for (dx, dy) in [(-1i64, 0i64), (1, 0), (0, -1), (0, 1)] {
+                let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let there = tone(xyz[ny as usize * w + nx as usize]);
+                if (0..3).any(|c| (here[c] - there[c]).abs() > EDGE_CONTRAST) {
+                    *edge = true;
+                    break;
                 }
             }
         }
