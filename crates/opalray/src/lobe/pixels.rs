@@ -210,8 +210,8 @@ impl RowFollowed {
     }
 }
 
-/// Per pixel of `rows`, whether its first ray differs from one of its four neighbours' (left, right, above, below) by
-/// more than [`EDGE_CONTRAST`].
+/// Per pixel of `rows`, whether its first ray differs from one of its four neighbours' (left,
+/// right, above, below) by more than [`EDGE_CONTRAST`].
 fn edge_pixels(xyz: &[[f32; 3]], w: usize, h: usize, rows: Range<usize>) -> Vec<bool> {
     let tone = |v: [f32; 3]| v.map(|c| c.max(0.0).sqrt());
     let mut edges = vec![false; w * rows.len()];
