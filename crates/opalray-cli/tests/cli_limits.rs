@@ -199,7 +199,7 @@ fn a_render_of_an_hour_says_so_before_any_work() {
 
 #[test]
 fn long_renders_of_the_other_methods_say_so_before_any_work() {
-    // The lobe integrator: 1.3e7 px at 10 + 3 × 8 µs on 2 threads, about 3.6 min; the
+    // The lobe integrator: 1.3e7 px at 10 + 3 × 4 µs on 2 threads, about 2.4 min; the
     // stored method: 1.2e7 px at 4 + 63 × 0.5 µs, about 3.7 min; a sweep of 20 such frames
     // of the paper's two passes: 1.3e6 light rays a frame at 2 µs and 1.2e7 px at 0.5 µs,
     // about 1.5 min.

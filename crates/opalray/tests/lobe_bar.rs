@@ -54,6 +54,7 @@ fn lobe_y(stone: &Stone, scene: &Scene, sampler: &SpectralSampler) -> Vec<f64> {
             body_reflectance: munsell_y(f64::from(scene.render.body_tone)) as f32,
             spectral: sampler,
             trapped: false,
+            reuse: true,
         },
     );
     image.xyz.iter().map(|v| f64::from(v[1])).collect()

@@ -10,7 +10,7 @@ use crate::lights::Environment;
 
 /// An 8 × 8 view straight down at the stone from 100 mm above, 10° wide, one ray a pixel,
 /// lit by `environment` alone (no light, no area light), the gloss in full, a black body,
-/// seed 1, the trapped reflections not walked.
+/// seed 1, the trapped reflections not walked, the edges' rays reading back the centres'.
 pub(super) fn eight_by_eight<'a>(
     environment: &'a Environment,
     spectral: &'a SpectralSampler,
@@ -29,5 +29,6 @@ pub(super) fn eight_by_eight<'a>(
         body_reflectance: 0.0,
         spectral,
         trapped: false,
+        reuse: true,
     }
 }

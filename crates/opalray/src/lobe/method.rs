@@ -57,6 +57,7 @@ impl Integrator for LobeMethod {
             body_reflectance: munsell_y(f64::from(s.render.body_tone)) as f32,
             spectral: &f.sampler,
             trapped: c.trapped,
+            reuse: true,
         };
         let start = Instant::now();
         let image = render_lobes_reporting(f.stone, &setup, passes);

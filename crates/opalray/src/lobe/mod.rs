@@ -45,6 +45,7 @@ mod config;
 mod fixture;
 mod layer;
 mod method;
+mod pixels;
 mod potch;
 mod tables;
 mod trace;
@@ -53,13 +54,11 @@ mod work;
 use std::f32::consts::PI;
 
 use glam::Vec3;
-use rayon::prelude::*;
 
 use crate::geometry::Camera;
-use crate::integrator::{Passes, RowCounter};
+use crate::integrator::Passes;
 use crate::lights::{AreaLight, Environment, Lamp};
 use crate::path::SpectralSampler;
-use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
 
@@ -101,6 +100,10 @@ pub struct LobeSetup<'a> {
     /// Walk the reflections the dome traps for their second Bragg reflections
     /// (`integrator.trapped`).
     pub trapped: bool,
+    /// A pixel's further rays read back the reflections its centre ray followed out instead
+    /// of walking them again (`pixels`; about a third of the default render's time): true
+    /// in every render, false to measure what that changes.
+    pub reuse: bool,
 }
 
 /// The lobe integrator's image.
@@ -113,7 +116,7 @@ pub struct LobeImage {
 
 /// Render `stone` as `setup` says: one camera ray through every pixel's centre, then
 /// `setup.spp − 1` more, stratified, through each pixel whose first ray differs from a
-/// neighbour's by more than [`EDGE_CONTRAST`] (domain edges, the silhouette, the gloss's rim).
+/// neighbour's (domain edges, the silhouette, the gloss's rim; [`pixels`]).
 pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
     render_lobes_reporting(stone, setup, &Passes::default())
 }
@@ -121,156 +124,19 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
 /// [`render_lobes`], telling `passes.on_rows` of every row done: the centres' rows, then (for
 /// `spp` > 1) the edges' rows (the same image).
 pub fn render_lobes_reporting(stone: &Stone, setup: &LobeSetup, passes: &Passes) -> LobeImage {
-    let (w, h) = (setup.width, setup.height);
-    let grid = setup.spectral.grid;
-    let bins = grid.bins;
     let colours = LineColours::new(setup.spectral);
     let irradiance = Irradiance::new(setup.environment);
     let backing_light = BackingLight::new(stone, setup, &colours, &irradiance);
     let potch_light = potch::PotchLight::new(stone, setup, &colours, &irradiance);
-    let lit = trace::Lit {
-        backing: backing_light.as_ref(),
-        potch: potch_light.as_ref(),
+    let tables = pixels::Tables {
+        colours: &colours,
+        irradiance: &irradiance,
+        lit: trace::Lit {
+            backing: backing_light.as_ref(),
+            potch: potch_light.as_ref(),
+        },
     };
-    let mut xyz = vec![[0.0f32; 3]; w * h];
-    let mut spectral = SpectralImage::new(w, h, grid);
-    let spp = setup.spp.max(1) as usize;
-    let rows = RowCounter::new(passes, if spp == 1 { h } else { 2 * h });
-    // A stopped render traces no more rows (its image is never shown).
-    let cancel = crate::cancel::Cancel::current();
-    // Every pixel's centre.
-    xyz.par_chunks_mut(w)
-        .zip(spectral.data.par_chunks_mut(w * bins))
-        .enumerate()
-        .for_each(|(y, (xyz_row, bins_row))| {
-            if cancel.is_cancelled() {
-                return;
-            }
-            let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance, lit);
-            for (x, (out, out_bins)) in xyz_row
-                .iter_mut()
-                .zip(bins_row.chunks_mut(bins))
-                .enumerate()
-            {
-                let centre = [(x as f32 + 0.5, y as f32 + 0.5)];
-                pixel(&mut tracer, setup, &centre, out, out_bins);
-            }
-            rows.row_done();
-        });
-    if spp == 1 {
-        return LobeImage { xyz, spectral };
-    }
-    // The pixels at an edge, again with `spp` stratified rays.
-    let edges = edge_pixels(&xyz, w, h);
-    xyz.par_chunks_mut(w)
-        .zip(spectral.data.par_chunks_mut(w * bins))
-        .zip(edges.par_chunks(w))
-        .enumerate()
-        .for_each(|(y, ((xyz_row, bins_row), edge_row))| {
-            if cancel.is_cancelled() {
-                return;
-            }
-            let mut tracer = trace::Tracer::new(stone, setup, &colours, &irradiance, lit);
-            // The centre's ray counts as one of the pixel's `spp`.
-            let mut positions = vec![(0.0f32, 0.0f32); spp - 1];
-            let mut centre_bins = vec![0.0f32; bins];
-            for (x, ((out, out_bins), _)) in xyz_row
-                .iter_mut()
-                .zip(bins_row.chunks_mut(bins))
-                .zip(edge_row)
-                .enumerate()
-                .filter(|(_, (_, &edge))| edge)
-            {
-                let mut rng = Rng::new(setup.seed, stage::LOBE, (y * w + x) as u64);
-                stratified(&mut rng, x, y, &mut positions);
-                let centre = *out;
-                centre_bins.copy_from_slice(out_bins);
-                out_bins.iter_mut().for_each(|b| *b = 0.0);
-                pixel(&mut tracer, setup, &positions, out, out_bins);
-                let k = (spp - 1) as f32;
-                for (v, c) in out.iter_mut().zip(centre) {
-                    *v = (*v * k + c) / spp as f32;
-                }
-                for (v, c) in out_bins.iter_mut().zip(&centre_bins) {
-                    *v = (*v * k + c) / spp as f32;
-                }
-            }
-            rows.row_done();
-        });
-    LobeImage { xyz, spectral }
-}
-
-/// Two neighbouring first rays differing by more than this in any of √X, √Y, √Z (about
-/// the perceptual steps of an sRGB image) mark both pixels as an edge.
-const EDGE_CONTRAST: f32 = 0.02;
-
-/// Per pixel, whether its first ray differs from one of its eight neighbours' by more than
-/// [`EDGE_CONTRAST`].
-fn edge_pixels(xyz: &[[f32; 3]], w: usize, h: usize) -> Vec<bool> {
-    let tone = |v: [f32; 3]| v.map(|c| c.max(0.0).sqrt());
-    let mut edges = vec![false; w * h];
-    edges.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-        for (x, edge) in row.iter_mut().enumerate() {
-            let here = tone(xyz[y * w + x]);
-            'around: for dy in -1i64..=1 {
-                for dx in -1i64..=1 {
-                    let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                    if (dx, dy) == (0, 0) || nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
-                        continue;
-                    }
-                    let there = tone(xyz[ny as usize * w + nx as usize]);
-                    if (0..3).any(|c| (here[c] - there[c]).abs() > EDGE_CONTRAST) {
-                        *edge = true;
-                        break 'around;
-                    }
-                }
-            }
-        }
-    });
-    edges
-}
-
-/// `positions.len()` positions in pixel `(x, y)`, stratified in x and y at once: position k
-/// in column k, its row shuffled by `rng`, jittered within its cell.
-fn stratified(rng: &mut Rng, x: usize, y: usize, positions: &mut [(f32, f32)]) {
-    let n = positions.len();
-    let mut order: Vec<usize> = (0..n).collect();
-    for k in (1..n).rev() {
-        order.swap(k, rng.below(k as u64 + 1) as usize);
-    }
-    for (k, (p, &row)) in positions.iter_mut().zip(&order).enumerate() {
-        *p = (
-            x as f32 + (k as f32 + rng.uniform_f32()) / n as f32,
-            y as f32 + (row as f32 + rng.uniform_f32()) / n as f32,
-        );
-    }
-}
-
-/// The mean of the camera rays through `positions` (pixel coordinates) into `out` (XYZ) and
-/// `out_bins` (zeroed by the caller).
-fn pixel(
-    tracer: &mut trace::Tracer,
-    setup: &LobeSetup,
-    positions: &[(f32, f32)],
-    out: &mut [f32; 3],
-    out_bins: &mut [f32],
-) {
-    let mut sums = trace::Sums {
-        white: 0.0,
-        xyz: [0.0; 3],
-        bins: out_bins,
-    };
-    for &(px, py) in positions {
-        tracer.sample(setup.camera.ray(px, py), &mut sums);
-    }
-    let scale = 1.0 / positions.len() as f64;
-    let white_xyz = setup.spectral.white_xyz;
-    for c in 0..3 {
-        out[c] = ((sums.xyz[c] + sums.white * white_xyz[c]) * scale) as f32;
-    }
-    for (b, wb) in sums.bins.iter_mut().zip(&setup.spectral.white_bins) {
-        *b = ((f64::from(*b) + sums.white * f64::from(*wb)) * scale) as f32;
-    }
+    pixels::render(stone, setup, &tables, passes)
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! reaching a backing through the stone, read bilinearly by the tracer.
 
 use super::*;
+use rayon::prelude::*;
 
 /// Rows (polar angle) and columns (azimuth) of the irradiance table.
 const IRRADIANCE_GRID: (usize, usize) = (33, 64);

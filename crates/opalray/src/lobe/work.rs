@@ -11,9 +11,11 @@ use crate::scene::{Backing, Cut, Pattern, Scene};
 /// "The lobe estimate by stone"); [`lobe_factor`] scales it to another stone.
 const LOBE_PIXEL_CPU_S: f64 = 10e-6;
 /// Processor seconds of each further lobe ray, `integrator.spp − 1` a pixel, averaged over
-/// the frame (they are cast only where a pixel differs from its neighbours: the black opal
-/// 8.0 µs at 4 rays, 7.1 µs at 16).
-const LOBE_RAY_CPU_S: f64 = 8e-6;
+/// the frame (they are cast only where a pixel differs from its neighbours, and read back
+/// the reflections the centre's ray followed out: the black opal 8.0 µs at 4 rays and 7.1 µs
+/// at 16 before they did; on a slower machine, at 320 × 240 on one thread, 11.9 → 5.2 µs at
+/// 4 rays and 11.5 → 4.9 µs at 16 when they did, 0.43 of the time, 2026-12-07).
+const LOBE_RAY_CPU_S: f64 = 4e-6;
 /// Processor seconds of a lobe frame's set-up (its backing and potch tables; the black opal
 /// at 8 × 6 less its grains: 0.21 s).
 const LOBE_FRAME_CPU_S: f64 = 0.2;

@@ -74,6 +74,8 @@ pub struct ActiveLine {
     pub normal: Vec3,
     /// The family kind (index into [`Families::kinds`]).
     pub kind: u8,
+    /// The planes' slot among the domain's (the same planes in every ray's lines).
+    pub slot: u16,
     /// The line at the ray's angle to the planes, for the layers the chord meets.
     pub line: BraggLine,
 }

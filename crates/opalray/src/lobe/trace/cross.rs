@@ -40,7 +40,15 @@ impl Tracer<'_> {
                     hint: span.hint,
                 };
                 let vivid = weight * xyz.iter().fold(0.0f64, |a, &b| a.max(b)) as f32;
-                let seen = self.reflected(&out, &l.line, sigma, weight * xyz[1] as f32, vivid);
+                let seen = match self.reuse.find(self.segment, domain, l.slot) {
+                    Some(seen) => seen,
+                    None => {
+                        let seen =
+                            self.reflected(&out, &l.line, sigma, weight * xyz[1] as f32, vivid);
+                        self.reuse.keep(self.segment, domain, l.slot, seen);
+                        seen
+                    }
+                };
                 self.add_line(f64::from(weight * seen), xyz, s, center, sums);
             }
             if self.setup.light.is_some() {

@@ -19,12 +19,14 @@ use crate::stone::{ActiveLine, Boundary, Hint, PathToLight, Region, Span, Stone}
 mod cross;
 mod lit;
 mod out;
+mod reuse;
 mod seen;
 #[cfg(test)]
 mod tests;
 mod trapped;
 
 use lit::ground_of;
+pub(crate) use reuse::{Followed, Reuse};
 
 /// Most segments of a ray inside the stone between surface events (its refraction in or its
 /// reflection, then up to seven internal reflections: light caught by total reflection in a
@@ -97,6 +99,10 @@ pub(super) struct Tracer<'a> {
     body_peak: f32,
     /// The body as a layer of the stone's thickness.
     layer: BodyLayer,
+    /// The eye ray's segment at hand (surface events before it).
+    segment: u8,
+    /// The reflections the pixel's rays have followed out.
+    pub(super) reuse: Reuse,
 }
 
 impl<'a> Tracer<'a> {
@@ -142,6 +148,8 @@ impl<'a> Tracer<'a> {
             },
             body_peak: 0.0,
             layer: BodyLayer::new(&stone.potch, stone.n_eff, setup.body_reflectance),
+            segment: 0,
+            reuse: Reuse::default(),
         };
         tracer.body_peak = tracer.body_peak(irradiance);
         tracer
@@ -207,7 +215,8 @@ impl<'a> Tracer<'a> {
         sums: &mut Sums,
     ) {
         let stone = self.stone;
-        for _ in 0..MAX_SEGMENTS {
+        for segment in 0..MAX_SEGMENTS {
+            self.segment = segment as u8;
             let ray = Ray {
                 origin: pos,
                 direction: dir,

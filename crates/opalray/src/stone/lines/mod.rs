@@ -233,7 +233,15 @@ impl Stone {
                 let l = left.trailing_zeros() as usize;
                 left &= left - 1;
                 let normal = Vec3::new(n.x[l], n.y[l], n.z[l]);
-                self.push_line(&table.optics[4 * b + l], normal, dots[l], &lines, out);
+                let slot = 4 * b + l;
+                self.push_line(
+                    &table.optics[slot],
+                    slot as u16,
+                    normal,
+                    dots[l],
+                    &lines,
+                    out,
+                );
             }
         }
     }
@@ -244,6 +252,7 @@ impl Stone {
     fn push_line(
         &self,
         slot: &SlotOptics,
+        slot_index: u16,
         normal: Vec3,
         dot: f32,
         args: &LineArgs,
@@ -299,6 +308,7 @@ impl Stone {
         out.push(ActiveLine {
             normal: if dot > 0.0 { -normal } else { normal },
             kind: slot.kind,
+            slot: slot_index,
             line,
         });
     }
