@@ -240,9 +240,10 @@ impl Tracer<'_> {
             // The potch's light under a bar: the haze scatters what the dome sent back along
             // the bar, near where it left the potch (the first segment up is a flat
             // surface's, whose return `r_i` holds the haze's share already).
+            // Under `Dim::Potch` the walk only finds the domains' haze: none, no walk.
             let walked = match dim {
                 Dim::PotchAndHaze => true,
-                Dim::Potch => segment > 0,
+                Dim::Potch => segment > 0 && potch.domain_scattering_per_mm > 0.0,
                 Dim::None | Dim::Bar => false,
             };
             if walked && region == Region::Opal {
