@@ -25,6 +25,19 @@ fn face_with(
     frac: f32,
     reuse: bool,
 ) -> LobeImage {
+    face_at(stone, scene, env, n, frac, reuse, 4)
+}
+
+/// [`face_with`] at `spp` rays an edge pixel.
+fn face_at(
+    stone: &Stone,
+    scene: &Scene,
+    env: &Environment,
+    n: usize,
+    frac: f32,
+    reuse: bool,
+    spp: u32,
+) -> LobeImage {
     let sampler = SpectralSampler::new(scene.light.illuminant, &scene.spectrum, 4);
     let fov = 2.0 * (frac / 100.0).atan().to_degrees();
     render_lobes(
@@ -33,7 +46,7 @@ fn face_with(
             camera: Camera::look_at(Vec3::new(0.0, 0.0, 100.0), Vec3::ZERO, Vec3::Y, fov, n, n),
             width: n,
             height: n,
-            spp: 4,
+            spp,
             light: None,
             area_light: None,
             light_intensity: 0.0,
@@ -74,8 +87,9 @@ fn a_lossless_stone_with_domains_in_a_furnace_shows_the_furnace() {
 #[test]
 fn the_lobe_integrator_gives_the_same_bytes_at_any_thread_count() {
     let mut scene = preset("black-opal").unwrap();
+    // Three bands of rows (`lobe/pixels.rs`), each band's edges after the next one's centres.
     scene.render.width = 40;
-    scene.render.height = 30;
+    scene.render.height = 70;
     let render = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -155,11 +169,39 @@ fn the_further_rays_reading_back_the_centres_reflections_keep_the_light() {
     assert!((ratio - 1.0).abs() < 0.01, "{ratio}");
     assert!(changed > 0, "nothing read back");
     // Most pixels barely change; a few where the notches on the way out vary within the
-    // pixel lose part of their smoothing (at the time of writing: median 0.0004, p99 0.21).
+    // pixel lose part of their smoothing (BENCHMARKS.md, 2026-12-07 second session).
     assert!(
         at(0.5) < 0.01 && at(0.99) < 0.35,
         "{} {}",
         at(0.5),
         at(0.99)
     );
+}
+
+#[test]
+fn reading_back_the_centres_reflections_changes_no_pixel_away_from_an_edge() {
+    // A pixel whose centre ray differs from none of its neighbours' keeps that ray's value,
+    // read-back or not: the same pixels keep the one-ray image's bytes either way.
+    let scene = preset("black-opal").unwrap();
+    let stone = Stone::new(&scene).unwrap();
+    let env = Environment::new(&scene.environment, scene.render.background as f32).unwrap();
+    let centres = face_at(&stone, &scene, &env, 64, 1.5, false, 1);
+    let kept = |img: &LobeImage| -> Vec<bool> {
+        img.xyz
+            .iter()
+            .zip(&centres.xyz)
+            .map(|(a, b)| a == b)
+            .collect()
+    };
+    let walked = kept(&face_at(&stone, &scene, &env, 64, 1.5, false, 4));
+    let read_back = kept(&face_at(&stone, &scene, &env, 64, 1.5, true, 4));
+    let same = walked.iter().filter(|&&k| k).count();
+    let differ = walked
+        .iter()
+        .zip(&read_back)
+        .filter(|(a, b)| a != b)
+        .count();
+    eprintln!("{same} pixels keep their centre's value walked; {differ} differ read back");
+    assert!(same > 0);
+    assert_eq!(differ, 0);
 }

@@ -121,8 +121,8 @@ pub fn render_lobes(stone: &Stone, setup: &LobeSetup) -> LobeImage {
     render_lobes_reporting(stone, setup, &Passes::default())
 }
 
-/// [`render_lobes`], telling `passes.on_rows` of every row done: the centres' rows, then (for
-/// `spp` > 1) the edges' rows (the same image).
+/// [`render_lobes`], telling `passes.on_rows` of every row done: band by band, its centres'
+/// rows, then (for `spp` > 1) the band before's edges' rows (the same image).
 pub fn render_lobes_reporting(stone: &Stone, setup: &LobeSetup, passes: &Passes) -> LobeImage {
     let colours = LineColours::new(setup.spectral);
     let irradiance = Irradiance::new(setup.environment);

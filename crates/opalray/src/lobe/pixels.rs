@@ -1,16 +1,16 @@
 //! The lobe integrator's passes over the image: a ray through every pixel's centre, then
-//! `spp − 1` more, stratified, through each pixel whose centre differs from a neighbour's
-//! ([`EDGE_CONTRAST`]), reading back the reflections its centre ray followed out
-//! ([`trace::Reuse`]). The image is done in bands of [`BAND_ROWS`] rows, each band's edges
-//! after the next band's centres, so that the centres' reflections are kept for two bands at
-//! most.
+//! `spp − 1` more, stratified, through each pixel whose centre differs from one of its four
+//! neighbours' ([`EDGE_CONTRAST`]), reading back the reflections its centre ray followed out
+//! ([`Reuse`]). The image is done in bands of [`BAND_ROWS`] rows, each band's edges after
+//! the next band's centres, so that the centres' reflections are kept for two bands at most.
 
 use std::ops::Range;
 
 use rayon::prelude::*;
 
-use super::trace::{Followed, Lit, Sums, Tracer};
+use super::trace::{Followed, Lit, Mode, Reuse, Sums, Tracer};
 use super::{Irradiance, LineColours, LobeImage, LobeSetup};
+use crate::cancel::Cancel;
 use crate::integrator::{Passes, RowCounter};
 use crate::sampling::{stage, Rng};
 use crate::spectrum::SpectralImage;
@@ -30,8 +30,8 @@ pub(super) struct Tables<'a> {
     pub lit: Lit<'a>,
 }
 
-/// Render `stone` as `setup` says, telling `passes.on_rows` of every row done: the centres'
-/// rows, then (for `spp` > 1) the edges' rows.
+/// Render `stone` as `setup` says, telling `passes.on_rows` of every row done: band by band,
+/// its centres' rows, then (for `spp` > 1) the band before's edges' rows.
 pub(super) fn render(
     stone: &Stone,
     setup: &LobeSetup,
@@ -44,48 +44,59 @@ pub(super) fn render(
         xyz: vec![[0.0f32; 3]; w * h],
         spectral: SpectralImage::new(w, h, setup.spectral.grid),
     };
-    let frame = Frame {
+    let bands = Bands {
         stone,
         setup,
         tables,
         rows: RowCounter::new(passes, if spp == 1 { h } else { 2 * h }),
-        cancel: crate::cancel::Cancel::current(),
+        cancel: Cancel::current(),
     };
-    let mut kept = Kept {
-        centres: vec![[0.0f32; 3]; if spp == 1 { 0 } else { w * h }],
-        followed: (0..h).map(|_| RowFollowed::default()).collect(),
-    };
-    let bands = h.div_ceil(BAND_ROWS);
+    let mut kept = Kept::new(w, h, spp > 1);
+    let count = h.div_ceil(BAND_ROWS);
     let band = |b: usize| b * BAND_ROWS..((b + 1) * BAND_ROWS).min(h);
-    for b in 0..=bands {
-        if b < bands {
-            frame.centres_of(&mut image, &mut kept, band(b));
+    for b in 0..=count {
+        // A stopped render traces no more rows (its image is never shown).
+        if bands.cancel.is_cancelled() {
+            break;
+        }
+        if b < count {
+            bands.centres_of(&mut image, &mut kept, band(b));
         }
         if b > 0 && spp > 1 {
-            frame.edges_of(&mut image, &mut kept, band(b - 1));
+            bands.edges_of(&mut image, &mut kept, band(b - 1));
         }
     }
     image
 }
 
-/// One frame's passes: what they read, and the centres' results the edges read.
-struct Frame<'a, 'b> {
+/// What the passes over the bands read.
+struct Bands<'a, 'b> {
     stone: &'a Stone,
     setup: &'a LobeSetup<'a>,
     tables: &'b Tables<'a>,
     rows: RowCounter<'b>,
-    cancel: crate::cancel::Cancel,
+    cancel: Cancel,
 }
 
-/// What the centres leave for the edges.
+/// What the centres leave for the edges (nothing at one ray a pixel).
 struct Kept {
-    /// The centres' XYZ (with `spp` > 1), as the edges are found from.
-    centres: Vec<[f32; 3]>,
+    /// The centres' √X, √Y, √Z, as the edges are found from.
+    tones: Vec<[f32; 3]>,
     /// Per row, the reflections its centres' rays followed (kept until its edges are done).
     followed: Vec<RowFollowed>,
 }
 
-impl Frame<'_, '_> {
+impl Kept {
+    fn new(w: usize, h: usize, edges: bool) -> Self {
+        let (pixels, rows) = if edges { (w * h, h) } else { (0, 0) };
+        Kept {
+            tones: vec![[0.0f32; 3]; pixels],
+            followed: (0..rows).map(|_| RowFollowed::new()).collect(),
+        }
+    }
+}
+
+impl Bands<'_, '_> {
     fn tracer(&self) -> Tracer<'_> {
         let t = self.tables;
         Tracer::new(self.stone, self.setup, t.colours, t.irradiance, t.lit)
@@ -94,39 +105,59 @@ impl Frame<'_, '_> {
     /// The rays through the centres of `rows`' pixels.
     fn centres_of(&self, image: &mut LobeImage, kept: &mut Kept, rows: Range<usize>) {
         let (w, bins) = (self.setup.width, self.setup.spectral.grid.bins);
-        let keep = !kept.centres.is_empty();
-        let reuse = keep && self.setup.reuse;
-        let this = self;
+        let edges = !kept.tones.is_empty();
+        let mode = if edges && self.setup.reuse {
+            Mode::Record
+        } else {
+            Mode::Off
+        };
         let xyz = &mut image.xyz[rows.start * w..rows.end * w];
         let spectral = &mut image.spectral.data[rows.start * w * bins..rows.end * w * bins];
-        let followed = &mut kept.followed[rows.clone()];
-        xyz.par_chunks_mut(w)
-            .zip(spectral.par_chunks_mut(w * bins))
-            .zip(followed.par_iter_mut())
-            .enumerate()
-            .for_each(|(k, ((xyz_row, bins_row), row_followed))| {
-                let y = rows.start + k;
-                if this.cancel.is_cancelled() {
-                    return;
-                }
-                let mut tracer = this.tracer();
-                for (x, (out, out_bins)) in xyz_row
-                    .iter_mut()
-                    .zip(bins_row.chunks_mut(bins))
-                    .enumerate()
-                {
-                    tracer.reuse.start(reuse);
-                    let centre = [(x as f32 + 0.5, y as f32 + 0.5)];
-                    pixel(&mut tracer, this.setup, &centre, out, out_bins);
-                    if reuse {
-                        row_followed.push(tracer.reuse.followed());
+        let per_row = xyz.par_chunks_mut(w).zip(spectral.par_chunks_mut(w * bins));
+        let centre_row = |k: usize, (xyz_row, bins_row): (&mut [[f32; 3]], &mut [f32])| {
+            let y = rows.start + k;
+            let mut tracer = self.tracer();
+            let mut row_followed = RowFollowed::new();
+            for (x, (out, out_bins)) in xyz_row
+                .iter_mut()
+                .zip(bins_row.chunks_mut(bins))
+                .enumerate()
+            {
+                tracer.reuse.start(mode);
+                pixel(
+                    &mut tracer,
+                    self.setup,
+                    &[(x as f32 + 0.5, y as f32 + 0.5)],
+                    out,
+                    out_bins,
+                );
+                row_followed.push(&tracer.reuse);
+            }
+            self.rows.row_done();
+            row_followed
+        };
+        if edges {
+            per_row
+                .zip(kept.followed[rows.clone()].par_iter_mut())
+                .enumerate()
+                .for_each(|(k, (row, row_followed))| {
+                    if !self.cancel.is_cancelled() {
+                        *row_followed = centre_row(k, row);
                     }
+                });
+            let tone = |v: [f32; 3]| v.map(|c| c.max(0.0).sqrt());
+            for (t, v) in kept.tones[rows.start * w..rows.end * w]
+                .iter_mut()
+                .zip(&image.xyz[rows.start * w..rows.end * w])
+            {
+                *t = tone(*v);
+            }
+        } else {
+            per_row.enumerate().for_each(|(k, row)| {
+                if !self.cancel.is_cancelled() {
+                    centre_row(k, row);
                 }
-                this.rows.row_done();
             });
-        if keep {
-            kept.centres[rows.start * w..rows.end * w]
-                .copy_from_slice(&image.xyz[rows.start * w..rows.end * w]);
         }
     }
 
@@ -136,8 +167,7 @@ impl Frame<'_, '_> {
         let (w, h) = (self.setup.width, self.setup.height);
         let bins = self.setup.spectral.grid.bins;
         let spp = self.setup.spp.max(1) as usize;
-        let edges = edge_pixels(&kept.centres, w, h, rows.clone());
-        let this = self;
+        let edges = edge_pixels(&kept.tones, w, h, rows.clone());
         let xyz = &mut image.xyz[rows.start * w..rows.end * w];
         let spectral = &mut image.spectral.data[rows.start * w * bins..rows.end * w * bins];
         xyz.par_chunks_mut(w)
@@ -147,10 +177,10 @@ impl Frame<'_, '_> {
             .enumerate()
             .for_each(|(k, (((xyz_row, bins_row), edge_row), row_followed))| {
                 let y = rows.start + k;
-                if this.cancel.is_cancelled() {
+                if self.cancel.is_cancelled() {
                     return;
                 }
-                let mut tracer = this.tracer();
+                let mut tracer = self.tracer();
                 let mut positions = vec![(0.0f32, 0.0f32); spp - 1];
                 let mut centre_bins = vec![0.0f32; bins];
                 for (x, ((out, out_bins), _)) in xyz_row
@@ -160,17 +190,17 @@ impl Frame<'_, '_> {
                     .enumerate()
                     .filter(|(_, (_, &edge))| edge)
                 {
-                    let mut rng = Rng::new(this.setup.seed, stage::LOBE, (y * w + x) as u64);
+                    let mut rng = Rng::new(self.setup.seed, stage::LOBE, (y * w + x) as u64);
                     stratified(&mut rng, x, y, &mut positions);
-                    if this.setup.reuse {
+                    if self.setup.reuse {
                         tracer.reuse.start_from(row_followed.of(x));
                     } else {
-                        tracer.reuse.start(false);
+                        tracer.reuse.start(Mode::Off);
                     }
                     let centre = *out;
                     centre_bins.copy_from_slice(out_bins);
                     out_bins.iter_mut().for_each(|b| *b = 0.0);
-                    pixel(&mut tracer, this.setup, &positions, out, out_bins);
+                    pixel(&mut tracer, self.setup, &positions, out, out_bins);
                     // The centre's ray counts as one of the pixel's `spp`.
                     let k = (spp - 1) as f32;
                     for (v, c) in out.iter_mut().zip(centre) {
@@ -180,28 +210,33 @@ impl Frame<'_, '_> {
                         *v = (*v * k + c) / spp as f32;
                     }
                 }
-                this.rows.row_done();
+                self.rows.row_done();
             });
         for row in &mut kept.followed[rows] {
-            *row = RowFollowed::default();
+            *row = RowFollowed::new();
         }
     }
 }
 
 /// The reflections each pixel's centre ray followed out in one row, pixel after pixel.
-#[derive(Default)]
 struct RowFollowed {
     followed: Vec<Followed>,
-    /// Where each pixel's start in `followed`, and its end (one more than the pixels).
+    /// Where each pixel's reflections start in `followed`, and after the last pixel's, where
+    /// they end.
     starts: Vec<u32>,
 }
 
 impl RowFollowed {
-    fn push(&mut self, followed: &[Followed]) {
-        if self.starts.is_empty() {
-            self.starts.push(0);
+    fn new() -> Self {
+        RowFollowed {
+            followed: Vec::new(),
+            starts: vec![0],
         }
-        self.followed.extend_from_slice(followed);
+    }
+
+    /// The next pixel's reflections: those `reuse` kept.
+    fn push(&mut self, reuse: &Reuse) {
+        self.followed.extend_from_slice(reuse.followed());
         self.starts.push(self.followed.len() as u32);
     }
 
@@ -210,21 +245,20 @@ impl RowFollowed {
     }
 }
 
-/// Per pixel of `rows`, whether its first ray differs from one of its four neighbours' (left,
-/// right, above, below) by more than [`EDGE_CONTRAST`].
-fn edge_pixels(xyz: &[[f32; 3]], w: usize, h: usize, rows: Range<usize>) -> Vec<bool> {
-    let tone = |v: [f32; 3]| v.map(|c| c.max(0.0).sqrt());
+/// Per pixel of `rows`, whether its first ray's `tones` differ from one of its four
+/// neighbours' (left, right, above, below) by more than [`EDGE_CONTRAST`].
+fn edge_pixels(tones: &[[f32; 3]], w: usize, h: usize, rows: Range<usize>) -> Vec<bool> {
     let mut edges = vec![false; w * rows.len()];
     edges.par_chunks_mut(w).enumerate().for_each(|(k, row)| {
         let y = rows.start + k;
         for (x, edge) in row.iter_mut().enumerate() {
-            let here = tone(xyz[y * w + x]);
+            let here = tones[y * w + x];
             for (dx, dy) in [(-1i64, 0i64), (1, 0), (0, -1), (0, 1)] {
                 let (nx, ny) = (x as i64 + dx, y as i64 + dy);
                 if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
                     continue;
                 }
-                let there = tone(xyz[ny as usize * w + nx as usize]);
+                let there = tones[ny as usize * w + nx as usize];
                 if (0..3).any(|c| (here[c] - there[c]).abs() > EDGE_CONTRAST) {
                     *edge = true;
                     break;

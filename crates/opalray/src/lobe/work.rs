@@ -11,14 +11,14 @@ use crate::scene::{Backing, Cut, Pattern, Scene};
 /// "The lobe estimate by stone"); [`lobe_factor`] scales it to another stone.
 const LOBE_PIXEL_CPU_S: f64 = 10e-6;
 /// Processor seconds of each further lobe ray, `integrator.spp − 1` a pixel, averaged over
-/// the frame (they are cast only where a pixel differs from its neighbours, and read back
-/// the reflections the centre's ray followed out: the black opal 8.0 µs at 4 rays and 7.1 µs
-/// at 16 before they did; on a slower machine, at 320 × 240 on one thread, 11.9 → 5.2 µs at
-/// 4 rays and 11.5 → 4.9 µs at 16 when they did, 0.43 of the time, 2026-12-07).
-const LOBE_RAY_CPU_S: f64 = 4e-6;
+/// the frame (they are cast only where a pixel differs from its neighbours, and read back the
+/// reflections the centre's ray followed out: about 2 µs in the black opal at 16 rays,
+/// BENCHMARKS.md, 2026-12-07 second session; more in a clear stone, whose rays' reflections
+/// after the dome's are not read back).
+const LOBE_RAY_CPU_S: f64 = 3e-6;
 /// Processor seconds of a lobe frame's set-up (its backing and potch tables; the black opal
-/// at 8 × 6 less its grains: 0.21 s).
-const LOBE_FRAME_CPU_S: f64 = 0.2;
+/// at 8 × 6 less its grains: 0.17 s).
+const LOBE_FRAME_CPU_S: f64 = 0.17;
 /// The lobe rays' cost in a clear stone (its potch passing more than 1/e through the dome,
 /// `potch_extinction_per_mm × dome_height_mm < 1`), where every ray walks the whole stone:
 /// the crystal 48 µs a centre ray and 43 µs a further one, 5.4 times the black opal's.

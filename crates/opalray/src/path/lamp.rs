@@ -204,7 +204,6 @@ mod tests {
                 area_light: None,
                 gloss: 1.0,
                 seed: 1,
-
                 sampling: Sampling::Sobol,
                 spectral: &sampler,
             };

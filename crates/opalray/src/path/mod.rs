@@ -79,6 +79,7 @@ mod stats;
 mod vertex;
 
 use crate::geometry::{fresnel_dielectric_sp, reflect, refract, Camera, Ray};
+use crate::integrator::Passes;
 use crate::lights::emitters;
 use crate::lights::{AreaLight, Environment, Lamp};
 use crate::optics::BraggLine;
@@ -87,9 +88,6 @@ use glam::Vec3;
 
 pub use crate::film::noise;
 pub use crate::film::Noise;
-/// The seam's passes and reports ([`crate::integrator`]), named here too where they were
-/// first.
-pub use crate::integrator::{PassReport, Passes, RowsReport};
 pub use config::{PathConfig, DEFAULT_MAX_SCATTERINGS, DEFAULT_WAVELENGTHS};
 pub use image::PathImage;
 

@@ -13,6 +13,14 @@ impl Tracer<'_> {
         lines.clear();
         stone.lines(domain, dir, span.t1 - span.t0, &mut lines);
         let face = ray.at(span.t0);
+        // Reflections are read back on the first segment alone, keyed by the domain's
+        // crossing along it (`reuse`).
+        let reusable = self.segment == 0 && self.reuse.on();
+        let crossing = if reusable {
+            self.crossing_of(domain)
+        } else {
+            0
+        };
         let mut colours = std::mem::take(&mut self.line_colours);
         colours.clear();
         for l in &lines {
@@ -32,20 +40,29 @@ impl Tracer<'_> {
                     cos_theta.into(),
                     sigma.into(),
                 );
-                let mirror = reflect(dir, l.normal);
-                let out = Out {
-                    face,
-                    dir: mirror,
-                    domain,
-                    hint: span.hint,
-                };
                 let vivid = weight * xyz.iter().fold(0.0f64, |a, &b| a.max(b)) as f32;
-                let seen = match self.reuse.find(self.segment, domain, l.slot) {
+                let meeting = Meeting {
+                    domain,
+                    crossing,
+                    slot: l.slot,
+                    luminance: weight * xyz[1] as f32,
+                    vivid,
+                };
+                let read = reusable.then(|| self.reuse.find(&meeting)).flatten();
+                let seen = match read {
                     Some(seen) => seen,
                     None => {
-                        let seen =
-                            self.reflected(&out, &l.line, sigma, weight * xyz[1] as f32, vivid);
-                        self.reuse.keep(self.segment, domain, l.slot, seen);
+                        let out = Out {
+                            face,
+                            dir: reflect(dir, l.normal),
+                            domain,
+                            hint: span.hint,
+                        };
+                        let (seen, thorough) =
+                            self.reflected(&out, &l.line, sigma, meeting.luminance, vivid);
+                        if reusable {
+                            self.reuse.keep(&meeting, seen, thorough);
+                        }
                         seen
                     }
                 };
@@ -101,7 +118,8 @@ impl Tracer<'_> {
     /// times what the surface alone lets through is under [`CUT`], 0: the walks through the
     /// domains, which only dim it, are then left out — unless the dome traps it and `vivid`,
     /// its colour's largest tristimulus value times the eye ray's weight, is large enough
-    /// for its second reflections to be walked ([`Tracer::trapped`]).
+    /// for its second reflections to be walked ([`Tracer::trapped`]). Whether it was walked
+    /// through the domains, beside.
     pub(super) fn reflected(
         &mut self,
         out: &Out,
@@ -109,14 +127,28 @@ impl Tracer<'_> {
         sigma: f32,
         weight: f32,
         vivid: f32,
-    ) -> f32 {
+    ) -> (f32, bool) {
         if self.reaches_cut(out.face, out.dir, sigma, weight) || self.trapped(out, vivid) {
-            self.follow_out(out, line.center_nm, sigma, true, vivid)
+            (
+                self.follow_out(out, line.center_nm, sigma, true, vivid),
+                true,
+            )
         } else if weight * self.body_peak >= BODY_CUT {
             // Only the body can add enough: its light along the way, the lines not read.
-            self.follow_out(out, line.center_nm, sigma, false, vivid)
+            (
+                self.follow_out(out, line.center_nm, sigma, false, vivid),
+                false,
+            )
         } else {
-            0.0
+            (0.0, false)
         }
+    }
+
+    /// How many times the eye ray crossed `domain` on its first segment before now (and
+    /// this crossing counted).
+    fn crossing_of(&mut self, domain: u32) -> u8 {
+        let before = self.crossed.iter().filter(|&&d| d == domain).count();
+        self.crossed.push(domain);
+        before.min(u8::MAX as usize) as u8
     }
 }

@@ -26,7 +26,8 @@ mod tests;
 mod trapped;
 
 use lit::ground_of;
-pub(crate) use reuse::{Followed, Reuse};
+use reuse::Meeting;
+pub(super) use reuse::{Followed, Mode, Reuse};
 
 /// Most segments of a ray inside the stone between surface events (its refraction in or its
 /// reflection, then up to seven internal reflections: light caught by total reflection in a
@@ -103,6 +104,8 @@ pub(super) struct Tracer<'a> {
     segment: u8,
     /// The reflections the pixel's rays have followed out.
     pub(super) reuse: Reuse,
+    /// The domains the eye ray at hand crossed on its first segment, in order.
+    crossed: Vec<u32>,
 }
 
 impl<'a> Tracer<'a> {
@@ -150,6 +153,7 @@ impl<'a> Tracer<'a> {
             layer: BodyLayer::new(&stone.potch, stone.n_eff, setup.body_reflectance),
             segment: 0,
             reuse: Reuse::default(),
+            crossed: Vec::with_capacity(32),
         };
         tracer.body_peak = tracer.body_peak(irradiance);
         tracer
@@ -182,6 +186,7 @@ impl<'a> Tracer<'a> {
         };
         self.eye_lines.clear();
         self.eye_windows.clear();
+        self.crossed.clear();
         self.notch_xyz = [0.0; 3];
         self.notch_bins.iter_mut().for_each(|b| *b = 0.0);
         // The surface: the gloss, and the refracted part goes in.

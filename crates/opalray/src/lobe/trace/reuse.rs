@@ -1,41 +1,82 @@
 //! A pixel's reflections followed out once, as multisample anti-aliasing shades once per
-//! pixel and primitive: every ray through a pixel at an edge finds its own domains, lines,
-//! notches and body (what resolves the edge), and a line's reflection that the pixel's centre
-//! ray (or an earlier ray of the pixel) followed out of the stone ([`Tracer::reflected`]: the
+//! pixel and primitive: every further ray through a pixel at an edge finds its own domains,
+//! lines, notches and body (what resolves the edge), and a line's reflection that the pixel's
+//! centre ray, or an earlier further ray, followed out of the stone ([`Tracer::reflected`]: the
 //! cull and the walk out, about half of a ray's time) is read back instead of walked again.
-//! Within a pixel the reflected ray's way out moves by under a pixel's footprint and its
-//! direction by under a pixel's angle (the same planes); what it sees, the lights through a
-//! lobe of a degree or more, is smooth over that. What it does not carry over is the
-//! variation of the notches on the way out within the pixel (`BENCHMARKS.md`: the image
-//! against 16 rays an edge pixel).
+//!
+//! Only on the eye ray's first segment, from the surface in (after a reflection off the
+//! curved dome a pixel's rays spread): there the reflected ray's way out moves by under a
+//! pixel's footprint and turns by under a pixel's angle (the same planes), and what it sees,
+//! the lights through a lobe of a degree or more, is smooth over that. What is lost is the
+//! variation of the notches on the way out within the pixel (`BENCHMARKS.md`, 2026-12-07).
+//!
+//! A reflection is the same where it is the same domain's planes (its slot) at the same
+//! crossing of that domain along the segment (a ragged or ball-shaped domain can be crossed
+//! twice). What was walked depends on the ray's weight (the cull, the second reflections
+//! taken): a value is read back only by a ray whose weights would have walked no more — no
+//! more than the ray that walked it where the walk was culled or went through the body
+//! alone, at most twice as much where it went through the domains (whose second reflections
+//! under the cut then stay under twice the cut).
 
-/// One reflection followed out: the eye ray's segment (surface events before it), the
-/// domain, the planes' slot, and what the way out saw.
+/// What the centre ray's walk may stand in for, relative to its own weights, where it went
+/// through the domains.
+const THOROUGH_REACH: f32 = 2.0;
+
+/// One reflection followed out: the domain, its crossing along the segment, the planes'
+/// slot, the ray's weights that decided the walk, whether it went through the domains, and
+/// what it saw.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Followed {
     domain: u32,
     seen: f32,
+    luminance: f32,
+    vivid: f32,
     slot: u16,
-    segment: u8,
+    crossing: u8,
+    thorough: bool,
 }
 
-/// The reflections a pixel's rays have followed so far, read and added to while `on`.
+/// A reflection as a ray meets it: its key and the weights that decide its walk.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Meeting {
+    pub domain: u32,
+    pub crossing: u8,
+    pub slot: u16,
+    /// The eye ray's weight times the line's luminance.
+    pub luminance: f32,
+    /// The eye ray's weight times the line's largest tristimulus value.
+    pub vivid: f32,
+}
+
+/// What a pixel's rays do with the reflections they follow.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum Mode {
+    /// Nothing kept, nothing read back.
+    #[default]
+    Off,
+    /// Every reflection followed is kept (the centre's ray).
+    Record,
+    /// Reflections are read back where they may be, and the others kept.
+    Read,
+}
+
+/// The reflections a pixel's rays have followed so far.
 #[derive(Default)]
 pub(crate) struct Reuse {
-    on: bool,
+    mode: Mode,
     followed: Vec<Followed>,
 }
 
 impl Reuse {
-    /// Start a pixel: forget every reflection, and keep the new ones (`on`) or not.
-    pub(crate) fn start(&mut self, on: bool) {
-        self.on = on;
+    /// Start a pixel: forget every reflection; `mode` says what its rays do.
+    pub(crate) fn start(&mut self, mode: Mode) {
+        self.mode = mode;
         self.followed.clear();
     }
 
-    /// Start a pixel from the reflections its centre ray followed.
+    /// Start a pixel's further rays from the reflections its centre ray followed.
     pub(crate) fn start_from(&mut self, followed: &[Followed]) {
-        self.on = true;
+        self.mode = Mode::Read;
         self.followed.clear();
         self.followed.extend_from_slice(followed);
     }
@@ -45,27 +86,47 @@ impl Reuse {
         &self.followed
     }
 
-    /// What the reflection off `domain`'s planes in `slot` on the eye ray's `segment` saw,
-    /// if a ray of this pixel followed it.
-    pub(super) fn find(&self, segment: u8, domain: u32, slot: u16) -> Option<f32> {
-        if !self.on {
-            return None;
-        }
-        self.followed
-            .iter()
-            .find(|f| f.segment == segment && f.domain == domain && f.slot == slot)
-            .map(|f| f.seen)
+    /// Whether reflections are kept or read at all.
+    pub(super) fn on(&self) -> bool {
+        self.mode != Mode::Off
     }
 
-    /// Keep what a reflection saw, while on.
-    pub(super) fn keep(&mut self, segment: u8, domain: u32, slot: u16, seen: f32) {
-        if self.on {
-            self.followed.push(Followed {
-                domain,
-                seen,
-                slot,
-                segment,
-            });
+    /// What the reflection `at` saw, if a ray of this pixel followed it with weights that
+    /// stand in for `at`'s.
+    pub(super) fn find(&self, at: &Meeting) -> Option<f32> {
+        if self.mode != Mode::Read {
+            return None;
+        }
+        let f = self
+            .followed
+            .iter()
+            .find(|f| f.domain == at.domain && f.slot == at.slot && f.crossing == at.crossing)?;
+        let reach = if f.thorough { THOROUGH_REACH } else { 1.0 };
+        (at.luminance <= reach * f.luminance && at.vivid <= reach * f.vivid).then_some(f.seen)
+    }
+
+    /// Keep what the reflection `at` saw (walked through the domains if `thorough`), in
+    /// place of what another ray saw of it.
+    pub(super) fn keep(&mut self, at: &Meeting, seen: f32, thorough: bool) {
+        if self.mode == Mode::Off {
+            return;
+        }
+        let new = Followed {
+            domain: at.domain,
+            seen,
+            luminance: at.luminance,
+            vivid: at.vivid,
+            slot: at.slot,
+            crossing: at.crossing,
+            thorough,
+        };
+        match self
+            .followed
+            .iter_mut()
+            .find(|f| f.domain == at.domain && f.slot == at.slot && f.crossing == at.crossing)
+        {
+            Some(f) => *f = new,
+            None => self.followed.push(new),
         }
     }
 }

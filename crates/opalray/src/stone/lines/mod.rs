@@ -251,8 +251,8 @@ impl Stone {
     #[inline(always)]
     fn push_line(
         &self,
-        slot: &SlotOptics,
-        slot_index: u16,
+        optics: &SlotOptics,
+        slot: u16,
         normal: Vec3,
         dot: f32,
         args: &LineArgs,
@@ -262,19 +262,19 @@ impl Stone {
         let c = f64::from(dot.abs());
         // 2 d n̄: the line's centre face-on at the d line's index. Past the range's long end
         // the dispersion moves a centre by under 4 %: beyond 1.1 × that end, no line.
-        let normal_center_nm = args.two_n * slot.spacing_over_diameter;
+        let normal_center_nm = args.two_n * optics.spacing_over_diameter;
         if normal_center_nm * c > 1.1 * range_hi {
             return;
         }
-        let spacing_nm = slot.spacing_over_diameter * args.diameter_nm;
+        let spacing_nm = optics.spacing_over_diameter * args.diameter_nm;
         let layers = (args.chord_nm * c / spacing_nm)
-            .min(slot.layer_cap)
+            .min(optics.layer_cap)
             .max(1.0);
         if let Some(x_w) = args.constant_wavelength_nm {
             // With the dispersion, first the window at the constant index, widened by
             // WINDOW_SLACK, about the wavelength's constant-index centre: a line whose window
             // holds the wavelength passes.
-            let (g, n) = (WINDOW_SLACK * slot.coupling, layers / WINDOW_SLACK);
+            let (g, n) = (WINDOW_SLACK * optics.coupling, layers / WINDOW_SLACK);
             if !BraggLine::window_may_hold(g, normal_center_nm, c, n, x_w) {
                 return;
             }
@@ -284,7 +284,7 @@ impl Stone {
         let (coupling, normal_center_nm, group) =
             self.families
                 .index
-                .line_args(slot.coupling, normal_center_nm, c);
+                .line_args(optics.coupling, normal_center_nm, c);
         let center = normal_center_nm * c;
         if center < LINE_REACH * range_lo || center > 1.05 * range_hi {
             return;
@@ -307,8 +307,8 @@ impl Stone {
         }
         out.push(ActiveLine {
             normal: if dot > 0.0 { -normal } else { normal },
-            kind: slot.kind,
-            slot: slot_index,
+            kind: optics.kind,
+            slot,
             line,
         });
     }
