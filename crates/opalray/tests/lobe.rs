@@ -12,23 +12,11 @@ use opalray::stone::Stone;
 
 /// An `n × n` face-on image of the central `frac` mm of `stone` by the lobe integrator.
 fn face(stone: &Stone, scene: &Scene, env: &Environment, n: usize, frac: f32) -> LobeImage {
-    face_with(stone, scene, env, n, frac, true)
+    face_at(stone, scene, env, n, frac, true, 4)
 }
 
-/// [`face`], the further rays of a pixel at an edge reading back its centre's reflections
-/// (`reuse`) or walking their own.
-fn face_with(
-    stone: &Stone,
-    scene: &Scene,
-    env: &Environment,
-    n: usize,
-    frac: f32,
-    reuse: bool,
-) -> LobeImage {
-    face_at(stone, scene, env, n, frac, reuse, 4)
-}
-
-/// [`face_with`] at `spp` rays an edge pixel.
+/// [`face`] at `spp` rays an edge pixel, the further rays of a pixel at an edge reading back
+/// its centre's reflections (`reuse`) or walking their own.
 fn face_at(
     stone: &Stone,
     scene: &Scene,
@@ -144,8 +132,8 @@ fn the_further_rays_reading_back_the_centres_reflections_keep_the_light() {
     let scene = preset("black-opal").unwrap();
     let stone = Stone::new(&scene).unwrap();
     let env = Environment::new(&scene.environment, scene.render.background as f32).unwrap();
-    let walked = face_with(&stone, &scene, &env, 64, 1.5, false);
-    let read_back = face_with(&stone, &scene, &env, 64, 1.5, true);
+    let walked = face_at(&stone, &scene, &env, 64, 1.5, false, 4);
+    let read_back = face_at(&stone, &scene, &env, 64, 1.5, true, 4);
     let luminance = |img: &LobeImage| img.xyz.iter().map(|v| f64::from(v[1])).sum::<f64>();
     let ratio = luminance(&read_back) / luminance(&walked);
     // Per pixel, the change relative to the image's mean.

@@ -72,9 +72,17 @@ impl Tracer<'_> {
                 self.light_at(ray.at(span.t0 + EPSILON_MM), dir, domain, l, weight, sums);
             }
         }
-        // The ray goes on through, carrying each line's notch: what the earlier lines, this
-        // crossing's before it among them, leave of its centre.
-        for (k, (l, &(xyz, s, t_in))) in lines.iter().zip(&colours).enumerate() {
+        self.carry_notches(&lines, &colours);
+        self.line_colours = colours;
+        self.lines = lines;
+    }
+
+    /// The eye ray goes on through a crossing's `lines` (with their colours and what the
+    /// eye ray's earlier lines leave of each line's centre, `colours`), carrying each line's
+    /// notch: what the earlier lines, this crossing's before it among them, leave of its
+    /// centre.
+    fn carry_notches(&mut self, lines: &[ActiveLine], colours: &[([f64; 3], f64, f64)]) {
+        for (k, (l, &(xyz, s, t_in))) in lines.iter().zip(colours).enumerate() {
             if self.eye_lines.len() >= MAX_EYE_LINES {
                 break;
             }
@@ -95,8 +103,6 @@ impl Tracer<'_> {
             self.eye_windows.push(l.line.window_nm());
             self.eye_lines.push(l.line);
         }
-        self.line_colours = colours;
-        self.lines = lines;
     }
 
     /// `Π (1 − R)` at `wavelength_nm` of the lines the eye ray has crossed.
