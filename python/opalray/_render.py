@@ -141,13 +141,16 @@ def _image_from_state(spectral: np.ndarray, rgb: np.ndarray, scene: Scene, stats
 
 @dataclass(frozen=True)
 class Structure:
-    """The grown structure (paper §2.4, fig. 9). Arrays are indexed ``[z, y, x]``.
+    """The stone as the paper's cells (paper §2.4, fig. 9): the grown structure where the
+    domains are the paper's growth, any other stone (grains) read at the cell centres of
+    ``[structure]``'s grid laid over the stone's box. Arrays are indexed ``[z, y, x]``.
 
     ``cells`` (uint8): ``OUTSIDE`` 0, ``VOID`` 1, ``CLUSTER`` 2. ``orientations`` (float32,
     … × 4): the lattice → stone rotation of each cell as a unit quaternion ``(x, y, z, w)``
     (scalar last, as ``scipy.spatial.transform.Rotation.from_quat``), identity where no
     cluster. ``normals`` (float32, … × 3): the (111) plane normal in the stone frame.
-    ``grid`` = (nx, ny, nz); lengths in mm; ``stats``: void ratio, counts, growth steps.
+    ``grid`` = (nx, ny, nz); lengths in mm; ``stats``: void ratio, counts, growth steps
+    (none for a stone read at the centres).
     """
 
     OUTSIDE = 0

@@ -13,7 +13,7 @@ use crate::light_pass::VoxelLayout;
 use crate::lights::Environment;
 use crate::optics::{build_optics, OpticsTables};
 use crate::sampling::mix64;
-use crate::scene::{Pattern, Scene};
+use crate::scene::{Pattern, Scene, StructureConfig};
 use crate::stone::Stone;
 use crate::structure::{grow_structure, Structure};
 
@@ -30,15 +30,14 @@ pub use placement::LIGHT_DISC_RADIUS_DEG;
 pub struct Prepared {
     /// The scene.
     pub scene: Scene,
-    /// The grown structure ([`Prepared::structure`]): the stone's voxel view
-    /// ([`Stone::voxels`]) where the stone is of the paper's balls, else grown; made by
-    /// `prepare` for the paper's two passes, on first use for the other methods (which do
-    /// not read it).
+    /// The grown structure ([`Prepared::structure`]): the prepared stone's voxel view
+    /// ([`Stone::voxel_view`]), else grown; made by `prepare` for the paper's two passes, on
+    /// first use for the other methods (which do not read it).
     structure: OnceLock<Structure>,
     /// The cluster optics tables ([`Prepared::optics`]), built as the structure is.
     optics: OnceLock<OpticsTables>,
     /// The stone model of the methods that render it (path, stored, lobe), and of the paper's
-    /// two passes where its domains are the paper's balls (they read its voxel view).
+    /// two passes (they read its voxel view).
     pub stone: Option<std::sync::Arc<Stone>>,
     /// Their environment, its map read and its sampling distribution built (the stored
     /// method's: the backdrop).
@@ -75,16 +74,18 @@ pub fn prepare(scene: &Scene) -> Result<Prepared> {
 
 impl Prepared {
     /// The grown structure (paper §2.4): the paper's two passes make it in `prepare`; for
-    /// another method it is made now, on first use (not timed). Either way the stone's voxel
-    /// view ([`Stone::voxels`]) where the prepared stone has one, else grown.
+    /// another method it is made now, on first use (not timed). Either way the prepared
+    /// stone's voxel view ([`Stone::voxel_view`]: the growth's own cells for the paper's
+    /// balls, any other stone read at the cell centres), else grown.
     pub fn structure(&self) -> Result<&Structure> {
         if let Some(structure) = self.structure.get() {
             return Ok(structure);
         }
-        // The growth runs once: a stone of the paper's balls holds its cells.
-        let structure = match self.stone.as_deref().and_then(Stone::voxels) {
-            Some(cells) => cells.clone(),
-            None => grow_structure(&self.scene.structure)?,
+        // The growth runs once: a stone of the paper's balls holds its cells, any other
+        // stone is read at the cell centres.
+        let structure = match self.stone.as_deref() {
+            Some(stone) => stone.voxel_view(&voxel_grid(&self.scene))?.into_owned(),
+            None => voxels(&self.scene)?,
         };
         Ok(self.structure.get_or_init(|| structure))
     }
@@ -117,10 +118,8 @@ impl Prepared {
     pub(crate) fn grow(&mut self) -> Result<()> {
         let start = Instant::now();
         // The passes read the stone's voxel view: the stone of the paper's balls holds the
-        // grown cells (a grain stone has none; the passes then grow the paper's structure).
-        if self.scene.domains.pattern == Pattern::Paper {
-            self.stone = Some(std::sync::Arc::new(Stone::new(&self.scene)?));
-        }
+        // grown cells, a grain stone is read at the cell centres.
+        self.stone = Some(std::sync::Arc::new(Stone::new(&self.scene)?));
         self.structure()?;
         self.times.structure = seconds(start);
         let start = Instant::now();
@@ -148,6 +147,24 @@ impl Prepared {
             .map(|e| e.posed(&posed.scene.environment, &posed.scene.camera));
         Ok(posed)
     }
+}
+
+/// The cell grid the paper's two passes read `scene`'s stone on: the scene's grid over the
+/// stone's own box (a cut stone's ellipsoid is the one in that box).
+fn voxel_grid(scene: &Scene) -> StructureConfig {
+    let mut grid = scene.structure.clone();
+    grid.semi_axes_mm = scene.body.box_semi_axes(grid.semi_axes_mm);
+    grid
+}
+
+/// The cells the paper's two passes read for `scene` ([`Stone::voxel_view`]): the grown
+/// structure where the domains are the paper's balls, any other stone read at the cell
+/// centres (`opalray structure` draws it).
+pub fn voxels(scene: &Scene) -> Result<Structure> {
+    if scene.domains.pattern == Pattern::Paper {
+        return grow_structure(&scene.structure);
+    }
+    Stone::new(scene)?.sample_voxels(&voxel_grid(scene))
 }
 
 /// Render `scene` end to end.

@@ -79,7 +79,7 @@ pub fn run(args: Args) -> Result<()> {
 
     // Grow and draw.
     let start = Instant::now();
-    let grown = opalray::grow_structure(config)?;
+    let grown = opalray::render::voxels(&scene)?;
     let structure_s = start.elapsed().as_secs_f64();
     let map = structure::orientation_map(&grown, slice_z, args.scale)
         .map_err(|e| anyhow::anyhow!("--{}", e.to_string().replace('_', "-")))?;
@@ -101,15 +101,22 @@ pub fn run(args: Args) -> Result<()> {
         nz - 1
     ))?;
     report_stats(&args)?;
+    // A stone of grains is read at the cell centres: no growth steps to tell of.
+    let how = if scene.domains.pattern == opalray::scene::Pattern::Paper {
+        format!(
+            "{} seeds, mean radius {:.2} cells",
+            s.seeds_placed, s.mean_radius_cells
+        )
+    } else {
+        "read from the stone's domains at the cell centres".to_string()
+    };
     crate::stdio::out(format_args!(
         "structure {nx} × {ny} × {nz}: {} inside cells, {} clusters, {} voids \
-         (void ratio {:.4}), {} seeds, mean radius {:.2} cells, {:.1} ms",
+         (void ratio {:.4}), {how}, {:.1} ms",
         s.inside_cells,
         s.clusters,
         s.voids,
         s.void_ratio,
-        s.seeds_placed,
-        s.mean_radius_cells,
         structure_s * 1e3
     ))?;
     Ok(())
@@ -150,10 +157,8 @@ fn stats_json(
     let mut value = serde_json::to_value(&grown.stats).expect("stats serialise");
     let object = value.as_object_mut().expect("stats are an object");
     object.insert("grid".into(), serde_json::json!(config.grid));
-    object.insert(
-        "semi_axes_mm".into(),
-        serde_json::json!(config.semi_axes_mm),
-    );
+    // The grid's box: a cut stone's own (`opalray::render::voxels`).
+    object.insert("semi_axes_mm".into(), serde_json::json!(grown.semi_axes_mm));
     object.insert(
         "target_void_ratio".into(),
         serde_json::json!(config.void_ratio),
