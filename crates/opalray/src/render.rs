@@ -149,8 +149,9 @@ impl Prepared {
     }
 }
 
-/// The cell grid the paper's two passes read `scene`'s stone on: the scene's grid over the
-/// stone's own box (a cut stone's ellipsoid is the one in that box).
+/// The cell grid the paper's two passes read a stone of grains on: the scene's grid over the
+/// stone's own box (a cut stone's ellipsoid is the one in that box). The paper's balls keep
+/// the grid they grew on, `[structure]`'s ellipsoid.
 fn voxel_grid(scene: &Scene) -> StructureConfig {
     let mut grid = scene.structure.clone();
     grid.semi_axes_mm = scene.body.box_semi_axes(grid.semi_axes_mm);

@@ -1,7 +1,8 @@
 //! `opalray structure`: draw one z slice of the stone that is rendered, coloured by
-//! orientation (paper fig. 9), with optional statistics as JSON: the paper's grown
-//! cluster/void cells (§2.4) for its two passes, the stone's domains (grains or plates,
-//! [`super::stone_slice`]) for the other methods.
+//! orientation (paper fig. 9), with optional statistics as JSON: the cluster/void cells its
+//! two passes read (the paper's grown cells, §2.4, or a stone of grains read at the cell
+//! centres), the stone's domains (grains or plates, [`super::stone_slice`]) for the other
+//! methods.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -45,9 +46,9 @@ pub struct Args {
     /// PNG file to write the orientation map to
     #[arg(long, short, value_name = "FILE.png", default_value = "structure.png")]
     output: PathBuf,
-    /// Also write the statistics as JSON to this file (the paper's cells: grid, cell counts,
-    /// void ratio, steps, mean radius, time; a stone: its domains, those cut, the share of the
-    /// slice in domains, time)
+    /// Also write the statistics as JSON to this file (the two passes' cells: grid, cell
+    /// counts, void ratio, the growth's steps and mean radius, time; a stone: its domains, those
+    /// cut, the share of the slice in domains, time)
     #[arg(long, value_name = "FILE.json")]
     stats: Option<PathBuf>,
     /// Pixels per cell edge in the image (nearest neighbour), 1 to 64
@@ -80,6 +81,8 @@ pub fn run(args: Args) -> Result<()> {
     // Grow and draw.
     let start = Instant::now();
     let grown = opalray::render::voxels(&scene)?;
+    // A stone of grains is read at the cell centres: no growth steps to tell of.
+    let grew = scene.domains.pattern == opalray::scene::Pattern::Paper;
     let structure_s = start.elapsed().as_secs_f64();
     let map = structure::orientation_map(&grown, slice_z, args.scale)
         .map_err(|e| anyhow::anyhow!("--{}", e.to_string().replace('_', "-")))?;
@@ -89,7 +92,7 @@ pub fn run(args: Args) -> Result<()> {
 
     let s = &grown.stats;
     if let Some(stats_out) = stats_out {
-        let value = stats_json(&grown, config, slice_z, structure_s);
+        let value = stats_json(&grown, config, grew, slice_z, structure_s);
         outputs.write(stats_out, |path| write_json(path, &value))?;
     }
     outputs.commit()?;
@@ -101,8 +104,7 @@ pub fn run(args: Args) -> Result<()> {
         nz - 1
     ))?;
     report_stats(&args)?;
-    // A stone of grains is read at the cell centres: no growth steps to tell of.
-    let how = if scene.domains.pattern == opalray::scene::Pattern::Paper {
+    let how = if grew {
         format!(
             "{} seeds, mean radius {:.2} cells",
             s.seeds_placed, s.mean_radius_cells
@@ -146,11 +148,13 @@ fn check_map(args: &Args, [nx, ny, nz]: [usize; 3]) -> Result<u64> {
     Ok(pixels)
 }
 
-/// The statistics of the growth `grown` of `config` (`--stats`): the growth's own, the
-/// configuration's targets, the slice drawn and the time taken.
+/// The statistics of the cells `grown` of `config` (`--stats`): their counts, the growth's own
+/// and the configuration's targets where they were `grew` (else `read_at_cell_centres`), the
+/// slice drawn and the time taken.
 fn stats_json(
     grown: &opalray::structure::Structure,
     config: &opalray::scene::StructureConfig,
+    grew: bool,
     slice_z: usize,
     structure_s: f64,
 ) -> serde_json::Value {
@@ -159,14 +163,20 @@ fn stats_json(
     object.insert("grid".into(), serde_json::json!(config.grid));
     // The grid's box: a cut stone's own (`opalray::render::voxels`).
     object.insert("semi_axes_mm".into(), serde_json::json!(grown.semi_axes_mm));
-    object.insert(
-        "target_void_ratio".into(),
-        serde_json::json!(config.void_ratio),
-    );
-    object.insert(
-        "target_mean_radius_cells".into(),
-        serde_json::json!(config.mean_radius_cells),
-    );
+    if grew {
+        object.insert(
+            "target_void_ratio".into(),
+            serde_json::json!(config.void_ratio),
+        );
+        object.insert(
+            "target_mean_radius_cells".into(),
+            serde_json::json!(config.mean_radius_cells),
+        );
+    } else {
+        object.remove("seeds_placed");
+        object.remove("mean_radius_cells");
+        object.insert("read_at_cell_centres".into(), serde_json::json!(true));
+    }
     object.insert("seed".into(), serde_json::json!(config.seed));
     object.insert("slice_z".into(), serde_json::json!(slice_z));
     object.insert(

@@ -38,11 +38,8 @@ impl Work {
     /// The work of `scene` rendered `frames` times.
     pub fn of(scene: &Scene, frames: u64) -> Work {
         let integrator = opalray::integrator::of(scene.integrator.method());
-        let grains = if integrator.renders_stone() {
-            grains(scene)
-        } else {
-            0.0
-        };
+        // Every method builds the stone's grains (the two passes read them as cells).
+        let grains = grains(scene);
         let method = integrator.work(scene, frames as f64);
         Work {
             grains,

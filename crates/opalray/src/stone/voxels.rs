@@ -5,9 +5,10 @@
 //! kinds of method read one stone. Any other stone (grains, one crystal) is read at the cell
 //! centres of a grid over its box: a cell is outside where its centre is outside the
 //! ellipsoid of that box (the growth's rule), else a cluster of the domain there, with its
-//! orientation, or a void where there is none (potch, a colour bar, and where the ellipsoid
-//! reaches beyond a cabochon's dome near the girdle). The passes render that ellipsoid, not
-//! the cut: no flat back, cap or backing (`docs/architecture.md`, "One world").
+//! orientation, or a void where there is none (potch, under a colour bar too, a triplet's
+//! cap, and where the ellipsoid reaches beyond a cabochon's dome near the girdle: about a
+//! fifth of its cells for a flat back). The passes render that ellipsoid, not the cut: no
+//! flat back, cap or backing (`docs/architecture.md`, "One world").
 
 use std::borrow::Cow;
 
@@ -15,6 +16,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::{Layout, Stone};
+use crate::cancel::Cancel;
 use crate::error::Result;
 use crate::geometry::CellGrid;
 use crate::scene::StructureConfig;
@@ -31,7 +33,8 @@ impl Stone {
     }
 
     /// The stone on the cell grid of `config`: the growth's own cells where the stone grew
-    /// them ([`Stone::voxels`]), else [`Stone::sample_voxels`].
+    /// them ([`Stone::voxels`], on the grid it grew them on, `config` unread), else
+    /// [`Stone::sample_voxels`].
     pub fn voxel_view(&self, config: &StructureConfig) -> Result<Cow<'_, Structure>> {
         match self.voxels() {
             Some(cells) => Ok(Cow::Borrowed(cells)),
@@ -49,25 +52,32 @@ impl Stone {
         let half = Vec3::from_array(config.semi_axes_mm.map(|v| v as f32));
         let grid = CellGrid::centered(config.grid, half);
         let [nx, ny, _] = config.grid;
-        structure
+        let slab = nx * ny;
+        let slabs = structure
             .cells
-            .par_chunks_mut(nx)
-            .zip(structure.orientations.par_chunks_mut(nx))
-            .enumerate()
-            .for_each(|(row, (cells, orientations))| {
-                let (y, z) = (row % ny, row / ny);
-                for (x, (cell, orientation)) in cells.iter_mut().zip(orientations).enumerate() {
-                    if *cell == Cell::Outside {
-                        continue;
+            .chunks_mut(slab)
+            .zip(structure.orientations.chunks_mut(slab));
+        // A slab of z at a time, the cancel flag looked at between them.
+        for (z, (cells, orientations)) in slabs.enumerate() {
+            Cancel::check_current()?;
+            cells
+                .par_chunks_mut(nx)
+                .zip(orientations.par_chunks_mut(nx))
+                .enumerate()
+                .for_each(|(y, (cells, orientations))| {
+                    let row = cells.iter_mut().zip(orientations).enumerate();
+                    for (x, (cell, orientation)) in row {
+                        if *cell == Cell::Outside {
+                            continue;
+                        }
+                        let at = Vec3::new(x as f32, y as f32, z as f32) + 0.5;
+                        if let Some(domain) = self.domain_at(grid.min + at * grid.cell) {
+                            *cell = Cell::Cluster;
+                            *orientation = self.domains[domain as usize].orientation;
+                        }
                     }
-                    let centre =
-                        grid.min + (Vec3::new(x as f32, y as f32, z as f32) + 0.5) * grid.cell;
-                    if let Some(domain) = self.domain_at(centre) {
-                        *cell = Cell::Cluster;
-                        *orientation = self.domains[domain as usize].orientation;
-                    }
-                }
-            });
+                });
+        }
         let stats = &mut structure.stats;
         stats.clusters = structure
             .cells

@@ -14,7 +14,8 @@ use crate::scene::Scene;
 pub struct TwoPassStats {
     /// The light pass's energy bookkeeping (its `rays` are the light rays traced).
     pub ledger: EnergyLedger,
-    /// Void ratio of the paper's grown structure (void cells / inside cells), in (0, 1).
+    /// Void ratio of the cells the passes read (void cells / inside cells), in [0, 1]: the
+    /// paper's grown structure, or a stone of grains read at the cell centres.
     pub void_ratio: f64,
 }
 
@@ -57,8 +58,8 @@ impl Frame {
         self.ledger().rays
     }
 
-    /// Void ratio of the paper's grown structure (void cells / inside cells); `None` for the
-    /// methods that render the stone model (which do not grow it).
+    /// Void ratio of the cells the paper's two passes read (void cells / inside cells);
+    /// `None` for the methods that render the stone model (which read no cells).
     pub fn void_ratio(&self) -> Option<f64> {
         self.two_pass().map(|r| r.void_ratio)
     }
