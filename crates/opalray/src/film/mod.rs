@@ -19,6 +19,7 @@ mod sums;
 
 pub use noise::Noise;
 pub use sensor::SpectralSampler;
+pub(crate) use sensor::NO_BIN;
 pub(crate) use sums::{Film, PixelSums};
 
 /// A sampled image as its film developed it, borrowed: what the denoiser reads.

@@ -20,6 +20,9 @@ const LINE_SHARE: f64 = 0.9;
 /// Most ironstone reflections a path carries.
 pub const MAX_TINTS: usize = 3;
 
+/// [`SpectralSampler::table_bins`] of a point outside the spectral image's grid.
+pub(crate) const NO_BIN: u16 = u16::MAX;
+
 /// The light's spectrum and the colour-matching functions on a fine table, and the grid of the
 /// spectral image.
 #[derive(Clone, Debug)]
@@ -28,6 +31,9 @@ pub struct SpectralSampler {
     pub(crate) hi_nm: f64,
     /// `(S x̄, S ȳ, S z̄, S)` every [`TABLE_STEP_NM`], S scaled to luminance 1 over the range.
     pub(crate) table: Vec<[f32; 4]>,
+    /// The spectral image's bin of each point of `table` (`grid.bin_of` of its wavelength),
+    /// [`NO_BIN`] outside the grid.
+    pub(crate) table_bins: Vec<u16>,
     /// XYZ of the light itself (Y = 1).
     pub white_xyz: [f64; 3],
     /// The light's spectrum averaged over each bin of the image grid (luminance 1).
@@ -115,10 +121,17 @@ impl SpectralSampler {
                 summary(&tinted)
             })
             .collect();
+        let table_bins = (0..raw.len())
+            .map(|i| {
+                let bin = grid.bin_of(lo + i as f64 * TABLE_STEP_NM);
+                bin.map_or(NO_BIN, |b| u16::try_from(b).expect("bins fit in u16"))
+            })
+            .collect();
         SpectralSampler {
             lo_nm: lo,
             hi_nm: hi,
             table: raw.iter().map(|v| v.map(|c| c as f32)).collect(),
+            table_bins,
             white_xyz,
             white_bins,
             grid: *grid,

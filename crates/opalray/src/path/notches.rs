@@ -17,6 +17,7 @@ use crate::optics::BraggLine;
 use crate::stone::ironstone_reflectance;
 
 use super::spectral::{reflectance_sp_within, SpectralSampler, TABLE_STEP_NM};
+use crate::film::NO_BIN;
 
 /// Side lobes each side of a line's stop band whose reflectance is evaluated as it is; past
 /// them, as its average over the lobes ([`wing_reflectance`]).
@@ -82,6 +83,9 @@ impl Notches {
         let reflectance = |w: f64| weigh(reflectance_sp_within(line, window, w));
         let (mut a, mut r_a) = (first, reflectance(at(first)));
         let (mut b, mut r_b) = (a, r_a);
+        // The bin being added to, held here until the points move on to the next (the same
+        // f32 sums, in the same order, as adding to the vector point by point).
+        let (mut bin, mut bin_taken) = (NO_BIN, 0.0f32);
         for i in first..last {
             let w = at(i);
             let r = match wing_reflectance(line, w) {
@@ -110,9 +114,20 @@ impl Notches {
             for (v, c) in self.taken_xyz.iter_mut().zip(&s) {
                 *v += weight * f64::from(*c);
             }
-            if let Some(bin) = sampler.grid.bin_of(w) {
-                self.taken_bins[bin] += (weight * f64::from(s[3]) / bin_width) as f32;
+            let here = sampler.table_bins[i];
+            if here != NO_BIN {
+                if here != bin {
+                    if bin != NO_BIN {
+                        self.taken_bins[usize::from(bin)] = bin_taken;
+                    }
+                    bin = here;
+                    bin_taken = self.taken_bins[usize::from(bin)];
+                }
+                bin_taken += (weight * f64::from(s[3]) / bin_width) as f32;
             }
+        }
+        if bin != NO_BIN {
+            self.taken_bins[usize::from(bin)] = bin_taken;
         }
     }
 
