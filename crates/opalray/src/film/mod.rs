@@ -18,8 +18,8 @@ pub mod sensor;
 mod sums;
 
 pub use noise::Noise;
-pub use sensor::SpectralSampler;
 pub(crate) use sensor::NO_BIN;
+pub use sensor::{SpectralSampler, DEFAULT_WAVELENGTHS};
 pub(crate) use sums::{Film, PixelSums};
 
 /// A sampled image as its film developed it, borrowed: what the denoiser reads.

@@ -20,6 +20,10 @@ const LINE_SHARE: f64 = 0.9;
 /// Most ironstone reflections a path carries.
 pub const MAX_TINTS: usize = 3;
 
+/// Default wavelengths per contribution (the path tracer's `integrator.wavelengths`); the
+/// stored and lobe methods' sampler is built with it (they draw no wavelengths).
+pub const DEFAULT_WAVELENGTHS: u32 = 4;
+
 /// [`SpectralSampler::table_bins`] of a point outside the spectral image's grid.
 pub(crate) const NO_BIN: u16 = u16::MAX;
 

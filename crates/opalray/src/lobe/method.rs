@@ -4,8 +4,8 @@
 use std::time::Instant;
 
 use crate::error::Result;
+use crate::film::DEFAULT_WAVELENGTHS;
 use crate::integrator::{Integrator, Passes, Work};
-use crate::path::DEFAULT_WAVELENGTHS;
 use crate::render::{seconds, Frame, Prepared};
 use crate::scene::{IntegratorConfig, LobeConfig, Method, Scene};
 use crate::stone::body::munsell_y;

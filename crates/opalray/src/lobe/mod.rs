@@ -55,10 +55,10 @@ use std::f32::consts::PI;
 
 use glam::Vec3;
 
+use crate::film::SpectralSampler;
 use crate::geometry::Camera;
 use crate::integrator::Passes;
 use crate::lights::{AreaLight, Environment, Lamp};
-use crate::path::SpectralSampler;
 use crate::spectrum::SpectralImage;
 use crate::stone::Stone;
 

@@ -3,12 +3,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+use crate::film::DEFAULT_WAVELENGTHS;
 use crate::integrator::{spp_and_seed_fields, Settings};
 use crate::scene::DEFAULT_SPP;
-
-/// Default wavelengths per contribution (`integrator.wavelengths`); the stored and lobe
-/// methods' wavelength sampler is built with it (they draw no wavelengths).
-pub const DEFAULT_WAVELENGTHS: u32 = 4;
 
 /// `max_scatterings`' default: the weight's roulette ends a white body's paths long before.
 pub const DEFAULT_MAX_SCATTERINGS: u32 = 1 << 14;

@@ -88,7 +88,8 @@ use glam::Vec3;
 
 pub use crate::film::noise;
 pub use crate::film::Noise;
-pub use config::{PathConfig, DEFAULT_MAX_SCATTERINGS, DEFAULT_WAVELENGTHS};
+pub use crate::film::DEFAULT_WAVELENGTHS;
+pub use config::{PathConfig, DEFAULT_MAX_SCATTERINGS};
 pub use image::PathImage;
 
 pub use method::PathTracer;

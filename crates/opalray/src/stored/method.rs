@@ -4,8 +4,8 @@
 use std::time::Instant;
 
 use crate::error::{Error, Result};
+use crate::film::DEFAULT_WAVELENGTHS;
 use crate::integrator::{pixels, Integrator, Passes, Work};
-use crate::path::DEFAULT_WAVELENGTHS;
 use crate::render::{seconds, Frame, Prepared, Report};
 use crate::scene::{
     Cut, EnvironmentKind, IntegratorConfig, LightKind, Method, Scene, StoredConfig,

@@ -19,9 +19,9 @@
 
 use rayon::prelude::*;
 
+use crate::film::SpectralSampler;
 use crate::lights::env::filter::erf;
 use crate::optics::BraggLine;
-use crate::path::SpectralSampler;
 
 /// Step of the table in wavelength, nm.
 const STEP_NM: f64 = 0.25;

@@ -1,9 +1,9 @@
 //! The cull's early stop against the full sum it stands for.
 
 use super::*;
+use crate::film::SpectralSampler;
 use crate::lights::Environment;
 use crate::lobe::fixture::eight_by_eight;
-use crate::path::SpectralSampler;
 use crate::sampling::Rng;
 use crate::scene::preset;
 
