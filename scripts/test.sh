@@ -29,8 +29,10 @@ if [ "${#wheels[@]}" -ne 1 ] || [ ! -f "${wheels[0]}" ]; then
 fi
 "$venv/bin/python" -m pip install --quiet --force-reinstall --no-deps "${wheels[0]}"
 "$venv/bin/python" -m pip install --quiet "${wheels[0]}[test]"
+echo "test.sh: the wheel built and installed, $SECONDS s"
 
 cargo test --workspace
+echo "test.sh: the Rust tests passed, $SECONDS s"
 # The tests compare the Python renders with the release binary's.
 cargo build --release -p opalray-cli
 export OPALRAY_BIN="$root/target/release/opalray"
@@ -38,5 +40,6 @@ export OPALRAY_BIN="$root/target/release/opalray"
 export DASK_TEMPORARY_DIRECTORY="$scratch/dask"
 # Run from the scratch folder so that `import opalray` is the installed package, not python/.
 venv_python="$(cd "$venv" && pwd)/bin/python"
+# The ten slowest tests are named at the end (`--durations`), for whoever trims the run.
 (cd "$scratch" && "$venv_python" -m pytest -p no:cacheprovider --basetemp="$scratch/pytest" \
-    "$root/python/tests" "$@")
+    --durations=10 "$root/python/tests" "$@")
