@@ -250,10 +250,11 @@ def test_a_time_limit_bounds_the_sweep_and_keeps_the_finished_frames(tmp_path, s
     assert "\n" not in message and "--" not in message, message
     assert time.monotonic() - start < 1.5
     assert sorted(os.listdir(tmp_path / "slow")) == ["scene.toml", "sweep.json"]
-    # Path-traced frames of a fraction of a second each: the limit passes during one of them
-    # (or, on a machine too busy to prepare the stone in time, before the first).
+    # Path-traced frames of about a second each, so that four of them outlast the limit on a
+    # fast machine too: the limit passes during one of them (or, on a machine too busy to
+    # prepare the stone in time, before the first).
     gem = opalray.Scene.preset("black-opal").replace(
-        render={"width": 8, "height": 6}, integrator={"method": "path", "spp": 16}
+        render={"width": 8, "height": 6}, integrator={"method": "path", "spp": 64}
     )
     tilts = [-30.0, -10.0, 10.0, 30.0]
     with pytest.raises(TimeoutError, match=r"^time_limit 1\.0: the limit passed during (frame|the stone)"):
