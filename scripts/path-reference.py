@@ -15,7 +15,8 @@ where it was stopped, on this machine or another. The mean of the chunks is the 
 - `DIR/NAME-path.png`: 8-bit sRGB encoded as `opalray render` encodes its PNG (the scene's
   hue-preserving gamut mapping, then the sRGB curve), checked against the renderer's own PNG
   of the first chunk, byte for byte, before anything is averaged;
-- `DIR/NAME-path.json`: the chunks averaged, their seeds and the samples per pixel.
+- `DIR/NAME-path.json`: the chunks averaged, their seeds and the samples per pixel;
+- `DIR/NAME-WxH-seedS.json`: each chunk's `--stats` (its light by class of path, its time).
 
 `scripts/lobe-vs-path.py --width W --height H --keep DIR --reuse PRESET` then compares the
 lobe integrator with that reference. With `--chunks-only`, no average is made.
@@ -86,6 +87,50 @@ def seeded(text, seed, gamut_check):
     return head + sep + "\n".join(lines) + "\n"
 
 
+def merged_orders(stats_paths):
+    """The chunks' `path.bragg_orders` merged: each share of the summary as the chunks'
+    luminance in that class over their luminance (equal pixels and samples per chunk), its
+    standard error the spread of the chunks' shares over sqrt(chunks); `union` the light of
+    two or more Bragg events or of one after an internal reflection (the classes' index bits:
+    Bragg events 0-3, + 4 after an internal reflection, + 8 body, + 16 backing). None when a
+    chunk has no stats (rendered before they were kept)."""
+    if not all(os.path.exists(p) for p in stats_paths):
+        return None
+    orders = [json.load(open(p))["path"]["bragg_orders"] for p in stats_paths]
+    y = np.array([o["mean_luminance"] for o in orders])
+
+    def merged(shares):
+        shares = np.asarray(shares)
+        share = float((shares * y).sum() / y.sum())
+        error = float(shares.std(ddof=1) / np.sqrt(len(shares))) if len(shares) > 1 else None
+        return {"share": share, "standard_error": error}
+
+    summary = {k: merged([o["summary"][k]["share"] for o in orders])
+               for k in orders[0]["summary"]}
+
+    def union_share(o):
+        return sum(c["share"] for c in o["classes"]
+                   if c["bragg"] != "0" and (c["bragg"] in ("2", "3+")
+                                            or c["bragg_after_internal_reflection"]))
+
+    summary["two_or_more_or_after_internal_reflection"] = merged([union_share(o) for o in orders])
+    return {"mean_luminance": float(y.mean()), "chunks": len(orders),
+            "standard_error_is": "the spread of the chunks' shares over sqrt(chunks)",
+            "summary": summary}
+
+
+def orders_row(name, spp, orders):
+    """A row of `docs/model.md`'s table of the light by class of path, in %."""
+    s = orders["summary"]
+    keys = ["gloss", "bragg_0", "bragg_1", "bragg_2", "bragg_3_or_more",
+            "bragg_after_internal_reflection", "body", "backing", "bragg_with_body_or_backing",
+            "beyond_lobe", "two_or_more_or_after_internal_reflection"]
+    cells = [f"{100 * s[k]['share']:.1f}" for k in keys]
+    largest = max(v["standard_error"] or 0.0 for v in s.values())
+    return (f"| {name} | {spp} | {orders['mean_luminance']:.3f} | " + " | ".join(cells)
+            + f" | {100 * largest:.2f} |")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("preset")
@@ -115,7 +160,8 @@ def main():
         with open(scene, "w") as f:
             f.write(seeded(text, seed, gamut_check=k == 0))
         start = time.time()
-        outputs = ["--output", out]
+        # Each chunk's `--stats` beside it: its light by class of path (`path.bragg_orders`).
+        outputs = ["--output", out, "--stats", out[:-len(".exr")] + ".json"]
         if k == 0:
             # The renderer's own PNG of the first chunk, to check the encoding against.
             check = os.path.join(a.dir, f"{name}-{a.width}x{a.height}-seed{seed}.png")
@@ -135,13 +181,16 @@ def main():
         if mine.shape != theirs.shape or (mine != theirs).any():
             sys.exit("error: this script's PNG encoding differs from the renderer's on the first "
                      "chunk; the reference would not be comparable")
+    orders = merged_orders([c[:-len(".exr")] + ".json" for c in chunks])
     mean = sum(load_exr(c) for c in chunks) / len(chunks)
     png = os.path.join(a.dir, f"{name}-path.png")
     Image.fromarray(encode_srgb8(mean)).save(png)
     with open(os.path.join(a.dir, f"{name}-path.json"), "w") as f:
         json.dump({"preset": a.preset, "width": a.width, "height": a.height, "spp": a.spp,
-                   "chunk_spp": a.chunk, "seeds": seeds}, f, indent=1)
+                   "chunk_spp": a.chunk, "seeds": seeds, "bragg_orders": orders}, f, indent=1)
     print(f"wrote {png}: the mean of {len(chunks)} chunks, {a.spp} spp")
+    if orders:
+        print(orders_row(name, a.spp, orders))
     return 0
 
 

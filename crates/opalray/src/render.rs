@@ -158,11 +158,17 @@ fn voxel_grid(scene: &Scene) -> StructureConfig {
     grid
 }
 
+/// Whether [`voxels`] grows `scene`'s cells (the paper's balls) rather than reading its
+/// stone at the cell centres.
+pub fn voxels_are_grown(scene: &Scene) -> bool {
+    scene.domains.pattern == Pattern::Paper
+}
+
 /// The cells the paper's two passes read for `scene` ([`Stone::voxel_view`]): the grown
 /// structure where the domains are the paper's balls, any other stone read at the cell
 /// centres (`opalray structure` draws it).
 pub fn voxels(scene: &Scene) -> Result<Structure> {
-    if scene.domains.pattern == Pattern::Paper {
+    if voxels_are_grown(scene) {
         return grow_structure(&scene.structure);
     }
     Stone::new(scene)?.sample_voxels(&voxel_grid(scene))

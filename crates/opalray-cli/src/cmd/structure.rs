@@ -78,11 +78,11 @@ pub fn run(args: Args) -> Result<()> {
     super::memory::check_structure(&scene, pixels)?;
     let (outputs, image, stats_out) = declare_outputs(&args)?;
 
-    // Grow and draw.
+    // Grow the paper's cells (or read a stone of grains at the cell centres: no growth steps
+    // to tell of), then draw.
     let start = Instant::now();
     let grown = opalray::render::voxels(&scene)?;
-    // A stone of grains is read at the cell centres: no growth steps to tell of.
-    let grew = scene.domains.pattern == opalray::scene::Pattern::Paper;
+    let grew = opalray::render::voxels_are_grown(&scene);
     let structure_s = start.elapsed().as_secs_f64();
     let map = structure::orientation_map(&grown, slice_z, args.scale)
         .map_err(|e| anyhow::anyhow!("--{}", e.to_string().replace('_', "-")))?;
