@@ -17,8 +17,8 @@
 //!   through the refraction ([`crate::lights::Environment::filtered`]). The line's colour is
 //!   its equivalent width times the light × colour-matching functions over its profile
 //!   ([`colour`]), spread over the wavelengths the lobe's normals reflect
-//!   ([`LineColours::in_lobe`]), times the notches of the lines crossed before, each at the
-//!   line's centre.
+//!   ([`LineColours::in_lobe`]), times what the notches of the lines crossed before leave of
+//!   it, each read over the line's band as the mosaic spreads both ([`band`]).
 //!   A point or directional light adds `π E R D(h)/(4 cos θ_h)`, the lobe's density at the
 //!   half vector, as the path tracer's estimate does; a sphere or rect light is read
 //!   through the lobe ([`crate::lights::AreaLight::lobe_share`]). The ray goes on through.
@@ -39,6 +39,7 @@
 //! width, the notches of the lines on the body's and the environment's broadband light
 //! except those of the eye ray, and the cap plane's reflection of a triplet.
 
+mod band;
 pub mod colour;
 mod config;
 #[cfg(test)]

@@ -26,12 +26,13 @@ impl Tracer<'_> {
         for l in &lines {
             let profile = LineProfile::of(&l.line);
             let (xyz, s) = self.colours.of_profile(&profile);
-            let t_in = self.eye_transmittance(l.line.center_nm);
-            colours.push((xyz, s, t_in));
+            let cos_theta = -dir.dot(l.normal);
+            let sigma = stone.lobe_sigma(l.kind, cos_theta);
+            let band = Band::of(&l.line, cos_theta.into(), sigma.into());
+            let t_in = self.eye_passes(&band);
+            colours.push((xyz, s, t_in, band));
             let weight = w * t_in as f32;
             if weight * xyz[1] as f32 * (self.peak + self.body_peak) > CUT {
-                let cos_theta = -dir.dot(l.normal);
-                let sigma = stone.lobe_sigma(l.kind, cos_theta);
                 // The line as the lobe's normals spread it.
                 let (xyz, s, center) = self.colours.in_lobe(
                     &l.line,
@@ -57,6 +58,7 @@ impl Tracer<'_> {
                             dir: reflect(dir, l.normal),
                             domain,
                             hint: span.hint,
+                            band,
                         };
                         let (seen, thorough) =
                             self.reflected(&out, &l.line, sigma, meeting.luminance, vivid);
@@ -77,22 +79,17 @@ impl Tracer<'_> {
         self.lines = lines;
     }
 
-    /// The eye ray goes on through a crossing's `lines` (with their colours and what the
-    /// eye ray's earlier lines leave of each line's centre, `colours`), carrying each line's
-    /// notch: what the earlier lines, this crossing's before it among them, leave of its
-    /// centre.
-    fn carry_notches(&mut self, lines: &[ActiveLine], colours: &[([f64; 3], f64, f64)]) {
-        for (k, (l, &(xyz, s, t_in))) in lines.iter().zip(colours).enumerate() {
+    /// The eye ray goes on through a crossing's `lines` (with their colours, what the eye
+    /// ray's earlier lines leave of each line and its band, `colours`), carrying each line's
+    /// notch: what the earlier lines, this crossing's before it among them, leave of it.
+    fn carry_notches(&mut self, lines: &[ActiveLine], colours: &[([f64; 3], f64, f64, Band)]) {
+        for (k, (l, &(xyz, s, t_in, band))) in lines.iter().zip(colours).enumerate() {
             if self.eye_lines.len() >= MAX_EYE_LINES {
                 break;
             }
-            let centre = l.line.center_nm;
             let mut t_prev = t_in;
-            for before in &lines[..k] {
-                let (lo, hi) = before.line.window_nm();
-                if centre > lo && centre < hi {
-                    t_prev *= 1.0 - before.line.reflectance(centre);
-                }
+            for before in &colours[..k] {
+                t_prev *= 1.0 - band.taken_by(&before.3);
             }
             for (n, v) in self.notch_xyz.iter_mut().zip(xyz) {
                 *n += t_prev * v;
@@ -101,8 +98,17 @@ impl Tracer<'_> {
                 self.notch_bins[b] += (t_prev * s / self.bin_width_nm) as f32;
             }
             self.eye_windows.push(l.line.window_nm());
+            self.eye_bands.push(band);
             self.eye_lines.push(l.line);
         }
+    }
+
+    /// What the lines the eye ray has crossed leave of the light of a line of band `band`:
+    /// `Π (1 − share)`, each notch read over the band ([`Band::taken_by`]).
+    fn eye_passes(&self, band: &Band) -> f64 {
+        self.eye_bands
+            .iter()
+            .fold(1.0, |t, notch| t * (1.0 - band.taken_by(notch)))
     }
 
     /// `Π (1 − R)` at `wavelength_nm` of the lines the eye ray has crossed.

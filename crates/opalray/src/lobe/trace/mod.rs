@@ -6,6 +6,7 @@ use std::f32::consts::PI;
 
 use glam::Vec3;
 
+use super::band::Band;
 use super::colour::LineProfile;
 use super::layer::BodyLayer;
 use super::potch::PotchLight;
@@ -75,13 +76,16 @@ pub(super) struct Tracer<'a> {
     lines: Vec<ActiveLine>,
     out_spans: Vec<Span>,
     out_lines: Vec<ActiveLine>,
-    /// The colours `(XYZ, S)` of the lines of the crossing at hand, and what the eye ray's
-    /// earlier lines leave of each line's centre.
-    line_colours: Vec<([f64; 3], f64, f64)>,
+    /// The colours `(XYZ, S)` of the lines of the crossing at hand, what the eye ray's
+    /// earlier lines leave of each line, and its band.
+    line_colours: Vec<([f64; 3], f64, f64, Band)>,
     /// The lines the eye ray has crossed.
     eye_lines: Vec<BraggLine>,
     /// Their windows (`BraggLine::window_nm`), apart: what every wavelength is checked against.
     eye_windows: Vec<(f64, f64)>,
+    /// Their bands as the mosaic spreads them ([`Band`]): what a reflection's band is read
+    /// against.
+    eye_bands: Vec<Band>,
     /// XYZ the eye ray's notches take from a white of luminance 1.
     notch_xyz: [f64; 3],
     /// The same per bin.
@@ -135,6 +139,7 @@ impl<'a> Tracer<'a> {
             line_colours: Vec::with_capacity(16),
             eye_lines: Vec::with_capacity(MAX_EYE_LINES),
             eye_windows: Vec::with_capacity(MAX_EYE_LINES),
+            eye_bands: Vec::with_capacity(MAX_EYE_LINES),
             notch_xyz: [0.0; 3],
             notch_bins: vec![0.0; setup.spectral.grid.bins],
             bin_width_nm: setup.spectral.grid.bin_width_nm(),
@@ -186,6 +191,7 @@ impl<'a> Tracer<'a> {
         };
         self.eye_lines.clear();
         self.eye_windows.clear();
+        self.eye_bands.clear();
         self.crossed.clear();
         self.notch_xyz = [0.0; 3];
         self.notch_bins.iter_mut().for_each(|b| *b = 0.0);
@@ -374,12 +380,14 @@ pub(super) struct Lit<'a> {
 }
 
 /// A reflection leaving a domain: its face, its direction, the domain (the reflected ray
-/// leaves it through that face) and the cells likely to hold the face.
+/// leaves it through that face), the cells likely to hold the face and the reflected line's
+/// band (what the lines on the way are read against).
 struct Out {
     face: Vec3,
     dir: Vec3,
     domain: u32,
     hint: Hint,
+    band: Band,
 }
 
 /// Where the eye ray entered the stone.

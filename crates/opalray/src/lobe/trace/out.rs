@@ -7,8 +7,9 @@ use crate::stone::LineWavelength;
 impl Tracer<'_> {
     /// [`Tracer::reflected`] through the domains: each segment in the opal walked, dimmed by
     /// the potch and haze, whose own light it sees on the way (the body's radiance where it
-    /// scatters, as the eye ray sees it), and, with `lines`, notched at `wavelength` by the
-    /// lines it crosses; what a line takes from it is reflected again and seen through the
+    /// scatters, as the eye ray sees it), and, with `lines`, notched by the lines it crosses
+    /// whose windows hold `wavelength` (the line's centre), each read over the reflection's
+    /// band (`out.band`, [`Band::taken_by`]); what a line takes from it is reflected again and seen through the
     /// surface along its own mirror direction ([`Tracer::seen_out`]: a second Bragg
     /// reflection, so that no light is lost), where `gain` (the eye ray's weight times the
     /// line's largest tristimulus value) times what it takes times the brightest light
@@ -27,7 +28,7 @@ impl Tracer<'_> {
         let mut hint = out.hint;
         let mut way = Outgoing { w: 1.0, seen: 0.0 };
         let notches = Notches {
-            wavelength,
+            band: out.band,
             at_wavelength: stone.line_wavelength(wavelength),
             sigma,
             lines,
@@ -124,8 +125,8 @@ impl Tracer<'_> {
     }
 
     /// The lines of `domain` that the reflected ray crosses along `span` (of the segment
-    /// `ray` in the opal) at the notches' wavelength: each takes its reflectance of the ray's
-    /// weight, and what it takes is seen along its own mirror direction where it can reach
+    /// `ray` in the opal) whose windows hold the notches' wavelength: each takes its share of
+    /// the reflection's band from the ray's weight, and what it takes is seen along its own mirror direction where it can reach
     /// [`CUT`].
     fn notch_out(
         &mut self,
@@ -142,7 +143,10 @@ impl Tracer<'_> {
         self.stone
             .lines_at_wavelength(domain, dir, len, at_wavelength, &mut self.out_lines);
         for l in &self.out_lines {
-            let r = l.line.reflectance(notches.wavelength) as f32;
+            let cos_theta = -dir.dot(l.normal);
+            let sigma = self.stone.lobe_sigma(l.kind, cos_theta);
+            let notch = Band::of(&l.line, cos_theta.into(), sigma.into());
+            let r = notches.band.taken_by(&notch) as f32;
             if notches.gain * way.w * r * self.peak >= CUT {
                 let again = reflect(dir, l.normal);
                 let seen = self.seen_out(ray.at(span.t0), again, Region::Opal, notches.sigma);
@@ -364,11 +368,11 @@ struct Outgoing {
     seen: f32,
 }
 
-/// The wavelength a reflection is followed at and what the lines it crosses do to it.
+/// The band a reflection is followed in and what the lines it crosses do to it.
 struct Notches {
-    /// The reflection's wavelength, nm.
-    wavelength: f64,
-    /// The same, as the stone's lines are found at it.
+    /// The reflection's band: what each line crossed takes of it ([`Band::taken_by`]).
+    band: Band,
+    /// Its centre, as the stone's lines that can take from it are found.
     at_wavelength: LineWavelength,
     /// The lobe's width over normals, rad.
     sigma: f32,

@@ -1,0 +1,176 @@
+//! A line as its domain's mosaic spreads it, and the share of one line's light that another
+//! takes on the way: the notch of a crossed line read over the reflected line's spectrum,
+//! not at its centre.
+//!
+//! A domain's normals spread as a Gaussian of `σ` per axis (the mosaic); a ray meeting the
+//! family at `θ` is reflected, by the normals it meets, over a band of wavelengths: the line
+//! moved by `λ tan θ δ` for a tilt `δ` in the plane of incidence and `−λ α²/2` on average for
+//! any tilt `α` (as [`super::LineColours::in_lobe`] spreads its colour). The path tracer
+//! draws those normals at every crossing, so the light a line reflects and the light a
+//! crossed line takes are both spread that way, independently.
+//!
+//! Two narrow lines of nearly the same centre are the case that matters: plates of one
+//! crystal stacked along the eye ray, each reflecting the same colour. Read at the deeper
+//! line's centre, the nearer line's notch is its peak (`tanh² ν`, 0.95 for a 400-layer
+//! plate), and the deeper plate's light is lost; spread over the deeper line's band, most
+//! of it passes in the nearer notch's wings.
+//!
+//! Each line is taken as the Gaussian of its equivalent width `W` (`Σ ½ (λ/N) ν tanh ν` over
+//! the two polarisations, [`super::colour::LineProfile`]'s) and its peak `P`: variance
+//! `w₀² = (W / (P √(2π)))²`, spread by the mosaic to `v = w₀² + (λ tan θ σ)²`, centred at
+//! `λ (1 − σ²)`. The share of a band `a`'s light that a band `b` reflects is then
+//!
+//! `∫ R_a R_b dλ / ∫ R_a dλ = P_b' √(v_b / (v_a + v_b)) exp(−(c_a − c_b)² / 2(v_a + v_b))`,
+//!
+//! `P_b' = W_b / √(2π v_b)` the spread band's peak. Against a quadrature over the two lines'
+//! own profiles, each spread by the mosaic, it is within 0.06 (tested; read at the deeper line's
+//! centre instead, off by up to 0.7); in the
+//! default stone's image the two differ by a ΔE₀₀ median of 0.1. Several notches multiply
+//! their passes, `Π (1 − share)`, as if each took from the band independently.
+
+use std::f64::consts::PI;
+
+use crate::optics::BraggLine;
+
+/// Bands further apart than this many standard deviations of their sum take nothing from
+/// each other (`e^{−12.5}`).
+const REACH_SIGMAS: f64 = 5.0;
+
+/// A line as the mosaic spreads it: a Gaussian over wavelength.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Band {
+    /// Centre, nm.
+    center_nm: f64,
+    /// Variance, nm².
+    variance: f64,
+    /// Peak of the spread band (its equivalent width over `√(2π v)`), at most the line's.
+    peak: f64,
+}
+
+impl Band {
+    /// `line`, met at `cos_theta` (inside) by a domain of mosaic spread `sigma` (rad, per
+    /// axis, the lobe's width over normals).
+    pub(crate) fn of(line: &BraggLine, cos_theta: f64, sigma: f64) -> Band {
+        let scale = line.center_nm / line.layers.max(1.0);
+        let width: f64 = [line.nu_s, line.nu_p]
+            .iter()
+            .map(|nu| 0.5 * scale * nu * nu.tanh())
+            .sum();
+        let peak = line.peak();
+        if width <= 0.0 || peak <= 0.0 {
+            return Band {
+                center_nm: line.center_nm,
+                variance: 1.0,
+                peak: 0.0,
+            };
+        }
+        let root = (2.0 * PI).sqrt();
+        let w0 = width / (peak * root);
+        let c = cos_theta.clamp(1e-3, 1.0);
+        let spread = line.center_nm * (1.0 - c * c).sqrt() / c * sigma;
+        let variance = w0 * w0 + spread * spread;
+        Band {
+            center_nm: line.center_nm * (1.0 - sigma * sigma),
+            variance,
+            peak: (width / (root * variance.sqrt())).min(peak),
+        }
+    }
+
+    /// The share of this band's light that `notch` reflects (what it takes on the way).
+    pub(crate) fn taken_by(&self, notch: &Band) -> f64 {
+        let v = self.variance + notch.variance;
+        let d = self.center_nm - notch.center_nm;
+        if d * d >= REACH_SIGMAS * REACH_SIGMAS * v {
+            return 0.0;
+        }
+        notch.peak * (notch.variance / v).sqrt() * (-0.5 * d * d / v).exp()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `line`'s reflectance spread by the mosaic (its centre moved by `λ tan θ σ x` for a
+    /// standard normal `x`, and `−λ σ²`), by Gauss–Hermite quadrature of 20 points.
+    fn spread_reflectance(line: &BraggLine, cos_theta: f64, sigma: f64, lambda: f64) -> f64 {
+        let c = cos_theta;
+        let spread = line.center_nm * (1.0 - c * c).sqrt() / c * sigma;
+        // Probabilists' Gauss–Hermite by the trapezoid rule on a fine grid: exact enough
+        // for smooth integrands over ±6 standard deviations.
+        let n = 241;
+        let (mut sum, mut norm) = (0.0, 0.0);
+        for k in 0..n {
+            let x = -6.0 + 12.0 * k as f64 / (n - 1) as f64;
+            let w = (-0.5 * x * x).exp();
+            sum += w * line.reflectance(lambda * (1.0 + sigma * sigma) - spread * x);
+            norm += w;
+        }
+        sum / norm
+    }
+
+    /// `∫ R_a R_b / ∫ R_a` of the two spread lines, by quadrature at 0.005 nm.
+    fn share_by_quadrature(a: (&BraggLine, f64), b: (&BraggLine, f64), sigma: f64) -> f64 {
+        let (lo, hi) = (a.0.center_nm - 15.0, a.0.center_nm + 15.0);
+        let steps = ((hi - lo) / 0.005) as usize;
+        let (mut num, mut den) = (0.0, 0.0);
+        for k in 0..steps {
+            let l = lo + (k as f64 + 0.5) * 0.005;
+            let ra = spread_reflectance(a.0, a.1, sigma, l);
+            num += ra * spread_reflectance(b.0, b.1, sigma, l);
+            den += ra;
+        }
+        num / den
+    }
+
+    #[test]
+    fn a_notch_read_over_the_band_agrees_with_quadrature_over_the_spread_lines() {
+        // The {111} coupling of the default silica opal (about 0.0036), plates of 230 to
+        // 410 layers, a 1.5° mosaic; a deeper line met at 13° (spread 3 nm) and a nearer
+        // one near the normal (0.8 nm), their centres from the same to 3 nm apart, and
+        // two lines both near the normal (the least spread, where the Gaussian's shape
+        // matters most).
+        let g = 0.0036;
+        let sigma = 1.5f64.to_radians();
+        let cases = [
+            (408.0, 0.973, 387.0, 0.998, 0.0),
+            (408.0, 0.973, 387.0, 0.998, 1.5),
+            (408.0, 0.973, 387.0, 0.998, 3.0),
+            (236.0, 0.990, 400.0, 0.998, 0.0),
+            (400.0, 0.999, 400.0, 0.998, 0.0),
+            (400.0, 0.999, 400.0, 0.998, 2.0),
+        ];
+        for (na, ca, nb, cb, apart) in cases {
+            let a = BraggLine::new(g, 505.0 / ca, ca, na);
+            let b = BraggLine::new(g, (505.0 + apart) / cb, cb, nb);
+            let exact = share_by_quadrature((&a, ca), (&b, cb), sigma);
+            let band = Band::of(&a, ca, sigma).taken_by(&Band::of(&b, cb, sigma));
+            assert!(
+                (band - exact).abs() < 0.06,
+                "layers {na} / {nb}, cos {ca} / {cb}, {apart} nm apart: band {band:.3}, quadrature {exact:.3}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_notch_at_the_deeper_line_s_centre_would_take_nearly_all_of_it() {
+        // The defect the band mends: the nearer plate's peak, read at the deeper line's
+        // centre, leaves 5 % where the spread lines leave about two thirds.
+        let sigma = 1.5f64.to_radians();
+        let a = BraggLine::new(0.0036, 505.0 / 0.973, 0.973, 408.0);
+        let b = BraggLine::new(0.0036, 505.0 / 0.998, 0.998, 387.0);
+        let at_centre = 1.0 - b.reflectance(a.center_nm);
+        let exact = 1.0 - share_by_quadrature((&a, 0.973), (&b, 0.998), sigma);
+        assert!(at_centre < 0.1, "{at_centre}");
+        assert!(exact > 0.5, "{exact}");
+    }
+
+    #[test]
+    fn bands_far_apart_take_nothing() {
+        let sigma = 1.5f64.to_radians();
+        let a = Band::of(&BraggLine::new(0.0036, 520.0, 0.99, 400.0), 0.99, sigma);
+        let b = Band::of(&BraggLine::new(0.0036, 600.0, 0.99, 400.0), 0.99, sigma);
+        assert_eq!(a.taken_by(&b), 0.0);
+        assert!(a.taken_by(&a) > 0.0 && a.taken_by(&a) < 1.0);
+    }
+}
