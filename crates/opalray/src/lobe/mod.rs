@@ -18,7 +18,7 @@
 //!   its equivalent width times the light × colour-matching functions over its profile
 //!   ([`colour`]), spread over the wavelengths the lobe's normals reflect
 //!   ([`LineColours::in_lobe`]), times what the notches of the lines crossed before leave of
-//!   it, each read over the line's band as the mosaic spreads both ([`band`]).
+//!   it, each read over the reflection's band as the mosaic spreads it ([`band`]).
 //!   A point or directional light adds `π E R D(h)/(4 cos θ_h)`, the lobe's density at the
 //!   half vector, as the path tracer's estimate does; a sphere or rect light is read
 //!   through the lobe ([`crate::lights::AreaLight::lobe_share`]). The ray goes on through.

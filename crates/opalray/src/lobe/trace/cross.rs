@@ -88,8 +88,8 @@ impl Tracer<'_> {
                 break;
             }
             let mut t_prev = t_in;
-            for before in &colours[..k] {
-                t_prev *= 1.0 - band.taken_by(&before.3);
+            for before in &lines[..k] {
+                t_prev *= 1.0 - band.taken_by(&Band::notch(&before.line));
             }
             for (n, v) in self.notch_xyz.iter_mut().zip(xyz) {
                 *n += t_prev * v;
@@ -98,7 +98,7 @@ impl Tracer<'_> {
                 self.notch_bins[b] += (t_prev * s / self.bin_width_nm) as f32;
             }
             self.eye_windows.push(l.line.window_nm());
-            self.eye_bands.push(band);
+            self.eye_bands.push(Band::notch(&l.line));
             self.eye_lines.push(l.line);
         }
     }

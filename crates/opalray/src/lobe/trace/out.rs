@@ -143,10 +143,7 @@ impl Tracer<'_> {
         self.stone
             .lines_at_wavelength(domain, dir, len, at_wavelength, &mut self.out_lines);
         for l in &self.out_lines {
-            let cos_theta = -dir.dot(l.normal);
-            let sigma = self.stone.lobe_sigma(l.kind, cos_theta);
-            let notch = Band::of(&l.line, cos_theta.into(), sigma.into());
-            let r = notches.band.taken_by(&notch) as f32;
+            let r = notches.band.taken_by(&Band::notch(&l.line)) as f32;
             if notches.gain * way.w * r * self.peak >= CUT {
                 let again = reflect(dir, l.normal);
                 let seen = self.seen_out(ray.at(span.t0), again, Region::Opal, notches.sigma);
