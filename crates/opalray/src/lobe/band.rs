@@ -54,11 +54,10 @@ impl Band {
     /// axis, the lobe's width over normals).
     pub(crate) fn of(line: &BraggLine, cos_theta: f64, sigma: f64) -> Band {
         let scale = line.center_nm / line.layers.max(1.0);
-        let width: f64 = [line.nu_s, line.nu_p]
-            .iter()
-            .map(|nu| 0.5 * scale * nu * nu.tanh())
-            .sum();
-        let peak = line.peak();
+        // Each polarisation's tanh ν once: its width `½ (λ/N) ν tanh ν`, its peak `tanh² ν`.
+        let (ts, tp) = (line.nu_s.tanh(), line.nu_p.tanh());
+        let width = 0.5 * scale * (line.nu_s * ts + line.nu_p * tp);
+        let peak = 0.5 * (ts * ts + tp * tp);
         if width <= 0.0 || peak <= 0.0 {
             return Band {
                 center_nm: line.center_nm,

@@ -30,7 +30,13 @@ impl Tracer<'_> {
             let sigma = stone.lobe_sigma(l.kind, cos_theta);
             let band = Band::of(&l.line, cos_theta.into(), sigma.into());
             let t_in = self.eye_passes(&band);
-            colours.push((xyz, s, t_in, band));
+            colours.push(CrossedLine {
+                xyz,
+                s,
+                t_in,
+                band,
+                notch: Band::notch(&l.line),
+            });
             let weight = w * t_in as f32;
             if weight * xyz[1] as f32 * (self.peak + self.body_peak) > CUT {
                 // The line as the lobe's normals spread it.
@@ -79,17 +85,18 @@ impl Tracer<'_> {
         self.lines = lines;
     }
 
-    /// The eye ray goes on through a crossing's `lines` (with their colours, what the eye
-    /// ray's earlier lines leave of each line and its band, `colours`), carrying each line's
-    /// notch: what the earlier lines, this crossing's before it among them, leave of it.
-    fn carry_notches(&mut self, lines: &[ActiveLine], colours: &[([f64; 3], f64, f64, Band)]) {
-        for (k, (l, &(xyz, s, t_in, band))) in lines.iter().zip(colours).enumerate() {
+    /// The eye ray goes on through a crossing's `lines` (as [`Tracer::cross`] found them,
+    /// `crossed`), carrying each line's notch: what the earlier lines, this crossing's before
+    /// it among them, leave of it.
+    fn carry_notches(&mut self, lines: &[ActiveLine], crossed: &[CrossedLine]) {
+        for (k, (l, c)) in lines.iter().zip(crossed).enumerate() {
             if self.eye_lines.len() >= MAX_EYE_LINES {
                 break;
             }
-            let mut t_prev = t_in;
-            for before in &lines[..k] {
-                t_prev *= 1.0 - band.taken_by(&Band::notch(&before.line));
+            let (xyz, s) = (c.xyz, c.s);
+            let mut t_prev = c.t_in;
+            for before in &crossed[..k] {
+                t_prev *= 1.0 - c.band.taken_by(&before.notch);
             }
             for (n, v) in self.notch_xyz.iter_mut().zip(xyz) {
                 *n += t_prev * v;
@@ -98,7 +105,7 @@ impl Tracer<'_> {
                 self.notch_bins[b] += (t_prev * s / self.bin_width_nm) as f32;
             }
             self.eye_windows.push(l.line.window_nm());
-            self.eye_bands.push(Band::notch(&l.line));
+            self.eye_bands.push(c.notch);
             self.eye_lines.push(l.line);
         }
     }

@@ -76,9 +76,9 @@ pub(super) struct Tracer<'a> {
     lines: Vec<ActiveLine>,
     out_spans: Vec<Span>,
     out_lines: Vec<ActiveLine>,
-    /// The colours `(XYZ, S)` of the lines of the crossing at hand, what the eye ray's
-    /// earlier lines leave of each line, and its band.
-    line_colours: Vec<([f64; 3], f64, f64, Band)>,
+    /// The lines of the crossing at hand: their colours `(XYZ, S)`, what the eye ray's
+    /// earlier lines leave of each, its reflection's band and its notch.
+    line_colours: Vec<CrossedLine>,
     /// The lines the eye ray has crossed.
     eye_lines: Vec<BraggLine>,
     /// Their windows (`BraggLine::window_nm`), apart: what every wavelength is checked against.
@@ -377,6 +377,19 @@ pub(super) struct Lit<'a> {
     pub backing: Option<&'a BackingLight>,
     /// The light reaching the potch under a colour bar.
     pub potch: Option<&'a PotchLight>,
+}
+
+/// A line of the crossing at hand, as [`Tracer::cross`] found it.
+#[derive(Clone, Copy)]
+struct CrossedLine {
+    xyz: [f64; 3],
+    s: f64,
+    /// What the eye ray's earlier lines leave of its reflection.
+    t_in: f64,
+    /// Its reflection's band.
+    band: Band,
+    /// Its notch on the light going on.
+    notch: Band,
 }
 
 /// A reflection leaving a domain: its face, its direction, the domain (the reflected ray
