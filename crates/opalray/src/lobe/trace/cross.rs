@@ -33,8 +33,6 @@ impl Tracer<'_> {
             colours.push(CrossedLine {
                 xyz,
                 s,
-                t_in,
-                band,
                 notch: Band::notch(&l.line),
             });
             let weight = w * t_in as f32;
@@ -86,17 +84,18 @@ impl Tracer<'_> {
     }
 
     /// The eye ray goes on through a crossing's `lines` (as [`Tracer::cross`] found them,
-    /// `crossed`), carrying each line's notch: what the earlier lines, this crossing's before
-    /// it among them, leave of it.
+    /// `crossed`), carrying each line's notch on the broadband light: what the earlier lines,
+    /// this crossing's before it among them, leave of it, each read over the notch itself
+    /// (the light goes through the line at the family's normal, unspread).
     fn carry_notches(&mut self, lines: &[ActiveLine], crossed: &[CrossedLine]) {
         for (k, (l, c)) in lines.iter().zip(crossed).enumerate() {
             if self.eye_lines.len() >= MAX_EYE_LINES {
                 break;
             }
             let (xyz, s) = (c.xyz, c.s);
-            let mut t_prev = c.t_in;
+            let mut t_prev = self.eye_passes(&c.notch);
             for before in &crossed[..k] {
-                t_prev *= 1.0 - c.band.taken_by(&before.notch);
+                t_prev *= 1.0 - c.notch.taken_by(&before.notch);
             }
             for (n, v) in self.notch_xyz.iter_mut().zip(xyz) {
                 *n += t_prev * v;
@@ -132,8 +131,8 @@ impl Tracer<'_> {
     /// The radiance (in the stone, relative to the light's) that reaches the domain's face
     /// `face` against `dir`, the mirror direction of `line` whose lobe has width `sigma`
     /// (over normals, radians): the environment through the lobe, carried in through every
-    /// surface event up to [`MAX_SEGMENTS`], notched at the line's centre by the lines on
-    /// the way and dimmed by the potch and haze. Where `weight` times the line's luminance
+    /// surface event up to [`MAX_SEGMENTS`], notched by the lines on the way (each read over
+    /// the reflection's band) and dimmed by the potch and haze. Where `weight` times the line's luminance
     /// times what the surface alone lets through is under [`CUT`], 0: the walks through the
     /// domains, which only dim it, are then left out — unless the dome traps it and `vivid`,
     /// its colour's largest tristimulus value times the eye ray's weight, is large enough

@@ -76,14 +76,14 @@ pub(super) struct Tracer<'a> {
     lines: Vec<ActiveLine>,
     out_spans: Vec<Span>,
     out_lines: Vec<ActiveLine>,
-    /// The lines of the crossing at hand: their colours `(XYZ, S)`, what the eye ray's
-    /// earlier lines leave of each, its reflection's band and its notch.
+    /// The lines of the crossing at hand: their colours `(XYZ, S)` and notches.
     line_colours: Vec<CrossedLine>,
     /// The lines the eye ray has crossed.
     eye_lines: Vec<BraggLine>,
-    /// Their windows (`BraggLine::window_nm`), apart: what every wavelength is checked against.
+    /// Their windows (`BraggLine::window_nm`), apart: what a point or directional light's
+    /// wavelength is checked against ([`Tracer::eye_transmittance`]).
     eye_windows: Vec<(f64, f64)>,
-    /// Their bands as the mosaic spreads them ([`Band`]): what a reflection's band is read
+    /// Their notches ([`Band::notch`]): what a reflection's band, or a notch's, is read
     /// against.
     eye_bands: Vec<Band>,
     /// XYZ the eye ray's notches take from a white of luminance 1.
@@ -379,16 +379,12 @@ pub(super) struct Lit<'a> {
     pub potch: Option<&'a PotchLight>,
 }
 
-/// A line of the crossing at hand, as [`Tracer::cross`] found it.
+/// A line of the crossing at hand, as [`Tracer::cross`] found it: its colour `(XYZ, S)`
+/// and its notch on the light going on.
 #[derive(Clone, Copy)]
 struct CrossedLine {
     xyz: [f64; 3],
     s: f64,
-    /// What the eye ray's earlier lines leave of its reflection.
-    t_in: f64,
-    /// Its reflection's band.
-    band: Band,
-    /// Its notch on the light going on.
     notch: Band,
 }
 

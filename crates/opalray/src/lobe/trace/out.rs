@@ -369,7 +369,8 @@ struct Outgoing {
 struct Notches {
     /// The reflection's band: what each line crossed takes of it ([`Band::taken_by`]).
     band: Band,
-    /// Its centre, as the stone's lines that can take from it are found.
+    /// The reflected line's centre, as the stone's lines that can take from it are found
+    /// (their windows, 40 half-widths wide, hold it).
     at_wavelength: LineWavelength,
     /// The lobe's width over normals, rad.
     sigma: f32,
