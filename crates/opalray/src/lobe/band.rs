@@ -33,6 +33,7 @@
 
 use std::f64::consts::PI;
 
+use super::colour::mosaic_spread_nm;
 use crate::optics::BraggLine;
 
 /// Bands further apart than this many standard deviations of their sum take nothing from
@@ -68,8 +69,7 @@ impl Band {
         }
         let root = (2.0 * PI).sqrt();
         let w0 = width / (peak * root);
-        let c = cos_theta.clamp(1e-3, 1.0);
-        let spread = line.center_nm * (1.0 - c * c).sqrt() / c * sigma;
+        let spread = mosaic_spread_nm(line.center_nm, cos_theta, sigma);
         let variance = w0 * w0 + spread * spread;
         Band {
             center_nm: line.center_nm * (1.0 - sigma * sigma),
@@ -114,8 +114,7 @@ mod tests {
     /// tilt's product over the notch's window at 0.005 nm; `∫ R_a` is the line's own, the
     /// spread moving it but keeping its area (over `1 + σ²`).
     fn share_by_quadrature(a: (&BraggLine, f64), b: &BraggLine, sigma: f64) -> f64 {
-        let c = a.1;
-        let spread = a.0.center_nm * (1.0 - c * c).sqrt() / c * sigma;
+        let spread = mosaic_spread_nm(a.0.center_nm, a.1, sigma);
         let stretch = 1.0 + sigma * sigma;
         let n = 241;
         let (mut num, mut norm) = (0.0, 0.0);

@@ -104,9 +104,8 @@ impl LineColours {
         cos_theta: f64,
         sigma: f64,
     ) -> ([f64; 3], f64, f64) {
-        let c = cos_theta.clamp(1e-3, 1.0);
         let center = line.center_nm * (1.0 - sigma * sigma);
-        let spread = center * (1.0 - c * c).sqrt() / c * sigma;
+        let spread = mosaic_spread_nm(center, cos_theta, sigma);
         if spread < MIN_SPREAD_NM {
             return (sharp.0, sharp.1, line.center_nm);
         }
@@ -188,6 +187,13 @@ impl LineColours {
         let (a, b) = (read(r0), read(r0 + 1));
         std::array::from_fn(|c| a[c] * (1.0 - fr) + b[c] * fr)
     }
+}
+
+/// The standard deviation (nm) over which a mosaic of `sigma` (rad, per axis) spreads a
+/// line centred at `center_nm` met at `cos_theta`: `λ tan θ σ` ([`LineColours::in_lobe`]).
+pub(crate) fn mosaic_spread_nm(center_nm: f64, cos_theta: f64, sigma: f64) -> f64 {
+    let c = cos_theta.clamp(1e-3, 1.0);
+    center_nm * (1.0 - c * c).sqrt() / c * sigma
 }
 
 /// A line's profile as [`LineColours`] reads it: per polarisation with any light, its share
