@@ -29,7 +29,10 @@
 //!   under a colour bar (and a milky domain's haze over it), by the light reaching its top
 //!   through the bar, its own light returned by the bar and the dome in place of a polished
 //!   surface's ([`potch::PotchLight`]), and by the irradiance beyond its far surface — the calibrated
-//!   slab's reflectance as a Lambertian response, not its multiple scattering.
+//!   slab's reflectance as a Lambertian response, not its multiple scattering. Beside it, the
+//!   potch's single scattering of the light reaching it unscattered (the softbox through the
+//!   dome, the light through a clear stone): once per segment, a quadrature of directions
+//!   drawn from its phase function, each followed out of the stone ([`trace`]'s `single`).
 //! - **Exit**: the environment through the far surface (`(1 − F) n²`, the rest reflected
 //!   inside, bounded); a backing shows its reflectance under the light that reaches it
 //!   through the stone ([`BackingLight`]).

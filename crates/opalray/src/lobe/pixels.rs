@@ -193,7 +193,9 @@ impl Bands<'_, '_> {
                     let mut rng = Rng::new(self.setup.seed, stage::LOBE, (y * w + x) as u64);
                     stratified(&mut rng, x, y, &mut positions);
                     if self.setup.reuse {
-                        tracer.reuse.start_from(row_followed.of(x));
+                        tracer
+                            .reuse
+                            .start_from(row_followed.of(x), row_followed.single(x));
                     } else {
                         tracer.reuse.start(Mode::Off);
                     }
@@ -218,12 +220,14 @@ impl Bands<'_, '_> {
     }
 }
 
-/// The reflections each pixel's centre ray followed out in one row, pixel after pixel.
+/// The reflections each pixel's centre ray followed out in one row, pixel after pixel, and
+/// the body's single scattering each found.
 struct RowFollowed {
     followed: Vec<Followed>,
     /// Where each pixel's reflections start in `followed`, and after the last pixel's, where
     /// they end.
     starts: Vec<u32>,
+    singles: Vec<Option<f32>>,
 }
 
 impl RowFollowed {
@@ -231,17 +235,23 @@ impl RowFollowed {
         RowFollowed {
             followed: Vec::new(),
             starts: vec![0],
+            singles: Vec::new(),
         }
     }
 
-    /// The next pixel's reflections: those `reuse` kept.
+    /// The next pixel's reflections and single scattering: those `reuse` kept.
     fn push(&mut self, reuse: &Reuse) {
         self.followed.extend_from_slice(reuse.followed());
         self.starts.push(self.followed.len() as u32);
+        self.singles.push(reuse.single());
     }
 
     fn of(&self, x: usize) -> &[Followed] {
         &self.followed[self.starts[x] as usize..self.starts[x + 1] as usize]
+    }
+
+    fn single(&self, x: usize) -> Option<f32> {
+        self.singles[x]
     }
 }
 

@@ -152,13 +152,18 @@ impl Tracer<'_> {
     /// refracted path, dimmed by the potch and haze on the way (its lines' notches left
     /// out), as the radiance a white Lambertian surface of unit normal `normal` sends back.
     pub(super) fn point_light_on(&mut self, x: Vec3, normal: Vec3) -> f32 {
-        let Some(light) = self.setup.light else {
-            return 0.0;
-        };
+        self.point_light_reaching(x)
+            .map_or(0.0, |(to_light, e)| e * to_light.dot(normal).max(0.0))
+    }
+
+    /// The point or directional light at `x` inside the stone: the direction towards it
+    /// along its refracted path, and its irradiance there on a plane facing it (its
+    /// intensity applied), dimmed by the potch and haze on the way (its lines' notches left
+    /// out). `None` without such a light or where it does not reach `x`.
+    pub(super) fn point_light_reaching(&mut self, x: Vec3) -> Option<(Vec3, f32)> {
+        let light = self.setup.light?;
         let stone = self.stone;
-        let Some((to_light, irradiance, distance)) = stone.light_entry(&light.source, x) else {
-            return 0.0;
-        };
+        let (to_light, irradiance, distance) = stone.light_entry(&light.source, x)?;
         let path = PathToLight {
             x,
             to_light,
@@ -172,7 +177,7 @@ impl Tracer<'_> {
             &mut self.out_lines,
             &mut |_, _| {},
         );
-        light.intensity * irradiance * kept * to_light.dot(normal).max(0.0)
+        Some((to_light, light.intensity * irradiance * kept))
     }
 
     /// The scene's point or directional light reflected by `line` of `domain` at `x` towards

@@ -22,6 +22,7 @@ mod lit;
 mod out;
 mod reuse;
 mod seen;
+mod single;
 #[cfg(test)]
 mod tests;
 mod trapped;
@@ -288,6 +289,10 @@ impl<'a> Tracer<'a> {
         let ground = ground_of(self.stone, boundary);
         let light_beyond = self.light_beyond(ray.at(t_end), boundary);
         let mut beyond: f32 = self.spans.iter().map(|s| self.km_scattering(s)).sum();
+        // The body's single scattering of the light reaching it unscattered, beside the
+        // layer's diffuse light; `tau` the optical depth of the potch passed so far.
+        let single = self.single(ray, t_end, w);
+        let mut tau = 0.0f32;
         for k in 0..self.spans.len() {
             let span = self.spans[k];
             let layer = beyond;
@@ -300,11 +305,17 @@ impl<'a> Tracer<'a> {
                 }
             };
             if sigma > 0.0 {
-                let tau = sigma * (span.t1 - span.t0);
-                let kept = (-tau).exp();
+                let depth = sigma * (span.t1 - span.t0);
+                let kept = (-depth).exp();
                 let (lit, top) = self.light_on_body(ray.at(span.t0), span);
                 let (r, t) = self.layer.of(layer, ground, top);
                 self.body(w * (1.0 - kept), r * lit + t * light_beyond, sums);
+                if let (Some(single), None) = (single, span.domain) {
+                    let scattered = w * (1.0 - kept) * potch.albedo;
+                    let v = scattered * single.at(tau + 0.5 * depth);
+                    self.add_notched_white(f64::from(v), sums);
+                    tau += depth;
+                }
                 w *= kept;
             }
             if w < MIN_WEIGHT {
@@ -354,7 +365,7 @@ impl<'a> Tracer<'a> {
 }
 
 /// What dims a ray on its way out ([`Tracer::escape`]).
-#[derive(Clone, Copy, PartialEq, Eq)]
+#[derive(Clone, Copy, PartialEq)]
 pub(super) enum Dim {
     /// Nothing: the surface alone.
     None,
@@ -368,6 +379,9 @@ pub(super) enum Dim {
     PotchAndHaze,
     /// The potch under a colour bar alone (its chord, without a walk).
     Bar,
+    /// The potch without a walk: its chord under a colour bar, and `share` of the rest of
+    /// each segment in the opal (the share of potch the eye ray found where it looked).
+    Body { share: f32 },
 }
 
 /// The tables of light inside the stone a tracer reads (none while they are being made).

@@ -230,8 +230,13 @@ impl Tracer<'_> {
             let Some((t_end, boundary)) = stone.exit(&ray, region) else {
                 break;
             };
-            if matches!(dim, Dim::Bar | Dim::Potch) && region == Region::Opal {
-                let kept = (-potch.extinction_per_mm * stone.bar_chord(&ray, t_end)).exp();
+            if matches!(dim, Dim::Bar | Dim::Potch | Dim::Body { .. }) && region == Region::Opal {
+                let bar = stone.bar_chord(&ray, t_end);
+                let chord = match dim {
+                    Dim::Body { share } => bar + (t_end - bar).max(0.0) * share,
+                    _ => bar,
+                };
+                let kept = (-potch.extinction_per_mm * chord).exp();
                 taken += w * (1.0 - kept);
                 w *= kept;
                 if w < MIN_WEIGHT {
@@ -245,7 +250,7 @@ impl Tracer<'_> {
             let walked = match dim {
                 Dim::PotchAndHaze => true,
                 Dim::Potch => segment > 0 && potch.domain_scattering_per_mm > 0.0,
-                Dim::None | Dim::Bar => false,
+                Dim::None | Dim::Bar | Dim::Body { .. } => false,
             };
             if walked && region == Region::Opal {
                 let mut tau = 0.0f32;

@@ -65,6 +65,10 @@ pub(crate) enum Mode {
 pub(crate) struct Reuse {
     mode: Mode,
     followed: Vec<Followed>,
+    /// The light the body scatters once at the first ray's median depth on its first
+    /// segment ([`super::single`]), if it had potch there: smooth over a pixel, it is read
+    /// back as the reflections are.
+    single: Option<f32>,
 }
 
 impl Reuse {
@@ -72,18 +76,39 @@ impl Reuse {
     pub(crate) fn start(&mut self, mode: Mode) {
         self.mode = mode;
         self.followed.clear();
+        self.single = None;
     }
 
-    /// Start a pixel's further rays from the reflections its centre ray followed.
-    pub(crate) fn start_from(&mut self, followed: &[Followed]) {
+    /// Start a pixel's further rays from the reflections its centre ray followed and the
+    /// body's single scattering it found.
+    pub(crate) fn start_from(&mut self, followed: &[Followed], single: Option<f32>) {
         self.mode = Mode::Read;
         self.followed.clear();
         self.followed.extend_from_slice(followed);
+        self.single = single;
     }
 
     /// The reflections followed since the pixel started.
     pub(crate) fn followed(&self) -> &[Followed] {
         &self.followed
+    }
+
+    /// The body's single scattering the pixel's first ray found on its first segment.
+    pub(crate) fn single(&self) -> Option<f32> {
+        self.single
+    }
+
+    /// The body's single scattering found by an earlier ray of the pixel, to read back.
+    pub(super) fn find_single(&self) -> Option<f32> {
+        self.single.filter(|_| self.mode == Mode::Read)
+    }
+
+    /// Keep the body's single scattering a ray found on its first segment, unless an
+    /// earlier ray's is kept.
+    pub(super) fn keep_single(&mut self, light: f32) {
+        if self.mode != Mode::Off && self.single.is_none() {
+            self.single = Some(light);
+        }
     }
 
     /// Whether reflections are kept or read at all.
