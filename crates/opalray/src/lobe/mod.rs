@@ -104,9 +104,10 @@ pub struct LobeSetup<'a> {
     /// Walk the reflections the dome traps for their second Bragg reflections
     /// (`integrator.trapped`).
     pub trapped: bool,
-    /// A pixel's further rays read back the reflections its centre ray followed out instead
-    /// of walking them again (`pixels`; about a third of the default render's time): true
-    /// in every render, false to measure what that changes.
+    /// A pixel's further rays read back the reflections its centre ray followed out, and the
+    /// light its body scatters once, instead of finding them again (`pixels`; about a third
+    /// of the default render's time): true in every render, false to measure what that
+    /// changes.
     pub reuse: bool,
 }
 

@@ -311,6 +311,10 @@ impl<'a> Tracer<'a> {
                 let (r, t) = self.layer.of(layer, ground, top);
                 self.body(w * (1.0 - kept), r * lit + t * light_beyond, sums);
                 if let (Some(single), None) = (single, span.domain) {
+                    // Read at the span's optical middle: `sech(d/2)` times the integral of
+                    // the dimmed light over the span, which fades the term in a thick span,
+                    // where the layer (calibrated to the tone) holds the body's scattering
+                    // of the light already (`single.rs`).
                     let scattered = w * (1.0 - kept) * potch.albedo;
                     let v = scattered * single.at(tau + 0.5 * depth);
                     self.add_notched_white(f64::from(v), sums);

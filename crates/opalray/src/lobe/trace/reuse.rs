@@ -3,6 +3,8 @@
 //! lines, notches and body (what resolves the edge), and a line's reflection that the pixel's
 //! centre ray, or an earlier further ray, followed out of the stone ([`Tracer::reflected`]: the
 //! cull and the walk out, about half of a ray's time) is read back instead of walked again.
+//! So is the light the body scatters once on that segment ([`Tracer::single`]'s quadrature),
+//! found by the first of the pixel's rays that had potch to scatter it.
 //!
 //! Only on the eye ray's first segment, from the surface in (after a reflection off the
 //! curved dome a pixel's rays spread): there the reflected ray's way out moves by under a

@@ -56,8 +56,12 @@ impl Tracer<'_> {
             .map(|s| s.t1 - s.t0)
             .sum();
         let tau = extinction * chord;
-        let lamp = self.body_light.map_or(0.0, |(_, e)| e) * PI * hg_phase(potch.anisotropy, 1.0);
-        if tau <= 0.0 || w * potch.albedo * (1.0 - (-tau).exp()) * (self.peak + lamp) < CUT {
+        // A bound on what the segment's spans add: the light above the median depth is
+        // brightened by up to e^{τ_m} ≤ 2 ([`Single::at`]); a lamp's phase is at most
+        // HG's forward peak for |g|.
+        let g = potch.anisotropy;
+        let lamp = self.body_light.map_or(0.0, |(_, e)| e) * PI * hg_phase(g.abs(), 1.0);
+        if tau <= 0.0 || 2.0 * w * potch.albedo * (1.0 - (-tau).exp()) * (self.peak + lamp) < CUT {
             return None;
         }
         let tau_m = -((1.0 + (-tau).exp()) * 0.5).ln();
@@ -68,17 +72,21 @@ impl Tracer<'_> {
         }
         let at = self.at_depth(ray, tau_m / extinction);
         let bar = self.stone.bar_chord(ray, t_end);
-        let share = ((chord - bar) / (t_end - bar)).clamp(0.0, 1.0);
+        let rest = t_end - bar;
+        let share = if rest > 1e-6 {
+            ((chord - bar) / rest).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         let dim = Dim::Body { share };
         let count = SINGLE_DIRECTIONS as f32;
         let sigma = 0.5 * (PI / count).sqrt();
         let golden = PI * (3.0 - 5f32.sqrt());
         let d = ray.direction;
         let (t, b) = d.any_orthonormal_pair();
-        let g = f64::from(potch.anisotropy);
         let mut sum = 0.0;
         for k in 0..SINGLE_DIRECTIONS {
-            let cos = hg_cos(g, (k as f64 + 0.5) / count as f64) as f32;
+            let cos = hg_cos(f64::from(g), (k as f64 + 0.5) / f64::from(count)) as f32;
             let sin = (1.0 - cos * cos).max(0.0).sqrt();
             let phi = golden * k as f32;
             let u = d * cos + (t * phi.cos() + b * phi.sin()) * sin;
