@@ -55,9 +55,14 @@ impl Band {
     /// `line`, met at `cos_theta` (inside) by a domain of mosaic spread `sigma` (rad, per
     /// axis, the lobe's width over normals).
     pub(crate) fn of(line: &BraggLine, cos_theta: f64, sigma: f64) -> Band {
+        Band::of_tanh(line, (line.nu_s.tanh(), line.nu_p.tanh()), cos_theta, sigma)
+    }
+
+    /// [`Band::of`], given `tanh` of the s and the p coupling: each polarisation's width
+    /// `½ (λ/N) ν tanh ν`, its peak `tanh² ν`.
+    pub(crate) fn of_tanh(line: &BraggLine, tanh: (f64, f64), cos_theta: f64, sigma: f64) -> Band {
         let scale = line.center_nm / line.layers.max(1.0);
-        // Each polarisation's tanh ν once: its width `½ (λ/N) ν tanh ν`, its peak `tanh² ν`.
-        let (ts, tp) = (line.nu_s.tanh(), line.nu_p.tanh());
+        let (ts, tp) = tanh;
         let width = 0.5 * scale * (line.nu_s * ts + line.nu_p * tp);
         let peak = 0.5 * (ts * ts + tp * tp);
         if width <= 0.0 || peak <= 0.0 {
@@ -82,6 +87,11 @@ impl Band {
     /// tracer's ray goes through a crossing).
     pub(crate) fn notch(line: &BraggLine) -> Band {
         Band::of(line, 1.0, 0.0)
+    }
+
+    /// [`Band::notch`], given `tanh` of the s and the p coupling.
+    pub(crate) fn notch_tanh(line: &BraggLine, tanh: (f64, f64)) -> Band {
+        Band::of_tanh(line, tanh, 1.0, 0.0)
     }
 
     /// The share of this band's light that `notch` reflects (what it takes on the way).

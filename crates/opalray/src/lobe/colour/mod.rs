@@ -212,19 +212,25 @@ pub struct LineProfile {
 impl LineProfile {
     /// The profile of `line`.
     pub fn of(line: &BraggLine) -> Self {
+        Self::of_tanh(line, (line.nu_s.tanh(), line.nu_p.tanh()))
+    }
+
+    /// [`LineProfile::of`], given `tanh` of the s and the p coupling (a crossed line's,
+    /// taken once for its profile, its band and its notch).
+    pub(crate) fn of_tanh(line: &BraggLine, tanh: (f64, f64)) -> Self {
         let scale = line.center_nm / line.layers.max(1.0);
         let mut profile = LineProfile {
             center_nm: line.center_nm,
             parts: [(0.0, 0.0); 2],
             count: 0,
         };
-        for nu in [line.nu_s, line.nu_p] {
+        for (nu, t) in [(line.nu_s, tanh.0), (line.nu_p, tanh.1)] {
             // Half the light is each polarisation's.
-            let width = 0.5 * scale * nu * nu.tanh();
+            let width = 0.5 * scale * nu * t;
             if width <= 0.0 {
                 continue;
             }
-            let gamma = lorentz_half_width(nu) * scale / std::f64::consts::PI;
+            let gamma = lorentz_half_width(nu, t) * scale / std::f64::consts::PI;
             profile.parts[profile.count] = (width, gamma);
             profile.count += 1;
         }
@@ -305,12 +311,12 @@ fn row_of(gamma_nm: f64) -> f64 {
 }
 
 /// The half-width in detuning σ of the Lorentzian with a grating's tails `ν²/(2σ²)` and its
-/// area `π ν tanh ν`: `ν / (2 tanh ν)` (½ for a thin stack).
-fn lorentz_half_width(nu: f64) -> f64 {
+/// area `π ν tanh ν`: `ν / (2 tanh ν)` (½ for a thin stack), given `tanh = tanh ν`.
+fn lorentz_half_width(nu: f64, tanh: f64) -> f64 {
     if nu < 1e-6 {
         0.5
     } else {
-        nu / (2.0 * nu.tanh())
+        nu / (2.0 * tanh)
     }
 }
 

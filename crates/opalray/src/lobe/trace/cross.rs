@@ -24,16 +24,18 @@ impl Tracer<'_> {
         let mut colours = std::mem::take(&mut self.line_colours);
         colours.clear();
         for l in &lines {
-            let profile = LineProfile::of(&l.line);
+            // `tanh ν` of each polarisation once, for the profile, the band and the notch.
+            let tanh = (l.line.nu_s.tanh(), l.line.nu_p.tanh());
+            let profile = LineProfile::of_tanh(&l.line, tanh);
             let (xyz, s) = self.colours.of_profile(&profile);
             let cos_theta = -dir.dot(l.normal);
             let sigma = stone.lobe_sigma(l.kind, cos_theta);
-            let band = Band::of(&l.line, cos_theta.into(), sigma.into());
+            let band = Band::of_tanh(&l.line, tanh, cos_theta.into(), sigma.into());
             let t_in = self.eye_passes(&band);
             colours.push(CrossedLine {
                 xyz,
                 s,
-                notch: Band::notch(&l.line),
+                notch: Band::notch_tanh(&l.line, tanh),
             });
             let weight = w * t_in as f32;
             if weight * xyz[1] as f32 * (self.peak + self.body_peak) > CUT {
