@@ -39,6 +39,17 @@ pub const MAX_SEGMENTS: usize = 8;
 const EPSILON_MM: f32 = 1e-4;
 /// An eye ray whose weight falls below this adds nothing more.
 const MIN_WEIGHT: f32 = 1e-4;
+/// An eye ray left with less than this weight by a partial reflection at the surface inside
+/// (the 3–10 % of it that the surface sends back within the critical angle, after the 46 %
+/// the refraction in leaves) is followed out through the surface alone ([`Tracer::faint`]):
+/// its domains' reflections, its body's light and its notches on the way are left out. In
+/// the clear `crystal` such segments took 45 % of the frame's time for under 0.1 % of its
+/// light (`BENCHMARKS.md`); what they see through the surface, the internal reflections of
+/// the lights along the rim, is kept.
+const FAINT_WEIGHT: f32 = 0.01;
+/// The lobe (over normals, radians) through which a faint eye ray reads the light out of
+/// the stone: a sharp ray's, a little under the width of a pixel of the default frame.
+const FAINT_SIGMA: f32 = 1e-3;
 /// A line's reflection adding less luminance than this (relative to a white diffuser under
 /// the light) is left out: 1/30 of the darkest step of an 8-bit sRGB image.
 const CUT: f32 = 1e-5;
@@ -227,6 +238,8 @@ impl<'a> Tracer<'a> {
         sums: &mut Sums,
     ) {
         let stone = self.stone;
+        // The last segment in the opal, whose potch dims a faint ray.
+        let mut last = None;
         for segment in 0..MAX_SEGMENTS {
             self.segment = segment as u8;
             let ray = Ray {
@@ -238,6 +251,7 @@ impl<'a> Tracer<'a> {
             };
             if region == Region::Opal {
                 self.walk_eye(&ray, t_end);
+                last = Some((ray, t_end));
                 let Some(kept) = self.spans_eye(&ray, t_end, boundary, w, sums) else {
                     return;
                 };
@@ -251,7 +265,42 @@ impl<'a> Tracer<'a> {
             if w < MIN_WEIGHT {
                 return;
             }
+            if w < FAINT_WEIGHT && region == Region::Opal {
+                let share = last.map_or(1.0, |(ray, t_end)| self.potch_on_segment(&ray, t_end).1);
+                self.faint(pos, dir, w, share, sums);
+                return;
+            }
         }
+    }
+
+    /// The potch on the eye ray's segment `ray` in the opal (its spans in `spans`, ending at
+    /// `t_end`): its length, and its share of the segment beyond the chord under a colour
+    /// bar (what [`Dim::Body`] dims by besides that chord).
+    fn potch_on_segment(&self, ray: &Ray, t_end: f32) -> (f32, f32) {
+        let chord: f32 = self
+            .spans
+            .iter()
+            .filter(|s| s.domain.is_none())
+            .map(|s| s.t1 - s.t0)
+            .sum();
+        let bar = self.stone.bar_chord(ray, t_end);
+        let rest = t_end - bar;
+        let share = if rest > 1e-6 {
+            ((chord - bar) / rest).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (chord, share)
+    }
+
+    /// A faint eye ray of weight `w` from `pos` along `dir` in the opal ([`FAINT_WEIGHT`]):
+    /// what it sees out through the surface ([`Tracer::escape`]: its internal reflections
+    /// with their Fresnel weights, dimmed by the potch as its last segment found it,
+    /// `share`), notched by the lines it crossed before.
+    fn faint(&mut self, pos: Vec3, dir: Vec3, w: f32, share: f32, sums: &mut Sums) {
+        let dim = Dim::Body { share };
+        let seen = self.escape(pos, dir, Region::Opal, FAINT_SIGMA, dim, Hint::default());
+        self.add_notched_white(f64::from(w * seen), sums);
     }
 
     /// The spans of the eye ray's segment in the opal up to `t_end`, into `spans`.

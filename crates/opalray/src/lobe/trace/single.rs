@@ -49,12 +49,7 @@ impl Tracer<'_> {
         if potch.albedo <= 0.0 || extinction <= 0.0 {
             return None;
         }
-        let chord: f32 = self
-            .spans
-            .iter()
-            .filter(|s| s.domain.is_none())
-            .map(|s| s.t1 - s.t0)
-            .sum();
+        let (chord, share) = self.potch_on_segment(ray, t_end);
         let tau = extinction * chord;
         // A bound on what the segment's spans add: the light above the median depth is
         // brightened by up to e^{τ_m} ≤ 2 ([`Single::at`]); a lamp's phase is at most
@@ -71,13 +66,6 @@ impl Tracer<'_> {
             return Some(Single { light, tau: tau_m });
         }
         let at = self.at_depth(ray, tau_m / extinction);
-        let bar = self.stone.bar_chord(ray, t_end);
-        let rest = t_end - bar;
-        let share = if rest > 1e-6 {
-            ((chord - bar) / rest).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
         let dim = Dim::Body { share };
         let count = SINGLE_DIRECTIONS as f32;
         let sigma = 0.5 * (PI / count).sqrt();
