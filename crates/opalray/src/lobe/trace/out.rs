@@ -61,8 +61,12 @@ impl Tracer<'_> {
             }
             if boundary == Boundary::Surface && way.w < PARTIAL * before {
                 // A partial reflection at the surface: the share sent back inside is
-                // followed through the surface alone, dimmed by the potch under a bar.
-                way.seen += way.w * self.escape(pos, dir, region, sigma, Dim::Bar, Hint::default());
+                // followed through the surface alone, dimmed by the potch under a bar, while
+                // what is left of it could still reach the cut.
+                let floor = CUT / (gain * way.w * self.peak);
+                let (seen, _) =
+                    self.escape_above(pos, dir, region, sigma, Dim::Bar, Hint::default(), floor);
+                way.seen += way.w * seen;
                 break;
             }
         }
@@ -144,9 +148,12 @@ impl Tracer<'_> {
             .lines_at_wavelength(domain, dir, len, at_wavelength, &mut self.out_lines);
         for l in &self.out_lines {
             let r = notches.band.taken_by(&Band::notch(&l.line)) as f32;
-            if notches.gain * way.w * r * self.peak >= CUT {
+            let bound = notches.gain * way.w * r * self.peak;
+            if bound >= CUT {
                 let again = reflect(dir, l.normal);
-                let seen = self.seen_out(ray.at(span.t0), again, Region::Opal, notches.sigma);
+                // Followed while what is left of it could still reach the cut.
+                let (at, sigma) = (ray.at(span.t0), notches.sigma);
+                let seen = self.seen_out(at, again, Region::Opal, sigma, CUT / bound);
                 way.seen += way.w * r * seen;
             }
             way.w *= 1.0 - r;
@@ -154,10 +161,20 @@ impl Tracer<'_> {
     }
 
     /// What a ray from `pos` along `dir` in `region` sees through the surface (up to
-    /// [`MAX_SEGMENTS`] surface events, no domains on the way): the environment through a
-    /// lobe of width `sigma` over normals, in the stone's radiance.
-    pub(super) fn seen_out(&self, pos: Vec3, dir: Vec3, region: Region, sigma: f32) -> f32 {
-        self.escape(pos, dir, region, sigma, Dim::None, Hint::default())
+    /// [`MAX_SEGMENTS`] surface events, no domains on the way, while its weight is at least
+    /// `floor`): the environment through a lobe of width `sigma` over normals, in the
+    /// stone's radiance.
+    pub(super) fn seen_out(
+        &self,
+        pos: Vec3,
+        dir: Vec3,
+        region: Region,
+        sigma: f32,
+        floor: f32,
+    ) -> f32 {
+        let hint = Hint::default();
+        self.escape_above(pos, dir, region, sigma, Dim::None, hint, floor)
+            .0
     }
 
     /// Whether `weight` times what a ray from `pos` along `dir` in the opal sees through the
@@ -192,7 +209,8 @@ impl Tracer<'_> {
         false
     }
 
-    /// [`Tracer::seen_out`], dimmed on every segment in the opal as `dim` says; `hint` holds
+    /// What a ray from `pos` along `dir` in `region` sees through the surface
+    /// ([`Tracer::seen_out`]), dimmed on every segment in the opal as `dim` says; `hint` holds
     /// the cells of `pos`, if known (the first walk starts from them), each later segment's
     /// walk starting from the cells where the last one ended.
     pub(super) fn escape(
@@ -216,8 +234,27 @@ impl Tracer<'_> {
         region: Region,
         sigma: f32,
         dim: Dim,
-        mut hint: Hint,
+        hint: Hint,
     ) -> (f32, f32) {
+        self.escape_above(pos, dir, region, sigma, dim, hint, MIN_WEIGHT)
+    }
+
+    /// [`Tracer::escape_taken`], followed only while the ray's weight is at least `floor`
+    /// (at least [`MIN_WEIGHT`]): a caller whose ray weighs `g` at most, relative to the
+    /// brightest light, passes `CUT / g`, so that it stops where the light left could no
+    /// longer reach [`CUT`].
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn escape_above(
+        &self,
+        pos: Vec3,
+        dir: Vec3,
+        region: Region,
+        sigma: f32,
+        dim: Dim,
+        mut hint: Hint,
+        floor: f32,
+    ) -> (f32, f32) {
+        let floor = floor.max(MIN_WEIGHT);
         let stone = self.stone;
         let potch = stone.potch;
         let (mut pos, mut dir, mut region) = (pos, dir, region);
@@ -239,7 +276,7 @@ impl Tracer<'_> {
                 let kept = (-potch.extinction_per_mm * chord).exp();
                 taken += w * (1.0 - kept);
                 w *= kept;
-                if w < MIN_WEIGHT {
+                if w < floor {
                     break;
                 }
             }
@@ -266,11 +303,11 @@ impl Tracer<'_> {
                     tau += sigma * (s.t1 - s.t0);
                     // Once the ray is dimmed under MIN_WEIGHT, the rest of the walk (which
                     // can only dim it more) is left: it ends below.
-                    w * (-tau).exp() >= MIN_WEIGHT
+                    w * (-tau).exp() >= floor
                 });
                 taken += w * (1.0 - (-tau).exp());
                 w *= (-tau).exp();
-                if w < MIN_WEIGHT {
+                if w < floor {
                     break;
                 }
             }
@@ -278,7 +315,7 @@ impl Tracer<'_> {
             (event, pos, dir, region, w) =
                 self.boundary_out(ray.at(t_end), dir, region, boundary, w, sigma);
             seen += event;
-            if boundary == Boundary::Back || w < MIN_WEIGHT {
+            if boundary == Boundary::Back || w < floor {
                 break;
             }
         }

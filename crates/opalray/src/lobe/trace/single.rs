@@ -56,7 +56,8 @@ impl Tracer<'_> {
         // HG's forward peak for |g|.
         let g = potch.anisotropy;
         let lamp = self.body_light.map_or(0.0, |(_, e)| e) * PI * hg_phase(g.abs(), 1.0);
-        if tau <= 0.0 || 2.0 * w * potch.albedo * (1.0 - (-tau).exp()) * (self.peak + lamp) < CUT {
+        let bound = 2.0 * w * potch.albedo * (1.0 - (-tau).exp()) * (self.peak + lamp);
+        if tau <= 0.0 || bound < CUT {
             return None;
         }
         let tau_m = -((1.0 + (-tau).exp()) * 0.5).ln();
@@ -78,7 +79,11 @@ impl Tracer<'_> {
             let sin = (1.0 - cos * cos).max(0.0).sqrt();
             let phi = golden * k as f32;
             let u = d * cos + (t * phi.cos() + b * phi.sin()) * sin;
-            sum += self.escape(at, u, Region::Opal, sigma, dim, Hint::default());
+            // Followed while what is left of it could still reach the cut.
+            let floor = CUT / bound;
+            sum += self
+                .escape_above(at, u, Region::Opal, sigma, dim, Hint::default(), floor)
+                .0;
         }
         let light = sum / count + self.point_light_scattered(at, d);
         if reusable {

@@ -30,7 +30,7 @@ fn cull_agrees_with_the_full_sum(preset_name: &str) -> (usize, usize) {
         }
         let dir = rng.unit_vector();
         let sigma = 0.002 + 0.05 * rng.uniform_f32();
-        let bound = tracer.seen_out(p, dir, Region::Opal, sigma);
+        let bound = tracer.seen_out(p, dir, Region::Opal, sigma, MIN_WEIGHT);
         let near = if bound > 0.0 { CUT / bound } else { 1.0 };
         for weight in [near, near * (0.5 + 1.5 * rng.uniform_f32()), 1e-4, 1.0] {
             let full = weight * bound >= CUT;
