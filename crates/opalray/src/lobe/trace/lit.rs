@@ -137,8 +137,12 @@ impl Tracer<'_> {
             let phi = golden * k as f32;
             let dir = (t * (r * phi.cos()) + b * (r * phi.sin()))
                 + normal * (1.0 - r * r).max(0.0).sqrt();
-            let (seen, taken) =
-                self.escape_taken(at, dir, self.stone.region_at(at), sigma, dim, start);
+            let ray = Ray {
+                origin: at,
+                direction: dir,
+            };
+            let region = self.stone.region_at(at);
+            let (seen, taken) = self.escape_taken(&ray, region, sigma, dim, start, MIN_WEIGHT);
             sum += seen;
             returned += taken;
         }

@@ -64,8 +64,12 @@ impl Tracer<'_> {
                 // followed through the surface alone, dimmed by the potch under a bar, while
                 // what is left of it could still reach the cut.
                 let floor = CUT / (gain * way.w * self.peak);
+                let back = Ray {
+                    origin: pos,
+                    direction: dir,
+                };
                 let (seen, _) =
-                    self.escape_above(pos, dir, region, sigma, Dim::Bar, Hint::default(), floor);
+                    self.escape_taken(&back, region, sigma, Dim::Bar, Hint::default(), floor);
                 way.seen += way.w * seen;
                 break;
             }
@@ -172,8 +176,11 @@ impl Tracer<'_> {
         sigma: f32,
         floor: f32,
     ) -> f32 {
-        let hint = Hint::default();
-        self.escape_above(pos, dir, region, sigma, Dim::None, hint, floor)
+        let ray = Ray {
+            origin: pos,
+            direction: dir,
+        };
+        self.escape_taken(&ray, region, sigma, Dim::None, Hint::default(), floor)
             .0
     }
 
@@ -222,38 +229,30 @@ impl Tracer<'_> {
         dim: Dim,
         hint: Hint,
     ) -> f32 {
-        self.escape_taken(pos, dir, region, sigma, dim, hint).0
+        let ray = Ray {
+            origin: pos,
+            direction: dir,
+        };
+        self.escape_taken(&ray, region, sigma, dim, hint, MIN_WEIGHT)
+            .0
     }
 
-    /// [`Tracer::escape`], and the share of the ray's weight that the dimming took on the
-    /// way (the light of a ray from the body that the surface sends back into it).
+    /// [`Tracer::escape`] from `ray`'s origin along its direction, followed only while the
+    /// ray's weight is at least `floor` (at least [`MIN_WEIGHT`]; a caller whose ray weighs
+    /// `g` at most, relative to the brightest light, passes `CUT / g`, so that it stops where
+    /// the light left could no longer reach [`CUT`]), and the share of the ray's weight that
+    /// the dimming took on the way (the light of a ray from the body that the surface sends
+    /// back into it).
     pub(super) fn escape_taken(
         &self,
-        pos: Vec3,
-        dir: Vec3,
-        region: Region,
-        sigma: f32,
-        dim: Dim,
-        hint: Hint,
-    ) -> (f32, f32) {
-        self.escape_above(pos, dir, region, sigma, dim, hint, MIN_WEIGHT)
-    }
-
-    /// [`Tracer::escape_taken`], followed only while the ray's weight is at least `floor`
-    /// (at least [`MIN_WEIGHT`]): a caller whose ray weighs `g` at most, relative to the
-    /// brightest light, passes `CUT / g`, so that it stops where the light left could no
-    /// longer reach [`CUT`].
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn escape_above(
-        &self,
-        pos: Vec3,
-        dir: Vec3,
+        ray: &Ray,
         region: Region,
         sigma: f32,
         dim: Dim,
         mut hint: Hint,
         floor: f32,
     ) -> (f32, f32) {
+        let (pos, dir) = (ray.origin, ray.direction);
         let floor = floor.max(MIN_WEIGHT);
         let stone = self.stone;
         let potch = stone.potch;

@@ -80,9 +80,13 @@ impl Tracer<'_> {
             let phi = golden * k as f32;
             let u = d * cos + (t * phi.cos() + b * phi.sin()) * sin;
             // Followed while what is left of it could still reach the cut.
-            let floor = CUT / bound;
+            let ray = Ray {
+                origin: at,
+                direction: u,
+            };
+            let hint = Hint::default();
             sum += self
-                .escape_above(at, u, Region::Opal, sigma, dim, Hint::default(), floor)
+                .escape_taken(&ray, Region::Opal, sigma, dim, hint, CUT / bound)
                 .0;
         }
         let light = sum / count + self.point_light_scattered(at, d);
