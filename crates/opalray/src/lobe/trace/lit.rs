@@ -142,7 +142,7 @@ impl Tracer<'_> {
                 direction: dir,
             };
             let region = self.stone.region_at(at);
-            let (seen, taken) = self.escape_taken(&ray, region, sigma, dim, start, MIN_WEIGHT);
+            let (seen, taken) = self.escape(&ray, region, sigma, dim, start, MIN_WEIGHT);
             sum += seen;
             returned += taken;
         }

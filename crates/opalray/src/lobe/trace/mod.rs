@@ -40,15 +40,16 @@ const EPSILON_MM: f32 = 1e-4;
 /// An eye ray whose weight falls below this adds nothing more.
 const MIN_WEIGHT: f32 = 1e-4;
 /// An eye ray left with less than this weight by a partial reflection at the surface inside
-/// (the 3–10 % of it that the surface sends back within the critical angle, after the 46 %
-/// the refraction in leaves) is followed out through the surface alone ([`Tracer::faint`]):
-/// its domains' reflections, its body's light and its notches on the way are left out. In
-/// the clear `crystal` such segments took 45 % of the frame's time for under 0.1 % of its
-/// light (`BENCHMARKS.md`); what they see through the surface, the internal reflections of
-/// the lights along the rim, is kept.
+/// the opal is followed out through the surface alone ([`Tracer::faint`]): its domains'
+/// reflections, its body's light and its notches on the way are left out. It came in with
+/// `(1 − F)/n²` ≈ 46 %, and each partial reflection keeps 3–10 % of that: in a clear stone
+/// it goes faint after its second. In the clear `crystal` the faint rays took 45 % of the
+/// frame's time, and what their domains and body added was 0.01 % of its light
+/// (`BENCHMARKS.md`); what they see through the surface, the internal images of the lights
+/// along the rim, is kept.
 const FAINT_WEIGHT: f32 = 0.01;
 /// The lobe (over normals, radians) through which a faint eye ray reads the light out of
-/// the stone: a sharp ray's, a little under the width of a pixel of the default frame.
+/// the stone: a near-sharp one, about 0.17° wide outside (six pixels of the default frame).
 const FAINT_SIGMA: f32 = 1e-3;
 /// A line's reflection adding less luminance than this (relative to a white diffuser under
 /// the light) is left out: 1/30 of the darkest step of an 8-bit sRGB image.
@@ -258,6 +259,7 @@ impl<'a> Tracer<'a> {
                 w = kept;
             }
             let at = ray.at(t_end);
+            let before = w;
             let Some(next) = self.boundary_eye(at, dir, region, boundary, w, sums) else {
                 return;
             };
@@ -265,10 +267,18 @@ impl<'a> Tracer<'a> {
             if w < MIN_WEIGHT {
                 return;
             }
-            if w < FAINT_WEIGHT && region == Region::Opal {
-                let share = last.map_or(1.0, |(ray, t_end)| self.potch_on_segment(&ray, t_end).1);
-                self.faint(pos, dir, w, share, sums);
-                return;
+            let partial = boundary == Boundary::Surface && w < PARTIAL * before;
+            if partial && w < FAINT_WEIGHT && region == Region::Opal {
+                // The segment just walked, in the opal, was the ray's last: a body that
+                // scattered a share of it could show more than `BODY_CUT` on the segments
+                // left, and is not left out.
+                let scattered = 1.0 - (-self.scattering_depth()).exp();
+                if w * self.body_peak * scattered < BODY_CUT {
+                    let share =
+                        last.map_or(1.0, |(ray, t_end)| self.potch_on_segment(&ray, t_end).1);
+                    self.faint(pos, dir, w, share, sums);
+                    return;
+                }
             }
         }
     }
@@ -293,13 +303,36 @@ impl<'a> Tracer<'a> {
         (chord, share)
     }
 
+    /// The optical depth of the potch and haze on the eye ray's last segment (its spans in
+    /// `spans`).
+    fn scattering_depth(&self) -> f32 {
+        let potch = self.stone.potch;
+        self.spans
+            .iter()
+            .map(|s| {
+                let sigma = match s.domain {
+                    None => potch.extinction_per_mm,
+                    Some(_) => potch.domain_scattering_per_mm,
+                };
+                sigma * (s.t1 - s.t0)
+            })
+            .sum()
+    }
+
     /// A faint eye ray of weight `w` from `pos` along `dir` in the opal ([`FAINT_WEIGHT`]):
     /// what it sees out through the surface ([`Tracer::escape`]: its internal reflections
     /// with their Fresnel weights, dimmed by the potch as its last segment found it,
-    /// `share`), notched by the lines it crossed before.
+    /// `share`), notched by the lines it crossed before. A backing it reaches shows it
+    /// nothing.
     fn faint(&mut self, pos: Vec3, dir: Vec3, w: f32, share: f32, sums: &mut Sums) {
+        let ray = Ray {
+            origin: pos,
+            direction: dir,
+        };
         let dim = Dim::Body { share };
-        let seen = self.escape(pos, dir, Region::Opal, FAINT_SIGMA, dim, Hint::default());
+        // Followed while its weight stays over [`MIN_WEIGHT`], as the eye ray was.
+        let floor = MIN_WEIGHT / w;
+        let (seen, _) = self.escape(&ray, Region::Opal, FAINT_SIGMA, dim, Hint::default(), floor);
         self.add_notched_white(f64::from(w * seen), sums);
     }
 

@@ -68,8 +68,7 @@ impl Tracer<'_> {
                     origin: pos,
                     direction: dir,
                 };
-                let (seen, _) =
-                    self.escape_taken(&back, region, sigma, Dim::Bar, Hint::default(), floor);
+                let (seen, _) = self.escape(&back, region, sigma, Dim::Bar, Hint::default(), floor);
                 way.seen += way.w * seen;
                 break;
             }
@@ -180,7 +179,7 @@ impl Tracer<'_> {
             origin: pos,
             direction: dir,
         };
-        self.escape_taken(&ray, region, sigma, Dim::None, Hint::default(), floor)
+        self.escape(&ray, region, sigma, Dim::None, Hint::default(), floor)
             .0
     }
 
@@ -216,34 +215,16 @@ impl Tracer<'_> {
         false
     }
 
-    /// What a ray from `pos` along `dir` in `region` sees through the surface
-    /// ([`Tracer::seen_out`]), dimmed on every segment in the opal as `dim` says; `hint` holds
-    /// the cells of `pos`, if known (the first walk starts from them), each later segment's
-    /// walk starting from the cells where the last one ended.
+    /// What a ray from `ray`'s origin along its direction in `region` sees through the
+    /// surface ([`Tracer::seen_out`]), dimmed on every segment in the opal as `dim` says,
+    /// followed only while its weight is at least `floor` (at least [`MIN_WEIGHT`]; a caller
+    /// whose ray weighs `g` at most, relative to the brightest light, passes `CUT / g`, so
+    /// that it stops where the light left could no longer reach [`CUT`]); and the share of
+    /// its weight that the dimming took on the way (the light of a ray from the body that
+    /// the surface sends back into it). `hint` holds the cells of the ray's origin, if known
+    /// (the first walk starts from them), each later segment's walk starting from the cells
+    /// where the last one ended.
     pub(super) fn escape(
-        &self,
-        pos: Vec3,
-        dir: Vec3,
-        region: Region,
-        sigma: f32,
-        dim: Dim,
-        hint: Hint,
-    ) -> f32 {
-        let ray = Ray {
-            origin: pos,
-            direction: dir,
-        };
-        self.escape_taken(&ray, region, sigma, dim, hint, MIN_WEIGHT)
-            .0
-    }
-
-    /// [`Tracer::escape`] from `ray`'s origin along its direction, followed only while the
-    /// ray's weight is at least `floor` (at least [`MIN_WEIGHT`]; a caller whose ray weighs
-    /// `g` at most, relative to the brightest light, passes `CUT / g`, so that it stops where
-    /// the light left could no longer reach [`CUT`]), and the share of the ray's weight that
-    /// the dimming took on the way (the light of a ray from the body that the surface sends
-    /// back into it).
-    pub(super) fn escape_taken(
         &self,
         ray: &Ray,
         region: Region,
@@ -300,7 +281,7 @@ impl Tracer<'_> {
                         return true;
                     }
                     tau += sigma * (s.t1 - s.t0);
-                    // Once the ray is dimmed under MIN_WEIGHT, the rest of the walk (which
+                    // Once the ray is dimmed under its floor, the rest of the walk (which
                     // can only dim it more) is left: it ends below.
                     w * (-tau).exp() >= floor
                 });

@@ -56,8 +56,11 @@ impl Tracer<'_> {
         // HG's forward peak for |g|.
         let g = potch.anisotropy;
         let lamp = self.body_light.map_or(0.0, |(_, e)| e) * PI * hg_phase(g.abs(), 1.0);
-        let bound = 2.0 * w * potch.albedo * (1.0 - (-tau).exp()) * (self.peak + lamp);
-        if tau <= 0.0 || bound < CUT {
+        // Past this the light is followed only while it could still reach the cut for a
+        // ray of any weight and depth (`w (1 − e^{−τ})` at most 1): the light found is then
+        // the same for every ray of a pixel, which its further rays read back.
+        let most = 2.0 * potch.albedo * (self.peak + lamp);
+        if tau <= 0.0 || w * (1.0 - (-tau).exp()) * most < CUT {
             return None;
         }
         let tau_m = -((1.0 + (-tau).exp()) * 0.5).ln();
@@ -86,7 +89,7 @@ impl Tracer<'_> {
             };
             let hint = Hint::default();
             sum += self
-                .escape_taken(&ray, Region::Opal, sigma, dim, hint, CUT / bound)
+                .escape(&ray, Region::Opal, sigma, dim, hint, CUT / most)
                 .0;
         }
         let light = sum / count + self.point_light_scattered(at, d);
