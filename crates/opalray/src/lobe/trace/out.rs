@@ -233,11 +233,10 @@ impl Tracer<'_> {
         mut hint: Hint,
         floor: f32,
     ) -> (f32, f32) {
-        let (pos, dir) = (ray.origin, ray.direction);
         let floor = floor.max(MIN_WEIGHT);
         let stone = self.stone;
         let potch = stone.potch;
-        let (mut pos, mut dir, mut region) = (pos, dir, region);
+        let (mut pos, mut dir, mut region) = (ray.origin, ray.direction, region);
         let (mut w, mut seen, mut taken) = (1.0f32, 0.0f32, 0.0f32);
         for segment in 0..MAX_SEGMENTS {
             let ray = Ray {
