@@ -221,13 +221,15 @@ impl Bands<'_, '_> {
 }
 
 /// The reflections each pixel's centre ray followed out in one row, pixel after pixel, and
-/// the body's single scattering each found.
+/// the body's single scattering each found, by segment.
 struct RowFollowed {
     followed: Vec<Followed>,
     /// Where each pixel's reflections start in `followed`, and after the last pixel's, where
     /// they end.
     starts: Vec<u32>,
-    singles: Vec<Option<f32>>,
+    singles: Vec<(u8, f32)>,
+    /// Where each pixel's single scatterings start in `singles`, as `starts`.
+    single_starts: Vec<u32>,
 }
 
 impl RowFollowed {
@@ -236,6 +238,7 @@ impl RowFollowed {
             followed: Vec::new(),
             starts: vec![0],
             singles: Vec::new(),
+            single_starts: vec![0],
         }
     }
 
@@ -243,15 +246,16 @@ impl RowFollowed {
     fn push(&mut self, reuse: &Reuse) {
         self.followed.extend_from_slice(reuse.followed());
         self.starts.push(self.followed.len() as u32);
-        self.singles.push(reuse.single());
+        self.singles.extend_from_slice(reuse.single());
+        self.single_starts.push(self.singles.len() as u32);
     }
 
     fn of(&self, x: usize) -> &[Followed] {
         &self.followed[self.starts[x] as usize..self.starts[x + 1] as usize]
     }
 
-    fn single(&self, x: usize) -> Option<f32> {
-        self.singles[x]
+    fn single(&self, x: usize) -> &[(u8, f32)] {
+        &self.singles[self.single_starts[x] as usize..self.single_starts[x + 1] as usize]
     }
 }
 

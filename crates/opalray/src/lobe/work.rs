@@ -13,8 +13,8 @@ const LOBE_PIXEL_CPU_S: f64 = 10e-6;
 /// Processor seconds of each further lobe ray, `integrator.spp − 1` a pixel, averaged over
 /// the frame (they are cast only where a pixel differs from its neighbours, and read back the
 /// reflections the centre's ray followed out: about 2 µs in the black opal at 16 rays,
-/// BENCHMARKS.md, 2026-12-07 second session; more in a clear stone, whose rays' reflections
-/// after the dome's are not read back).
+/// BENCHMARKS.md, 2026-12-07 second session; more in a clear stone, whose further rays go
+/// on through the stone where their pixel's centre did not, at the rim).
 const LOBE_RAY_CPU_S: f64 = 3e-6;
 /// Processor seconds of a lobe frame's set-up (its backing and potch tables; the black opal
 /// at 8 × 6 less its grains: 0.17 s).

@@ -13,9 +13,9 @@ impl Tracer<'_> {
         lines.clear();
         stone.lines(domain, dir, span.t1 - span.t0, &mut lines);
         let face = ray.at(span.t0);
-        // Reflections are read back on the first segment alone, keyed by the domain's
+        // Reflections are read back keyed by the eye ray's segment and the domain's
         // crossing along it (`reuse`).
-        let reusable = self.segment == 0 && self.reuse.on();
+        let reusable = self.reuse.on();
         let crossing = if reusable {
             self.crossing_of(domain)
         } else {
@@ -49,6 +49,7 @@ impl Tracer<'_> {
                 );
                 let vivid = weight * xyz.iter().fold(0.0f64, |a, &b| a.max(b)) as f32;
                 let meeting = Meeting {
+                    segment: self.segment,
                     domain,
                     crossing,
                     slot: l.slot,
@@ -164,11 +165,12 @@ impl Tracer<'_> {
         }
     }
 
-    /// How many times the eye ray crossed `domain` on its first segment before now (and
+    /// How many times the eye ray crossed `domain` on the segment at hand before now (and
     /// this crossing counted).
     fn crossing_of(&mut self, domain: u32) -> u8 {
-        let before = self.crossed.iter().filter(|&&d| d == domain).count();
-        self.crossed.push(domain);
+        let key = (self.segment, domain);
+        let before = self.crossed.iter().filter(|&&d| d == key).count();
+        self.crossed.push(key);
         before.min(u8::MAX as usize) as u8
     }
 }

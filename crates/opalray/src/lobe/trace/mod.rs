@@ -121,8 +121,8 @@ pub(super) struct Tracer<'a> {
     segment: u8,
     /// The reflections the pixel's rays have followed out.
     pub(super) reuse: Reuse,
-    /// The domains the eye ray at hand crossed on its first segment, in order.
-    crossed: Vec<u32>,
+    /// The domains the eye ray at hand crossed, each with its segment, in order.
+    crossed: Vec<(u8, u32)>,
 }
 
 impl<'a> Tracer<'a> {

@@ -64,9 +64,12 @@ impl Tracer<'_> {
             return None;
         }
         let tau_m = -((1.0 + (-tau).exp()) * 0.5).ln();
-        // A pixel's rays on their first segment: what the first found (`reuse.rs`).
-        let reusable = self.segment == 0 && self.reuse.on();
-        if let Some(light) = reusable.then(|| self.reuse.find_single()).flatten() {
+        // A pixel's rays on the same segment: what the first found there (`reuse.rs`).
+        let reusable = self.reuse.on();
+        if let Some(light) = reusable
+            .then(|| self.reuse.find_single(self.segment))
+            .flatten()
+        {
             return Some(Single { light, tau: tau_m });
         }
         let at = self.at_depth(ray, tau_m / extinction);
@@ -94,7 +97,7 @@ impl Tracer<'_> {
         }
         let light = sum / count + self.point_light_scattered(at, d);
         if reusable {
-            self.reuse.keep_single(light);
+            self.reuse.keep_single(self.segment, light);
         }
         Some(Single { light, tau: tau_m })
     }
