@@ -8,7 +8,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use super::trace::{Followed, Lit, Mode, Reuse, Sums, Tracer};
+use super::trace::{Followed, Lit, Mode, Reuse, Scattered, Sums, Tracer};
 use super::{Irradiance, LineColours, LobeImage, LobeSetup};
 use crate::cancel::Cancel;
 use crate::integrator::{Passes, RowCounter};
@@ -227,7 +227,7 @@ struct RowFollowed {
     /// Where each pixel's reflections start in `followed`, and after the last pixel's, where
     /// they end.
     starts: Vec<u32>,
-    singles: Vec<(u8, f32)>,
+    singles: Vec<Scattered>,
     /// Where each pixel's single scatterings start in `singles`, as `starts`.
     single_starts: Vec<u32>,
 }
@@ -254,7 +254,7 @@ impl RowFollowed {
         &self.followed[self.starts[x] as usize..self.starts[x + 1] as usize]
     }
 
-    fn single(&self, x: usize) -> &[(u8, f32)] {
+    fn single(&self, x: usize) -> &[Scattered] {
         &self.singles[self.single_starts[x] as usize..self.single_starts[x + 1] as usize]
     }
 }

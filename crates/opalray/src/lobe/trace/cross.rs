@@ -50,6 +50,7 @@ impl Tracer<'_> {
                 let vivid = weight * xyz.iter().fold(0.0f64, |a, &b| a.max(b)) as f32;
                 let meeting = Meeting {
                     segment: self.segment,
+                    way: dir,
                     domain,
                     crossing,
                     slot: l.slot,

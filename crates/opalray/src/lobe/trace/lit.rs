@@ -20,17 +20,72 @@ impl Tracer<'_> {
     /// whose light is the potch's glow below — the light reaching the potch's top through
     /// the bar and the bar's and dome's return ([`PotchLight`]); elsewhere the room's and the
     /// lamp's at the surface the eye ray entered, and a polished surface's `r_i`.
-    pub(super) fn light_on_body(&self, at: Vec3, span: Span) -> (f32, f32) {
+    ///
+    /// Where a point or directional light's beam lights the body as a layer
+    /// ([`Tracer::beam`]), its part is left out here (`true` beside): not under a bar.
+    fn light_on_body(&self, at: Vec3, span: Span) -> (f32, f32, bool) {
         if let Some(potch) = self.lit.potch {
             let under = match span.domain {
                 None => potch.holds(at),
                 Some(_) => true,
             };
             if let Some(top) = potch.returned_at(at).filter(|_| under) {
-                return (potch.at(at), top);
+                return (potch.at(at), top, false);
             }
         }
-        (self.irradiance_on(self.entry.normal), self.layer.r_inside())
+        let top = self.layer.r_inside();
+        match self.beam {
+            Some(_) => (self.irradiance.at(self.entry.normal), top, true),
+            None => (self.irradiance_on(self.entry.normal), top, false),
+        }
+    }
+
+    /// The light the body sends back where a ray meets it at `at` over `span`, as a layer
+    /// of scattering thickness `layer` down to `ground` (`light_beyond` lighting it from
+    /// there), in the units of [`Tracer::body`]: the diffuse layer under the room's light
+    /// ([`BodyLayer::of`]) and a lamp's beam through the same layer
+    /// ([`BodyLayer::collimated`]), less `once` of the beam's once scattered light.
+    pub(super) fn layer_light(
+        &self,
+        at: Vec3,
+        span: Span,
+        layer: f32,
+        ground: Option<f32>,
+        light_beyond: f32,
+        once: f32,
+    ) -> f32 {
+        let (lit, top, apart) = self.light_on_body(at, span);
+        let (r, t) = self.layer.of(layer, ground, top);
+        let mut light = r * lit + t * light_beyond;
+        if let (true, Some(beam)) = (apart, self.beam) {
+            let depth = self.layer.potch_depth(layer);
+            let back = ground.unwrap_or(beam.back);
+            light += beam.irradiance
+                * self
+                    .layer
+                    .collimated(depth, beam.mu, ground, back, top, once);
+        }
+        light
+    }
+
+    /// The point or directional light's beam into the body where the camera ray entered
+    /// (`None` without such a light, or where it is below that surface's horizon).
+    pub(super) fn beam_at_entry(&self) -> Option<Beam> {
+        self.setup.light?;
+        let (to_light, e) = self.body_light?;
+        let normal = self.entry.normal;
+        let cos = normal.dot(to_light);
+        if cos <= 0.0 || e <= 0.0 {
+            return None;
+        }
+        let n = self.stone.n_eff;
+        let sin = (1.0 - cos * cos).max(0.0).sqrt() / n;
+        let mu = (1.0 - sin * sin).max(0.0).sqrt();
+        Some(Beam {
+            irradiance: e * cos * (1.0 - fresnel_dielectric(cos, 1.0, n)),
+            mu,
+            back: fresnel_dielectric(mu, n, 1.0),
+        })
     }
 
     /// The radiance in the stone of a body sending back `light` (its reflectance times the
@@ -266,4 +321,15 @@ pub(super) fn ground_of(stone: &Stone, boundary: Boundary) -> Option<f32> {
         (Boundary::Back, Some(back)) => Some(back.reflectance(550.0) as f32),
         _ => None,
     }
+}
+
+/// A point or directional light's beam into the body ([`Tracer::beam_at_entry`]): the
+/// irradiance that went in through the surface (on the surface's plane), the cosine of its
+/// refracted direction to the surface's normal, and what a polished back parallel to the
+/// surface reflects of it.
+#[derive(Clone, Copy)]
+pub(super) struct Beam {
+    pub irradiance: f32,
+    pub mu: f32,
+    pub back: f32,
 }

@@ -27,9 +27,9 @@ mod single;
 mod tests;
 mod trapped;
 
-use lit::ground_of;
+use lit::{ground_of, Beam};
 use reuse::Meeting;
-pub(super) use reuse::{Followed, Mode, Reuse};
+pub(super) use reuse::{Followed, Mode, Reuse, Scattered};
 
 /// Most segments of a ray inside the stone between surface events (its refraction in or its
 /// reflection, then up to seven internal reflections: light caught by total reflection in a
@@ -117,6 +117,8 @@ pub(super) struct Tracer<'a> {
     body_peak: f32,
     /// The body as a layer of the stone's thickness.
     layer: BodyLayer,
+    /// The point or directional light's beam into the body where the camera ray entered.
+    beam: Option<Beam>,
     /// The eye ray's segment at hand (surface events before it).
     segment: u8,
     /// The reflections the pixel's rays have followed out.
@@ -169,6 +171,7 @@ impl<'a> Tracer<'a> {
             },
             body_peak: 0.0,
             layer: BodyLayer::new(&stone.potch, stone.n_eff, setup.body_reflectance),
+            beam: None,
             segment: 0,
             reuse: Reuse::default(),
             crossed: Vec::with_capacity(32),
@@ -226,6 +229,7 @@ impl<'a> Tracer<'a> {
             fresnel_normal: fresnel_dielectric(1.0, 1.0, n),
         };
         self.entry = entry;
+        self.beam = self.beam_at_entry();
         self.inside(p, dir, region, (1.0 - fresnel) / (n * n), sums);
     }
 
@@ -389,9 +393,15 @@ impl<'a> Tracer<'a> {
             if sigma > 0.0 {
                 let depth = sigma * (span.t1 - span.t0);
                 let kept = (-depth).exp();
-                let (lit, top) = self.light_on_body(ray.at(span.t0), span);
-                let (r, t) = self.layer.of(layer, ground, top);
-                self.body(w * (1.0 - kept), r * lit + t * light_beyond, sums);
+                // What the single scattering below shows of a lamp's once scattered light
+                // in this span: `sech(d/2)` of it.
+                let once = match (single, span.domain) {
+                    (Some(_), None) => 1.0 / (0.5 * depth).cosh(),
+                    _ => 0.0,
+                };
+                let light =
+                    self.layer_light(ray.at(span.t0), span, layer, ground, light_beyond, once);
+                self.body(w * (1.0 - kept), light, sums);
                 if let (Some(single), None) = (single, span.domain) {
                     // Read at the span's optical middle: `sech(d/2)` times the integral of
                     // the dimmed light over the span, which fades the term in a thick span,

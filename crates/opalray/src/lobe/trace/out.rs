@@ -116,9 +116,7 @@ impl Tracer<'_> {
             let kept = (-sigma_t * len).exp();
             if sigma_t > 0.0 {
                 // The body seen along the reflection: its light in the line's colour.
-                let (light, top) = self.light_on_body(ray.at(span.t0), span);
-                let (r, t) = self.layer.of(layer, ground, top);
-                let lit = r * light + t * light_beyond;
+                let lit = self.layer_light(ray.at(span.t0), span, layer, ground, light_beyond, 0.0);
                 way.seen += way.w * (1.0 - kept) * self.body_radiance(lit);
             }
             way.w *= kept;

@@ -10,11 +10,14 @@
 //! under a pixel's footprint and turns by under a pixel's angle (the same planes), and what
 //! it sees, the lights through a lobe of a degree or more, is smooth over that. After a
 //! reflection off the curved dome a pixel's rays spread more (a reflection turns a ray by
-//! twice its normal's turn, about 0.2° a pixel at the crystal's apex), and their later
-//! segments are read back too: a reflection read back is still the same domain's planes met
-//! on the same segment. Against 16 rays at an edge this moved the clear crystal's image by
-//! 1.294 → 1.299 codes RMS for a fifth of its time (`BENCHMARKS.md`, 2026-12-07, third
-//! session). What is lost is the variation of the notches on the way out within the pixel.
+//! twice its normal's turn), and their later segments are read back too, where the eye ray
+//! goes the same way as the ray that walked it within 1° ([`SAME_WAY`]): the same domain's
+//! planes met on the same segment, the same way. Rays of a pixel that took different surface
+//! events at the rim, or left the dome's curve apart, walk their own. Against 16 rays walked
+//! in full at an edge, the clear crystal's image reads 1.784 codes RMS (1.789 read back on
+//! the first segment alone) for a fifth less time (`BENCHMARKS.md`, 2026-12-07, seventh
+//! session). What is lost is the variation within the pixel of the notches on the way out
+//! and, after the dome's reflections, of the reflection's direction.
 //!
 //! A reflection is the same where it is the same domain's planes (its slot) at the same
 //! crossing of that domain along the same segment of the eye ray (a ragged or ball-shaped
@@ -24,9 +27,16 @@
 //! alone, at most twice as much where it went through the domains (whose second reflections
 //! under the cut then stay under twice the cut).
 
+use glam::Vec3;
+
 /// What the centre ray's walk may stand in for, relative to its own weights, where it went
 /// through the domains.
 const THOROUGH_REACH: f32 = 2.0;
+
+/// The cosine of the largest angle between two rays' segments for one to read back the
+/// other's reflections there (1°): rays of a pixel that left the dome's curve apart, or took
+/// different surface events at the rim, walk their own.
+const SAME_WAY: f32 = 0.999_85;
 
 /// One reflection followed out: the domain, its crossing along the segment, the planes'
 /// slot, the ray's weights that decided the walk, whether it went through the domains, and
@@ -35,6 +45,8 @@ const THOROUGH_REACH: f32 = 2.0;
 pub(crate) struct Followed {
     domain: u32,
     segment: u8,
+    /// The eye ray's direction on that segment.
+    way: Vec3,
     seen: f32,
     luminance: f32,
     vivid: f32,
@@ -47,6 +59,8 @@ pub(crate) struct Followed {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Meeting {
     pub segment: u8,
+    /// The eye ray's direction on its segment.
+    pub way: Vec3,
     pub domain: u32,
     pub crossing: u8,
     pub slot: u16,
@@ -58,12 +72,13 @@ pub(super) struct Meeting {
 
 impl Followed {
     /// Whether it is the reflection `at` meets: the same segment, domain, crossing and
-    /// planes.
+    /// planes, the eye ray on that segment going the same way within 1° ([`SAME_WAY`]).
     fn same(&self, at: &Meeting) -> bool {
         self.domain == at.domain
             && self.segment == at.segment
             && self.slot == at.slot
             && self.crossing == at.crossing
+            && self.way.dot(at.way) >= SAME_WAY
     }
 }
 
@@ -87,7 +102,15 @@ pub(crate) struct Reuse {
     /// The light the body scatters once at the median depth of a segment of the eye ray
     /// ([`super::single`]), by segment, as the first ray with potch there found it: smooth
     /// over a pixel, it is read back as the reflections are.
-    single: Vec<(u8, f32)>,
+    single: Vec<Scattered>,
+}
+
+/// The body's single scattering found on a segment of the eye ray along `way`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Scattered {
+    segment: u8,
+    way: Vec3,
+    light: f32,
 }
 
 impl Reuse {
@@ -100,7 +123,7 @@ impl Reuse {
 
     /// Start a pixel's further rays from the reflections its centre ray followed and the
     /// body's single scattering it found on each segment.
-    pub(crate) fn start_from(&mut self, followed: &[Followed], single: &[(u8, f32)]) {
+    pub(crate) fn start_from(&mut self, followed: &[Followed], single: &[Scattered]) {
         self.mode = Mode::Read;
         self.followed.clear();
         self.followed.extend_from_slice(followed);
@@ -114,24 +137,31 @@ impl Reuse {
     }
 
     /// The body's single scattering the pixel's rays found, by segment.
-    pub(crate) fn single(&self) -> &[(u8, f32)] {
+    pub(crate) fn single(&self) -> &[Scattered] {
         &self.single
     }
 
     /// The body's single scattering an earlier ray of the pixel found on `segment`, to read
     /// back.
-    pub(super) fn find_single(&self, segment: u8) -> Option<f32> {
+    pub(super) fn find_single(&self, segment: u8, way: Vec3) -> Option<f32> {
         if self.mode != Mode::Read {
             return None;
         }
-        self.single.iter().find(|s| s.0 == segment).map(|s| s.1)
+        self.single
+            .iter()
+            .find(|s| s.segment == segment && s.way.dot(way) >= SAME_WAY)
+            .map(|s| s.light)
     }
 
-    /// Keep the body's single scattering a ray found on `segment`, unless an earlier ray's
-    /// is kept.
-    pub(super) fn keep_single(&mut self, segment: u8, light: f32) {
-        if self.mode != Mode::Off && self.single.iter().all(|s| s.0 != segment) {
-            self.single.push((segment, light));
+    /// Keep the body's single scattering a ray found on `segment` along `way`, unless an
+    /// earlier ray's is kept there.
+    pub(super) fn keep_single(&mut self, segment: u8, way: Vec3, light: f32) {
+        if self.mode != Mode::Off && self.single.iter().all(|s| s.segment != segment) {
+            self.single.push(Scattered {
+                segment,
+                way,
+                light,
+            });
         }
     }
 
@@ -160,6 +190,7 @@ impl Reuse {
         let new = Followed {
             domain: at.domain,
             segment: at.segment,
+            way: at.way,
             seen,
             luminance: at.luminance,
             vivid: at.vivid,
@@ -181,6 +212,7 @@ mod tests {
     fn meeting(segment: u8, crossing: u8) -> Meeting {
         Meeting {
             segment,
+            way: Vec3::NEG_Z,
             domain: 7,
             crossing,
             slot: 2,
@@ -194,17 +226,37 @@ mod tests {
         let mut centre = Reuse::default();
         centre.start(Mode::Record);
         centre.keep(&meeting(1, 0), 0.25, true);
-        centre.keep_single(1, 0.125);
+        centre.keep_single(1, Vec3::NEG_Z, 0.125);
         let mut further = Reuse::default();
         further.start_from(centre.followed(), centre.single());
-        // The same domain's planes at the same crossing of the same segment.
+        // The same domain's planes at the same crossing of the same segment, the eye ray
+        // going the same way within 1°.
         assert_eq!(further.find(&meeting(1, 0)), Some(0.25));
-        assert_eq!(further.find_single(1), Some(0.125));
-        // Another segment, or another crossing, is walked again.
+        assert_eq!(further.find_single(1, Vec3::NEG_Z), Some(0.125));
+        let near = Vec3::new(0.0, 0.9f32.to_radians().sin(), -1.0).normalize();
+        assert_eq!(
+            further.find(&Meeting {
+                way: near,
+                ..meeting(1, 0)
+            }),
+            Some(0.25)
+        );
+        assert_eq!(further.find_single(1, near), Some(0.125));
+        // Another segment, another crossing, or a segment turned by more than 1°, is walked
+        // again.
         assert_eq!(further.find(&meeting(0, 0)), None);
         assert_eq!(further.find(&meeting(2, 0)), None);
         assert_eq!(further.find(&meeting(1, 1)), None);
-        assert_eq!(further.find_single(0), None);
+        assert_eq!(further.find_single(0, Vec3::NEG_Z), None);
+        let turned = Vec3::new(0.0, 1.1f32.to_radians().sin(), -1.0).normalize();
+        assert_eq!(
+            further.find(&Meeting {
+                way: turned,
+                ..meeting(1, 0)
+            }),
+            None
+        );
+        assert_eq!(further.find_single(1, turned), None);
         // A brighter ray than the walk stood in for walks its own.
         let brighter = Meeting {
             luminance: 1.5,

@@ -67,7 +67,7 @@ impl Tracer<'_> {
         // A pixel's rays on the same segment: what the first found there (`reuse.rs`).
         let reusable = self.reuse.on();
         if let Some(light) = reusable
-            .then(|| self.reuse.find_single(self.segment))
+            .then(|| self.reuse.find_single(self.segment, ray.direction))
             .flatten()
         {
             return Some(Single { light, tau: tau_m });
@@ -97,7 +97,7 @@ impl Tracer<'_> {
         }
         let light = sum / count + self.point_light_scattered(at, d);
         if reusable {
-            self.reuse.keep_single(self.segment, light);
+            self.reuse.keep_single(self.segment, ray.direction, light);
         }
         Some(Single { light, tau: tau_m })
     }
