@@ -122,10 +122,10 @@ impl BodyLayer {
     /// ([`BodyLayer::of`]) a thin body does not send the unscattered light back: a beam
     /// meets the polished back near normal incidence and 97 % of it goes out, where the
     /// diffuse `r_i` would return 56 %. What the back returns of the beam joins the upward
-    /// diffuse flux (it is a mirror image of the lamp, not a glow: a small share). Against a Monte Carlo walk of a beam
-    /// face-on into a slab with polished faces it is within 0.035 from a clear body to a
-    /// white one (a test); the tone's scale, which the diffuse layer needs, is not applied:
-    /// the tone is the walk's.
+    /// diffuse flux (it is a mirror image of the lamp, not a glow: a small share). Against
+    /// a Monte Carlo walk of a beam face-on into a slab with polished faces it is within
+    /// 0.035 from a clear body to a white one (a test); the tone's scale, which the diffuse
+    /// layer needs, is not applied: the tone is the walk's.
     pub(crate) fn collimated(
         &self,
         depth_mm: f32,

@@ -57,7 +57,7 @@ impl Tracer<'_> {
         let (lit, top, apart) = self.light_on_body(at, span);
         let (r, t) = self.layer.of(layer, ground, top);
         let mut light = r * lit + t * light_beyond;
-        if let (true, Some(beam)) = (apart, self.beam) {
+        if let Some(beam) = self.beam.filter(|_| apart) {
             let depth = self.layer.potch_depth(layer);
             let back = ground.unwrap_or(beam.back);
             light += beam.irradiance

@@ -394,9 +394,9 @@ impl<'a> Tracer<'a> {
                 let depth = sigma * (span.t1 - span.t0);
                 let kept = (-depth).exp();
                 // What the single scattering below shows of a lamp's once scattered light
-                // in this span: `sech(d/2)` of it.
-                let once = match (single, span.domain) {
-                    (Some(_), None) => 1.0 / (0.5 * depth).cosh(),
+                // in this span: `sech(d/2)` of it (nothing to take without a lamp's beam).
+                let once = match (self.beam, single, span.domain) {
+                    (Some(_), Some(_), None) => 1.0 / (0.5 * depth).cosh(),
                     _ => 0.0,
                 };
                 let light =

@@ -21,11 +21,11 @@
 //!
 //! A reflection is the same where it is the same domain's planes (its slot) at the same
 //! crossing of that domain along the same segment of the eye ray (a ragged or ball-shaped
-//! domain can be crossed twice). What was walked depends on the ray's weight (the cull, the second reflections
-//! taken): a value is read back only by a ray whose weights would have walked no more — no
-//! more than the ray that walked it where the walk was culled or went through the body
-//! alone, at most twice as much where it went through the domains (whose second reflections
-//! under the cut then stay under twice the cut).
+//! domain can be crossed twice). What was walked depends on the ray's weight (the cull, the
+//! second reflections taken): a value is read back only by a ray whose weights would have
+//! walked no more — no more than the ray that walked it where the walk was culled or went
+//! through the body alone, at most twice as much where it went through the domains (whose
+//! second reflections under the cut then stay under twice the cut).
 
 use glam::Vec3;
 
